@@ -1,0 +1,69 @@
+#pragma once
+// ADSR envelopes of SPEC §6 (paper Eq. 9–10, Table 1), evaluated per device tick.
+//
+// Time is in ticks n = 0 … N−1 from the note's start; x = n·T with T = 1/tick_hz. The note lasts D = N·T.
+// Phases: attack 0→a over [0, A); decay a→S over [A, A+Dc); sustain S until D−R; release exponential
+// from S to r·S at D (Eq. 10's exp(log(r)·…) form, computed without log(0)). Short notes
+// (A+Dc+R > D) scale A, Dc, R by D/(A+Dc+R). Optional end fade multiplies by min(1, (D−x)/F).
+#include <cstdint>
+
+namespace hmp::envelope {
+
+// How the phases relate to the note's duration D.
+enum class Shape : std::uint8_t {
+  adsr = 0,      // durations as given (Table 1 presets, square, user presets)
+  triangle = 1,  // decay spans the whole note: a at the start falling linearly to S (0) at D
+  damped = 2,    // 2013 paper: release spans the whole note, from a to an absolute end level (see Adsr)
+};
+
+struct Adsr {
+  float attack_ms = 0;
+  float decay_ms = 0;
+  float release_ms = 0;
+  float sustain = 1;      // S as a fraction of the peak a (Table 1's s / 100)
+  float final_ratio = 1;  // r (Table 1's r / 100); for Shape::damped: the end level in full-scale units
+  Shape shape = Shape::adsr;
+};
+
+// Built-in presets: Table 1 and the two simple envelopes of the paper's experiment, plus legacy2013.
+enum class Preset : std::uint8_t {
+  organ, flute, harpsichord, guitar, trumpet, violin, cello, contrabass, square, triangle, legacy2013,
+  count
+};
+inline constexpr std::uint8_t kBuiltinCount = static_cast<std::uint8_t>(Preset::count);
+// Slot ids on the wire: 0 … kBuiltinCount−1 built-in; kFirstUserSlot … kSlotCount−1 uploaded by the host.
+inline constexpr std::uint8_t kFirstUserSlot = 16;
+inline constexpr std::uint8_t kSlotCount = 32;
+
+const Adsr& builtin(Preset p);
+const char* name(Preset p);
+// Case-insensitive lookup of a built-in preset name; false if unknown.
+bool find_builtin(const char* name, Preset& out);
+
+// A preset is usable when every field is finite and in range: durations ≥ 0 and ≤ 1e7 ms,
+// sustain and final_ratio in [0, 1], shape known.
+bool valid(const Adsr& a);
+
+// The evaluator of one note's envelope. start() precomputes everything so that at() is cheap
+// (it runs for every voice on every tick).
+class Envelope {
+ public:
+  // peak: a_h, linear in (0, 1]. duration_ticks: N (0 is treated as 1: a note is never silent).
+  // end_fade_ms: F ≥ 0 (0 = paper-exact). Invalid presets fall back to square.
+  void start(const Adsr& preset, float peak, std::uint32_t duration_ticks, float tick_hz, float end_fade_ms);
+  // E at tick n, in [0, peak]; 0 for n ≥ N.
+  float at(std::uint32_t n) const;
+  std::uint32_t duration_ticks() const { return n_end_; }
+
+ private:
+  // Phase boundaries in ticks (fractional): attack ends at t1_, decay at t2_, release starts at t3_.
+  float t1_ = 0, t2_ = 0, t3_ = 0, n_total_ = 1;
+  float peak_ = 0, sustain_level_ = 0;
+  float attack_slope_ = 0, decay_slope_ = 0;  // per tick
+  float release_log2_per_tick_ = 0;           // log2(r)/R in ticks; r = 0 handled by release_zero_
+  bool release_zero_ = false;
+  float fade_ticks_ = 0;
+  std::uint32_t n_end_ = 1;
+};
+
+}  // namespace hmp::envelope

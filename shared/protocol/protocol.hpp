@@ -1,0 +1,237 @@
+#pragma once
+// The wire protocol (SPEC §9): 64-byte reports, little-endian, fixed layouts, versioned.
+// The same reports travel over USB HID, a framed serial link, and in process.
+// docs/protocol.md documents every byte. decode() accepts any 64 bytes and returns either a message
+// or a typed error; it never reads outside the report.
+//
+// Common header of every report:
+//   byte 0     type   (0x01–0x3F host→device, 0x81–0xBF device→host)
+//   bytes 1–2  seq    u16: host reports number themselves 1, 2, …; the device echoes the last one it
+//                     accepted in its status. Device reports carry their own counter.
+//   bytes 3–63 payload, layout per type; unused bytes must be zero (checked: catches misframed data).
+#include <cstddef>
+#include <cstdint>
+
+#include "shared/envelope/envelope.hpp"
+
+namespace hmp::protocol {
+
+inline constexpr std::size_t kReportSize = 64;
+inline constexpr std::uint16_t kProtocolVersion = 1;
+inline constexpr std::uint16_t kUsbVid = 0x1209;  // pid.codes open-source VID
+inline constexpr std::uint16_t kUsbPid = 0x0001;  // pid.codes test PID (to be replaced by an allocated one)
+inline constexpr std::uint16_t kUsagePage = 0xFF00;
+inline constexpr std::size_t kNotesPerBatch = 5;
+inline constexpr std::size_t kNoteBytes = 11;
+inline constexpr std::uint32_t kMaxCompactDuration = 0xFFFFFF;  // longer notes go in a LongNote
+
+using Report = std::uint8_t[kReportSize];
+
+enum class Type : std::uint8_t {
+  // host → device
+  hello = 0x01,
+  sync = 0x02,
+  notes = 0x03,      // batch of up to 5 compact notes
+  long_note = 0x04,  // one note with 64-bit start and 32-bit duration
+  preset = 0x05,     // envelope preset upload into a user slot
+  settings = 0x06,
+  transport = 0x07,
+  estop = 0x08,
+  // device → host
+  hello_reply = 0x81,
+  sync_reply = 0x82,
+  status = 0x83,
+  started = 0x84,  // notes the device started: scheduled vs actual tick (for --log)
+  error = 0x85,
+};
+
+// ---- host → device ----
+struct Hello {
+  std::uint16_t protocol_version = kProtocolVersion;
+};
+
+struct Sync {
+  std::uint64_t host_time_us = 0;  // echoed back
+};
+
+// A compact note: start = base_tick + offset (11 bytes on the wire):
+//   offset u8 | preset u8 | duration u24 (ticks, ≥ 1) | freq u32 (Q12.20 Hz) | amp u16 (65535 = 1.0)
+struct CompactNote {
+  std::uint8_t offset = 0;
+  std::uint8_t preset = 0;
+  std::uint32_t duration_ticks = 1;
+  std::uint32_t freq_q20 = 0;
+  std::uint16_t amp_q16 = 0;
+};
+
+// bytes 3 count (1–5) | 4 track | 5–8 base_tick u32 (low 32 bits of the device tick; the device picks the
+// 64-bit tick nearest its own clock) | 9–63 notes (11 bytes each, unused slots zero)
+struct Notes {
+  std::uint8_t count = 0;
+  std::uint8_t track = 0;
+  std::uint32_t base_tick = 0;
+  CompactNote notes[kNotesPerBatch];
+};
+
+// bytes 3 track | 4 preset | 5–12 start_tick u64 | 13–16 duration u32 | 17–20 freq u32 | 21–22 amp u16
+struct LongNote {
+  std::uint8_t track = 0;
+  std::uint8_t preset = 0;
+  std::uint64_t start_tick = 0;
+  std::uint32_t duration_ticks = 1;
+  std::uint32_t freq_q20 = 0;
+  std::uint16_t amp_q16 = 0;
+};
+
+// bytes 3 slot | 4 shape | 5–8 attack_ms f32 | 9–12 decay_ms | 13–16 release_ms | 17–20 sustain | 21–24 final
+struct Preset {
+  std::uint8_t slot = envelope::kFirstUserSlot;
+  envelope::Adsr adsr{};
+};
+
+enum class PolicyCode : std::uint8_t { sum = 0, highest = 1, latest = 2 };
+
+// bytes 3 policy | 4–7 gain f32 [0,1] | 8–11 peak_force_n f32 (0,20] | 12–23 direction x,y,z f32 (unit)
+// | 24–27 end_fade_ms f32 [0,1000] | 28–29 watchdog_ms u16 (≥ 10) | 30–31 ramp_in_ms u16 | 32–35 t_min_n f32
+// | 36–39 t_max_n f32 (t_min < t_max ≤ 20)
+struct Settings {
+  PolicyCode policy = PolicyCode::sum;
+  float gain = 1.0f;
+  float peak_force_n = 1.0f;
+  float direction[3] = {0.0f, 1.0f, 0.0f};
+  float end_fade_ms = 2.0f;
+  std::uint16_t watchdog_ms = 250;
+  std::uint16_t ramp_in_ms = 500;
+  float t_min_n = 0.3f;
+  float t_max_n = 6.0f;
+};
+
+enum class TransportOp : std::uint8_t { play = 0, pause = 1, stop = 2, seek = 3 };
+// bytes 3 op | 4–11 tick u64 (seek: flush, then continue at this song tick; else 0)
+struct Transport {
+  TransportOp op = TransportOp::play;
+  std::uint64_t tick = 0;
+};
+
+struct Estop {};
+
+// ---- device → host ----
+enum class Board : std::uint8_t { sim = 0, qemu_an386 = 1, stm32f407 = 2 };
+
+// bytes 3–4 protocol u16 | 5 fw major | 6 fw minor | 7 fw patch | 8 board | 9–12 tick_hz u32 | 13 voices
+// | 14–15 queue capacity u16 | 16 preset slots
+struct HelloReply {
+  std::uint16_t protocol_version = kProtocolVersion;
+  std::uint8_t fw_major = 0, fw_minor = 0, fw_patch = 0;
+  Board board = Board::sim;
+  std::uint32_t tick_hz = 1000;
+  std::uint8_t voices = 16;
+  std::uint16_t queue_capacity = 0;
+  std::uint8_t preset_slots = envelope::kSlotCount;
+};
+
+// bytes 3–10 host_time_us (echo) | 11–18 device tick u64 | 19–22 sub-tick u32 (fraction of the tick
+// elapsed when the request was handled, 2^32 = one tick)
+struct SyncReply {
+  std::uint64_t host_time_us = 0;
+  std::uint64_t tick = 0;
+  std::uint32_t subtick = 0;
+};
+
+enum class State : std::uint8_t { idle = 0, playing = 1, paused = 2, stopped = 3, fault = 4 };
+
+// Latched fault bits.
+enum Fault : std::uint32_t {
+  fault_none = 0,
+  fault_estop = 1u << 0,
+  fault_watchdog = 1u << 1,
+  fault_output_limit = 1u << 2,
+  fault_queue_overflow = 1u << 3,
+  fault_qp_infeasible = 1u << 4,
+  fault_pose_diverged = 1u << 5,
+  fault_encoder_jump = 1u << 6,
+  fault_string_slack = 1u << 7,
+};
+
+// bytes 3–10 tick u64 | 11–12 queue free u16 | 13–14 last seq accepted u16 | 15–18 late u32
+// | 19–22 stolen u32 | 23–26 rejected u32 | 27–30 started u32 | 31–34 faults u32 | 35 state
+// | 36 active voices | 37–40 output f32 | 41–44 achieved force f32 (N, along the direction)
+struct Status {
+  std::uint64_t tick = 0;
+  std::uint16_t queue_free = 0;
+  std::uint16_t last_seq = 0;
+  std::uint32_t late = 0, stolen = 0, rejected = 0, started = 0;
+  std::uint32_t faults = 0;
+  State state = State::idle;
+  std::uint8_t active_voices = 0;
+  float output = 0.0f;
+  float force_n = 0.0f;
+};
+
+// One started note: seq u16 + index u8 of the note in its report (LongNote: index 0), scheduled and
+// actual tick (low 32 bits each) → 11 bytes. bytes 3 count (1–5) | 4–58 entries.
+struct StartedEntry {
+  std::uint16_t seq = 0;
+  std::uint8_t index = 0;
+  std::uint32_t scheduled_tick = 0;
+  std::uint32_t actual_tick = 0;
+};
+struct Started {
+  std::uint8_t count = 0;
+  StartedEntry entries[kNotesPerBatch];
+};
+
+enum class ErrorCode : std::uint8_t {
+  none = 0,
+  // decode errors (also sent back in an Error report with the offending seq)
+  unknown_type,
+  bad_length_field,   // a count or size field outside its range
+  bad_value,          // a field outside its documented range (NaN, negative duration, …)
+  nonzero_padding,    // bytes after the payload are not zero
+  wrong_direction,    // a device→host type received by the device or vice versa
+  // semantic errors (device)
+  version_mismatch,
+  queue_full,
+  bad_slot,
+};
+const char* name(ErrorCode e);
+
+// bytes 3 code | 4–5 seq of the offending report | 6 offending type
+struct Error {
+  ErrorCode code = ErrorCode::none;
+  std::uint16_t seq = 0;
+  std::uint8_t type = 0;
+};
+
+// A decoded report: `type` says which member is valid (a tagged union without RTTI or heap).
+struct Message {
+  Type type = Type::hello;
+  std::uint16_t seq = 0;
+  union {
+    Hello hello;
+    Sync sync;
+    Notes notes;
+    LongNote long_note;
+    Preset preset;
+    Settings settings;
+    Transport transport;
+    Estop estop;
+    HelloReply hello_reply;
+    SyncReply sync_reply;
+    Status status;
+    Started started;
+    Error error;
+  };
+  Message() : hello() {}
+};
+
+// Encode a message into a report (all 64 bytes written). Returns false if the message itself is
+// invalid (the same checks decode applies), in which case the report is zeroed.
+bool encode(const Message& msg, Report& out);
+// Decode any 64 bytes. On failure returns the error and leaves `out` unspecified.
+ErrorCode decode(const std::uint8_t (&in)[kReportSize], Message& out);
+
+// Builders for the common case.
+Message make(Type t, std::uint16_t seq);
+
+}  // namespace hmp::protocol

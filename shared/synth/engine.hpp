@@ -1,0 +1,69 @@
+#pragma once
+// The synthesis engine shared by the firmware tick and the host's `hmp render`: a voice pool with
+// oldest-first stealing, the envelope preset slots, the polyphony policy and the limiter (SPEC §7).
+// The caller starts notes on their tick and calls tick() once per tick.
+#include <cstdint>
+
+#include "shared/envelope/envelope.hpp"
+#include "shared/synth/voice.hpp"
+
+namespace hmp::synth {
+
+inline constexpr std::uint8_t kVoiceCount = 16;
+
+enum class Polyphony : std::uint8_t { sum, highest, latest };
+const char* name(Polyphony p);
+bool find_polyphony(const char* name, Polyphony& out);
+
+// Smooth peak limiter: identity while |x| ≤ 1; when the sum exceeds full scale the gain drops at once
+// to keep |y| ≤ 1 (the waveform is scaled, never flattened) and recovers with a release time constant.
+class Limiter {
+ public:
+  void configure(float release_ms, std::uint32_t tick_hz);
+  float process(float x);
+  float gain() const { return gain_; }
+  void reset() { gain_ = 1.0f; }
+ private:
+  float gain_ = 1.0f;
+  float recover_ = 0.0f;  // fraction of the gap to 1 recovered per tick
+};
+
+struct EngineCounters {
+  std::uint32_t started = 0;
+  std::uint32_t stolen = 0;
+  std::uint32_t rejected = 0;  // notes naming an empty preset slot or carrying zero/invalid fields
+};
+
+class Engine {
+ public:
+  explicit Engine(const SynthConfig& cfg = {});
+  void configure(const SynthConfig& cfg);
+  void set_polyphony(Polyphony p) { policy_ = p; }
+  Polyphony polyphony() const { return policy_; }
+
+  // Envelope slots: built-ins preloaded; user slots (kFirstUserSlot…) empty until uploaded.
+  bool set_preset(std::uint8_t slot, const envelope::Adsr& adsr);  // false: bad slot or invalid preset
+  const envelope::Adsr* preset(std::uint8_t slot) const;           // nullptr if empty
+
+  // Start a note now (on this tick). Steals the oldest voice when full. false = rejected.
+  bool start(const Note& note);
+  // Advance every voice one tick; returns the mixed, limited sample in [−1, 1].
+  float tick();
+  void stop_all();
+
+  std::uint8_t active_voices() const;
+  const EngineCounters& counters() const { return counters_; }
+  const Voice& voice(std::uint8_t i) const { return voices_[i]; }
+
+ private:
+  SynthConfig cfg_;
+  Polyphony policy_ = Polyphony::sum;
+  Limiter limiter_;
+  Voice voices_[kVoiceCount];
+  envelope::Adsr slots_[envelope::kSlotCount]{};
+  bool slot_used_[envelope::kSlotCount]{};
+  std::uint32_t next_order_ = 0;
+  EngineCounters counters_;
+};
+
+}  // namespace hmp::synth

@@ -1,0 +1,45 @@
+#pragma once
+// One sounding note: y[n] = E(n·T) · sin(2π f n T), phase 0 at the note's start (SPEC §6 Eq. 8).
+#include <cstdint>
+
+#include "shared/envelope/envelope.hpp"
+#include "shared/synth/sine.hpp"
+
+namespace hmp::synth {
+
+// A note as the device receives it (decoded from the wire; see shared/protocol).
+struct Note {
+  std::uint64_t start_tick = 0;
+  std::uint32_t duration_ticks = 1;  // N ≥ 1
+  std::uint32_t freq_q20 = 0;        // see frequency.hpp
+  std::uint16_t amp_q16 = 0;         // 65535 = 1.0
+  std::uint8_t preset = 0;           // envelope slot
+  std::uint8_t track = 0;            // which track/voice group it belongs to (for reports)
+};
+
+struct SynthConfig {
+  std::uint32_t tick_hz = 1000;
+  float end_fade_ms = 2.0f;
+  SineImpl sine = kDefaultSine;
+};
+
+class Voice {
+ public:
+  void start(const Note& note, const envelope::Adsr& preset, const SynthConfig& cfg, std::uint32_t order);
+  // The sample for the current tick, then advance one tick. Returns 0 once finished.
+  float next();
+  bool active() const { return n_ < n_end_; }
+  std::uint32_t order() const { return order_; }      // start order: smaller = older (for stealing)
+  std::uint32_t freq_q20() const { return freq_q20_; }
+  const Note& note() const { return note_; }
+  void stop() { n_ = n_end_; }
+
+ private:
+  envelope::Envelope env_;
+  std::uint64_t phase_ = 0, inc_ = 0;
+  std::uint32_t n_ = 0, n_end_ = 0, order_ = 0, freq_q20_ = 0;
+  SineImpl sine_ = kDefaultSine;
+  Note note_{};
+};
+
+}  // namespace hmp::synth
