@@ -1,0 +1,89 @@
+// hmp tone — one note, for inspection and tests (SPEC §3).
+#include <cmath>
+#include <cstdio>
+#include <optional>
+#include <string>
+
+#include "host/cli/commands.hpp"
+#include "host/common/error.hpp"
+#include "host/haptics/adsr_option.hpp"
+#include "host/haptics/signal_renderer.hpp"
+#include "host/output/output_file.hpp"
+#include "shared/synth/frequency.hpp"
+
+namespace hmp::cli {
+
+namespace {
+
+struct ToneOptions {
+  double freq_hz = NAN;
+  double amp = NAN;
+  double ms = NAN;
+  std::optional<std::string> instrument;
+  std::optional<std::string> adsr;
+  std::string out = "-";
+  std::uint32_t tick_hz = 1000;
+  double end_fade_ms = 2.0;
+  bool force = false;
+};
+
+int run_tone(const ToneOptions& o) {
+  if (!std::isfinite(o.freq_hz) || o.freq_hz <= 0) throw BadInput("--freq: must be a positive number of Hz");
+  const double alias_limit = 0.45 * o.tick_hz;
+  if (o.freq_hz >= alias_limit) {
+    throw BadInput("--freq " + std::to_string(o.freq_hz) + ": must be below 0.45 × tick rate = " +
+                   std::to_string(alias_limit) + " Hz (aliasing)");
+  }
+  if (o.freq_hz > synth::kFreqMaxHz) throw BadInput("--freq: above the device's top frequency 4096 Hz");
+  if (!std::isfinite(o.amp) || o.amp <= 0 || o.amp > 1) throw BadInput("--amp: must be in (0, 1]");
+  if (!std::isfinite(o.ms) || o.ms < 0 || o.ms > 24.0 * 3600e3) throw BadInput("--ms: must be in [0, 86400000]");
+  if (!std::isfinite(o.end_fade_ms) || o.end_fade_ms < 0 || o.end_fade_ms > 1000) {
+    throw BadInput("--end-fade-ms: must be in [0, 1000]");
+  }
+  if (o.instrument.has_value() == o.adsr.has_value()) throw BadInput("give exactly one of --instrument or --adsr");
+
+  haptics::UserPreset preset;
+  preset.adsr = o.instrument ? haptics::builtin_by_name(*o.instrument) : haptics::parse_adsr(*o.adsr);
+
+  // SPEC §6 ticks: N = max(1, round(D/T)).
+  const auto n_ticks = static_cast<std::uint32_t>(std::max(1.0, std::round(o.ms * o.tick_hz / 1000.0)));
+  synth::Note note;
+  note.start_tick = 0;
+  note.duration_ticks = n_ticks;
+  note.freq_q20 = synth::freq_to_q20(o.freq_hz);
+  note.amp_q16 = synth::amp_to_q16(o.amp);
+  note.preset = preset.slot;
+
+  haptics::RenderSettings settings;
+  settings.synth.tick_hz = o.tick_hz;
+  settings.synth.end_fade_ms = static_cast<float>(o.end_fade_ms);
+  auto file = output::open_for_writing(o.out, o.force);  // checks before the (possibly long) render
+  const auto samples = haptics::render_signal({&note, 1}, {&preset, 1}, settings, 0, n_ticks);
+  haptics::write_csv(file.get(), samples, 0, o.tick_hz);
+  if (std::ferror(file.get())) throw std::runtime_error(o.out + ": write failed");
+  return kExitOk;
+}
+
+}  // namespace
+
+void register_tone(CLI::App& app, Registry& registry) {
+  auto opts = std::make_shared<ToneOptions>();
+  CLI::App* cmd = app.add_subcommand("tone", "Render one note (frequency, amplitude, envelope) as the device would");
+  cmd->add_option("--freq", opts->freq_hz, "Frequency in Hz (below 0.45 × tick rate)")->required();
+  cmd->add_option("--amp", opts->amp, "Peak amplitude, linear in (0, 1] of full scale")->required();
+  cmd->add_option("--ms", opts->ms, "Note duration in ms")->required();
+  auto* inst = cmd->add_option("--instrument", opts->instrument,
+                               "Envelope preset: " + haptics::builtin_names());
+  auto* adsr = cmd->add_option("--adsr", opts->adsr,
+                               "Custom envelope: attack=MS,decay=MS,sustain=PCT,release=MS,final=PCT");
+  inst->excludes(adsr);
+  cmd->add_option("--out", opts->out, "Output file (.csv), '-' for standard output")->capture_default_str();
+  cmd->add_option("--tick-hz", opts->tick_hz, "Device tick rate in Hz")
+      ->capture_default_str()->check(CLI::Range(100u, 100000u));
+  cmd->add_option("--end-fade-ms", opts->end_fade_ms, "Fade at the note's end in ms (0 = paper-exact)")
+      ->capture_default_str();
+  cmd->add_flag("-f,--force", opts->force, "Overwrite an existing output file");
+  cmd->callback([opts, &registry] { registry.set([opts] { return run_tone(*opts); }); });
+}
+
+}  // namespace hmp::cli
