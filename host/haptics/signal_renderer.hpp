@@ -3,6 +3,7 @@
 // runs (shared/synth/engine.hpp): notes start on their tick, voices mix under the polyphony policy and
 // the limiter. Used by `hmp tone` and `hmp render`.
 #include <cstdint>
+#include <cstdio>
 #include <functional>
 #include <span>
 #include <vector>

@@ -12,8 +12,10 @@ namespace hmp::envelope {
 // How the phases relate to the note's duration D.
 enum class Shape : std::uint8_t {
   adsr = 0,      // durations as given (Table 1 presets, square, user presets)
-  triangle = 1,  // decay spans the whole note: a at the start falling linearly to S (0) at D
-  damped = 2,    // 2013 paper: release spans the whole note, from a to an absolute end level (see Adsr)
+  triangle = 1,  // decay_ms is ignored: the decay fills what attack and release leave of D, so with
+                 // A = R = 0 it is a at the start falling linearly to S (0 for the preset) at D
+  damped = 2,    // 2013 paper: release_ms is ignored: the release fills what attack and decay leave of D
+                 // and falls from its start level to the absolute end level final_ratio (see Adsr)
 };
 
 struct Adsr {
@@ -48,22 +50,31 @@ bool valid(const Adsr& a);
 // (it runs for every voice on every tick).
 class Envelope {
  public:
-  // peak: a_h, linear in (0, 1]. duration_ticks: N (0 is treated as 1: a note is never silent).
-  // end_fade_ms: F ≥ 0 (0 = paper-exact). Invalid presets fall back to square.
+  // peak: a_h, linear in (0, 1] (clamped there; NaN → 0). duration_ticks: N (0 is treated as 1: a note is
+  // never silent). end_fade_ms: F ≥ 0 (0 = paper-exact; NaN, negative or infinite → 0; capped at 1e7).
+  // Invalid presets, and a tick_hz that is not finite and > 0, fall back to square (without fade).
+  // start() works in double (once per note, not per tick: a few µs of soft-float on a Cortex-M4F).
   void start(const Adsr& preset, float peak, std::uint32_t duration_ticks, float tick_hz, float end_fade_ms);
   // E at tick n, in [0, peak]; 0 for n ≥ N.
   float at(std::uint32_t n) const;
   std::uint32_t duration_ticks() const { return n_end_; }
 
  private:
-  // Phase boundaries in ticks (fractional): attack ends at t1_, decay at t2_, release starts at t3_.
-  float t1_ = 0, t2_ = 0, t3_ = 0, n_total_ = 1;
+  // start() works out the phase boundaries t1 ≤ t2 ≤ t3 ≤ N (in ticks, fractional) in double, then keeps
+  // only what at() needs in a form that stays exact for notes of hours: the first tick of each later phase
+  // as an integer (n < t ⟺ n < ceil(t)), and the fraction ceil(t) − t, so that the time into a phase is
+  // (integer tick difference) + (small fraction) and never a difference of two large floats.
+  std::uint32_t n_end_ = 1;           // N
+  std::uint32_t decay_first_ = 0;     // ceil(t1): first tick after the attack
+  std::uint32_t sustain_first_ = 0;   // ceil(t2)
+  std::uint32_t release_first_ = 1;   // ceil(t3); = N when there is no release
+  float decay_offset_ = 0;            // ceil(t1) − t1, in [0, 1)
+  float release_offset_ = 0;          // ceil(t3) − t3, in [0, 1)
   float peak_ = 0, sustain_level_ = 0;
   float attack_slope_ = 0, decay_slope_ = 0;  // per tick
   float release_log2_per_tick_ = 0;           // log2(r)/R in ticks; r = 0 handled by release_zero_
+  float fade_per_tick_ = 0;                   // 1/F in ticks; 0 = no end fade
   bool release_zero_ = false;
-  float fade_ticks_ = 0;
-  std::uint32_t n_end_ = 1;
 };
 
 }  // namespace hmp::envelope

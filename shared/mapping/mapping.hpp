@@ -13,6 +13,9 @@ struct Ranges {
   double f_min_hz = 50, f_max_hz = 250;   // SPEC §5 defaults
   double a_min_db = 7.5, a_max_db = 30;   // a_max is full scale (1.0)
 };
+// Usable ranges: all finite, 0 < f_min ≤ f_max, a_min ≤ a_max. A Mapper given others uses the defaults
+// (the host rejects them first, with a message).
+bool valid(const Ranges& r);
 // The 2013 paper's ranges: 60–200 Hz, amplitude 3.8–5.0 (device units; 5.0 = full scale).
 inline constexpr double kLegacyFminHz = 60, kLegacyFmaxHz = 200, kLegacyAmin = 3.8, kLegacyAmax = 5.0;
 // force_min of the 2013 paper's Eq. 6 (end level of the damped sine), in full-scale units.
@@ -21,7 +24,7 @@ inline constexpr double kLegacyForceMin = 0.05;
 // The set of MIDI keys (0–127) a track uses.
 class KeySet {
  public:
-  void add(std::uint8_t key);
+  void add(std::uint8_t key);         // keys above 127 are ignored
   bool contains(std::uint8_t key) const;
   int count() const;                  // k_ε
   int min() const;                    // k_min (−1 when empty)
@@ -42,6 +45,9 @@ double db_to_linear(double a_db, double a_max_db);
 class Mapper {
  public:
   Mapper(Mode mode, const Ranges& ranges, const KeySet& keys);
+  // Keys of the set map as SPEC §5 says. An empty set maps every key to the middle of the ranges
+  // (paper/rank: n/k_ε = 1/2; legacy2013: n' = 1/2). Keys outside [k_min, k_max] are clamped to it;
+  // in rank mode a key between two keys of the set gets the rank half-way between theirs.
   Haptic map(std::uint8_t key) const;
   // How many frequency just-noticeable differences (18 %) the track's mapped frequencies span.
   double jnd_steps() const;

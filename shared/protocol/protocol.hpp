@@ -9,6 +9,12 @@
 //   bytes 1–2  seq    u16: host reports number themselves 1, 2, …; the device echoes the last one it
 //                     accepted in its status. Device reports carry their own counter.
 //   bytes 3–63 payload, layout per type; unused bytes must be zero (checked: catches misframed data).
+//
+// Error codes decode() returns: unknown_type (byte 0), bad_length_field (count fields), bad_slot (preset
+// slot numbers), bad_value (any other field out of range, non-finite floats, unknown enum values),
+// nonzero_padding (a byte after the payload or in an unused note/entry slot is not zero). Field checks
+// come before the padding check. decode() is direction-agnostic: the receiver checks the direction with
+// is_host_to_device() and answers wrong_direction itself.
 #include <cstddef>
 #include <cstdint>
 
@@ -45,23 +51,36 @@ enum class Type : std::uint8_t {
   error = 0x85,
 };
 
+// Type byte checks (any byte value is accepted).
+bool is_known_type(std::uint8_t type);
+inline bool is_host_to_device(Type t) { return (static_cast<std::uint8_t>(t) & 0x80u) == 0; }
+
 // ---- host → device ----
+// bytes 3–4 protocol_version u16 (≥ 1). Hello and HelloReply keep this layout in every protocol
+// version, so two peers of different versions can always tell each other their version.
 struct Hello {
   std::uint16_t protocol_version = kProtocolVersion;
+  friend bool operator==(const Hello&, const Hello&) = default;
 };
 
+// bytes 3–10 host_time_us u64 (any value; echoed back in the SyncReply)
 struct Sync {
   std::uint64_t host_time_us = 0;  // echoed back
+  friend bool operator==(const Sync&, const Sync&) = default;
 };
 
 // A compact note: start = base_tick + offset (11 bytes on the wire):
-//   offset u8 | preset u8 | duration u24 (ticks, ≥ 1) | freq u32 (Q12.20 Hz) | amp u16 (65535 = 1.0)
+//   offset u8 | preset u8 (slot < kSlotCount) | duration u24 (ticks, 1 … kMaxCompactDuration)
+//   | freq u32 (Q12.20 Hz, any) | amp u16 (65535 = 1.0, any)
+// Notes whose start lies more than 255 ticks after the batch's base go in another batch; notes longer
+// than kMaxCompactDuration ticks go in a LongNote.
 struct CompactNote {
   std::uint8_t offset = 0;
   std::uint8_t preset = 0;
   std::uint32_t duration_ticks = 1;
   std::uint32_t freq_q20 = 0;
   std::uint16_t amp_q16 = 0;
+  friend bool operator==(const CompactNote&, const CompactNote&) = default;
 };
 
 // bytes 3 count (1–5) | 4 track | 5–8 base_tick u32 (low 32 bits of the device tick; the device picks the
@@ -70,10 +89,12 @@ struct Notes {
   std::uint8_t count = 0;
   std::uint8_t track = 0;
   std::uint32_t base_tick = 0;
-  CompactNote notes[kNotesPerBatch];
+  CompactNote notes[kNotesPerBatch];  // slots ≥ count are ignored by encode and default after decode
+  friend bool operator==(const Notes&, const Notes&) = default;
 };
 
-// bytes 3 track | 4 preset | 5–12 start_tick u64 | 13–16 duration u32 | 17–20 freq u32 | 21–22 amp u16
+// bytes 3 track | 4 preset (< kSlotCount) | 5–12 start_tick u64 (full device tick) | 13–16 duration u32
+// (≥ 1) | 17–20 freq u32 | 21–22 amp u16
 struct LongNote {
   std::uint8_t track = 0;
   std::uint8_t preset = 0;
@@ -81,19 +102,27 @@ struct LongNote {
   std::uint32_t duration_ticks = 1;
   std::uint32_t freq_q20 = 0;
   std::uint16_t amp_q16 = 0;
+  friend bool operator==(const LongNote&, const LongNote&) = default;
 };
 
-// bytes 3 slot | 4 shape | 5–8 attack_ms f32 | 9–12 decay_ms | 13–16 release_ms | 17–20 sustain | 21–24 final
+// bytes 3 slot [kFirstUserSlot, kSlotCount) | 4 shape (envelope::Shape) | 5–8 attack_ms f32 | 9–12 decay_ms
+// | 13–16 release_ms | 17–20 sustain | 21–24 final (envelope::valid() must hold)
 struct Preset {
   std::uint8_t slot = envelope::kFirstUserSlot;
   envelope::Adsr adsr{};
 };
+// Field by field (envelope::Adsr has no operator== of its own).
+inline bool operator==(const Preset& a, const Preset& b) {
+  return a.slot == b.slot && a.adsr.attack_ms == b.adsr.attack_ms && a.adsr.decay_ms == b.adsr.decay_ms &&
+         a.adsr.release_ms == b.adsr.release_ms && a.adsr.sustain == b.adsr.sustain &&
+         a.adsr.final_ratio == b.adsr.final_ratio && a.adsr.shape == b.adsr.shape;
+}
 
 enum class PolicyCode : std::uint8_t { sum = 0, highest = 1, latest = 2 };
 
-// bytes 3 policy | 4–7 gain f32 [0,1] | 8–11 peak_force_n f32 (0,20] | 12–23 direction x,y,z f32 (unit)
-// | 24–27 end_fade_ms f32 [0,1000] | 28–29 watchdog_ms u16 (≥ 10) | 30–31 ramp_in_ms u16 | 32–35 t_min_n f32
-// | 36–39 t_max_n f32 (t_min < t_max ≤ 20)
+// bytes 3 policy | 4–7 gain f32 [0,1] | 8–11 peak_force_n f32 (0,20] | 12–23 direction x,y,z f32 (unit
+// within 1e-3) | 24–27 end_fade_ms f32 [0,1000] | 28–29 watchdog_ms u16 (≥ 10) | 30–31 ramp_in_ms u16
+// (any) | 32–35 t_min_n f32 (≥ 0) | 36–39 t_max_n f32 (t_min < t_max ≤ 20)
 struct Settings {
   PolicyCode policy = PolicyCode::sum;
   float gain = 1.0f;
@@ -104,22 +133,27 @@ struct Settings {
   std::uint16_t ramp_in_ms = 500;
   float t_min_n = 0.3f;
   float t_max_n = 6.0f;
+  friend bool operator==(const Settings&, const Settings&) = default;
 };
 
 enum class TransportOp : std::uint8_t { play = 0, pause = 1, stop = 2, seek = 3 };
-// bytes 3 op | 4–11 tick u64 (seek: flush, then continue at this song tick; else 0)
+// bytes 3 op | 4–11 tick u64 (seek: flush, then continue at this song tick; other ops: must be 0)
 struct Transport {
   TransportOp op = TransportOp::play;
   std::uint64_t tick = 0;
+  friend bool operator==(const Transport&, const Transport&) = default;
 };
 
-struct Estop {};
+// No payload: bytes 3–63 zero.
+struct Estop {
+  friend bool operator==(const Estop&, const Estop&) = default;
+};
 
 // ---- device → host ----
 enum class Board : std::uint8_t { sim = 0, qemu_an386 = 1, stm32f407 = 2 };
 
-// bytes 3–4 protocol u16 | 5 fw major | 6 fw minor | 7 fw patch | 8 board | 9–12 tick_hz u32 | 13 voices
-// | 14–15 queue capacity u16 | 16 preset slots
+// bytes 3–4 protocol u16 (≥ 1) | 5 fw major | 6 fw minor | 7 fw patch | 8 board | 9–12 tick_hz u32 (≥ 1)
+// | 13 voices (≥ 1) | 14–15 queue capacity u16 (note reports, see Status) | 16 preset slots
 struct HelloReply {
   std::uint16_t protocol_version = kProtocolVersion;
   std::uint8_t fw_major = 0, fw_minor = 0, fw_patch = 0;
@@ -128,6 +162,7 @@ struct HelloReply {
   std::uint8_t voices = 16;
   std::uint16_t queue_capacity = 0;
   std::uint8_t preset_slots = envelope::kSlotCount;
+  friend bool operator==(const HelloReply&, const HelloReply&) = default;
 };
 
 // bytes 3–10 host_time_us (echo) | 11–18 device tick u64 | 19–22 sub-tick u32 (fraction of the tick
@@ -136,6 +171,7 @@ struct SyncReply {
   std::uint64_t host_time_us = 0;
   std::uint64_t tick = 0;
   std::uint32_t subtick = 0;
+  friend bool operator==(const SyncReply&, const SyncReply&) = default;
 };
 
 enum class State : std::uint8_t { idle = 0, playing = 1, paused = 2, stopped = 3, fault = 4 };
@@ -152,10 +188,14 @@ enum Fault : std::uint32_t {
   fault_encoder_jump = 1u << 6,
   fault_string_slack = 1u << 7,
 };
+inline constexpr std::uint32_t kKnownFaults = 0xFFu;  // a status with any other bit set is rejected
+
 
 // bytes 3–10 tick u64 | 11–12 queue free u16 | 13–14 last seq accepted u16 | 15–18 late u32
-// | 19–22 stolen u32 | 23–26 rejected u32 | 27–30 started u32 | 31–34 faults u32 | 35 state
-// | 36 active voices | 37–40 output f32 | 41–44 achieved force f32 (N, along the direction)
+// | 19–22 stolen u32 | 23–26 rejected u32 | 27–30 started u32 | 31–34 faults u32 (kKnownFaults) | 35 state
+// | 36 active voices | 37–40 output f32 [-1,1] | 41–44 achieved force f32 (N, along the direction, finite)
+// queue_free counts note reports (Notes or LongNote, each up to a full batch) the device will still accept
+// after the one numbered last_seq; counters are cumulative and wrap.
 struct Status {
   std::uint64_t tick = 0;
   std::uint16_t queue_free = 0;
@@ -166,19 +206,23 @@ struct Status {
   std::uint8_t active_voices = 0;
   float output = 0.0f;
   float force_n = 0.0f;
+  friend bool operator==(const Status&, const Status&) = default;
 };
 
 // One started note: seq u16 + index u8 of the note in its report (LongNote: index 0), scheduled and
-// actual tick (low 32 bits each) → 11 bytes. bytes 3 count (1–5) | 4–58 entries.
+// actual tick (low 32 bits each) → 11 bytes: seq u16 | index u8 (< kNotesPerBatch) | scheduled u32
+// | actual u32. bytes 3 count (1–5) | 4–58 entries (unused entries zero) | 59–63 zero.
 struct StartedEntry {
   std::uint16_t seq = 0;
   std::uint8_t index = 0;
   std::uint32_t scheduled_tick = 0;
   std::uint32_t actual_tick = 0;
+  friend bool operator==(const StartedEntry&, const StartedEntry&) = default;
 };
 struct Started {
   std::uint8_t count = 0;
-  StartedEntry entries[kNotesPerBatch];
+  StartedEntry entries[kNotesPerBatch];  // entries ≥ count: ignored by encode, default after decode
+  friend bool operator==(const Started&, const Started&) = default;
 };
 
 enum class ErrorCode : std::uint8_t {
@@ -195,12 +239,15 @@ enum class ErrorCode : std::uint8_t {
   bad_slot,
 };
 const char* name(ErrorCode e);
+const char* name(Type t);
 
-// bytes 3 code | 4–5 seq of the offending report | 6 offending type
+// bytes 3 code (any ErrorCode but none) | 4–5 seq of the offending report | 6 offending type byte (any:
+// it may be the unknown one). When decoding failed, seq and type are read raw from bytes 1–2 and 0.
 struct Error {
   ErrorCode code = ErrorCode::none;
   std::uint16_t seq = 0;
   std::uint8_t type = 0;
+  friend bool operator==(const Error&, const Error&) = default;
 };
 
 // A decoded report: `type` says which member is valid (a tagged union without RTTI or heap).
@@ -224,14 +271,19 @@ struct Message {
   };
   Message() : hello() {}
 };
+// Same type, seq and active member (for notes/started: only the first `count` slots).
+bool operator==(const Message& a, const Message& b);
 
+// The checks decode applies to the fields (everything but padding); ErrorCode::none if encodable.
+ErrorCode validate(const Message& msg);
 // Encode a message into a report (all 64 bytes written). Returns false if the message itself is
 // invalid (the same checks decode applies), in which case the report is zeroed.
 bool encode(const Message& msg, Report& out);
 // Decode any 64 bytes. On failure returns the error and leaves `out` unspecified.
+// On success, encode(out) reproduces `in` exactly.
 ErrorCode decode(const std::uint8_t (&in)[kReportSize], Message& out);
 
-// Builders for the common case.
+// Builders for the common case: the member for `t` default-initialised (an unknown t gives a Hello).
 Message make(Type t, std::uint16_t seq);
 
 }  // namespace hmp::protocol

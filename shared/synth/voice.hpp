@@ -21,6 +21,7 @@ struct SynthConfig {
   std::uint32_t tick_hz = 1000;
   float end_fade_ms = 2.0f;
   SineImpl sine = kDefaultSine;
+  float limiter_release_ms = 50.0f;  // Engine's limiter recovery time constant (see engine.hpp)
 };
 
 class Voice {

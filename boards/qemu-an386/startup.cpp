@@ -1,0 +1,113 @@
+// Reset path and vector table of the qemu-an386 image: enable the FPU, set up the C++ runtime by hand
+// (-nostartfiles: there is no crt0), run main(), and report faults through semihosting.
+#include <cstdint>
+
+#include "semihosting.hpp"
+
+// Symbols from an386.ld.
+extern "C" {
+extern std::uint32_t __data_start[], __data_end[], __data_load[];
+extern std::uint32_t __bss_start[], __bss_end[];
+extern std::uint32_t __stack_top[];
+using InitFunction = void (*)();
+extern InitFunction __preinit_array_start[], __preinit_array_end[];
+extern InitFunction __init_array_start[], __init_array_end[];
+
+int main();
+void Reset_Handler();
+void Default_Handler();
+void NMI_Handler();
+void HardFault_Handler();
+void MemManage_Handler();
+void BusFault_Handler();
+void UsageFault_Handler();
+// Weak: the firmware or the demo main defines the ones it uses.
+void SVC_Handler() __attribute__((weak, alias("Default_Handler")));
+void DebugMon_Handler() __attribute__((weak, alias("Default_Handler")));
+void PendSV_Handler() __attribute__((weak, alias("Default_Handler")));
+void SysTick_Handler() __attribute__((weak, alias("Default_Handler")));
+void UART0_RX_Handler() __attribute__((weak, alias("Default_Handler")));
+void UART0_TX_Handler() __attribute__((weak, alias("Default_Handler")));
+}
+
+namespace {
+
+using Handler = void (*)();
+
+// AN386 wires 32 external interrupts (QEMU: num-irq 32). UART0 RX/TX are IRQ 0/1.
+constexpr unsigned kExternalIrqs = 32;
+
+struct VectorTable {
+  const void* initial_sp;
+  Handler system[15];  // Reset … SysTick (exception numbers 1 … 15)
+  Handler irq[kExternalIrqs];
+};
+
+constexpr VectorTable make_vector_table() {
+  VectorTable t{__stack_top, {}, {}};
+  t.system[0] = Reset_Handler;
+  t.system[1] = NMI_Handler;
+  t.system[2] = HardFault_Handler;
+  t.system[3] = MemManage_Handler;
+  t.system[4] = BusFault_Handler;
+  t.system[5] = UsageFault_Handler;
+  // 7 … 10 reserved (nullptr)
+  t.system[10] = SVC_Handler;
+  t.system[11] = DebugMon_Handler;
+  // 13 reserved
+  t.system[13] = PendSV_Handler;
+  t.system[14] = SysTick_Handler;
+  for (auto& h : t.irq) h = Default_Handler;
+  t.irq[0] = UART0_RX_Handler;
+  t.irq[1] = UART0_TX_Handler;
+  return t;
+}
+
+[[gnu::section(".isr_vector"), gnu::used]] constinit const VectorTable g_vectors = make_vector_table();
+
+// System control block registers (ARMv7-M ARM, B3.2).
+volatile std::uint32_t& reg(std::uintptr_t address) { return *reinterpret_cast<volatile std::uint32_t*>(address); }
+constexpr std::uintptr_t kScbVtor = 0xE000ED08;
+constexpr std::uintptr_t kScbCpacr = 0xE000ED88;
+constexpr std::uintptr_t kScbShcsr = 0xE000ED24;
+constexpr std::uint32_t kCpacrCp10Cp11Full = 0xFu << 20;
+constexpr std::uint32_t kShcsrFaultsEnabled = (1u << 16) | (1u << 17) | (1u << 18);  // Mem, Bus, Usage
+
+// Everything after the FPU is on: compiled code here may use floating-point registers freely.
+[[gnu::noinline, noreturn]] void start_runtime() {
+  for (std::uint32_t *src = __data_load, *dst = __data_start; dst < __data_end;) *dst++ = *src++;
+  for (std::uint32_t* dst = __bss_start; dst < __bss_end;) *dst++ = 0;
+  for (InitFunction* f = __preinit_array_start; f < __preinit_array_end; ++f) (*f)();
+  for (InitFunction* f = __init_array_start; f < __init_array_end; ++f) (*f)();
+  hmp::board::semihost::exit(main());
+}
+
+[[noreturn]] void fault(const char* what) {
+  hmp::board::semihost::write0("FAULT: ");
+  hmp::board::semihost::write0(what);
+  hmp::board::semihost::write0("\n");
+  hmp::board::semihost::exit(hmp::board::semihost::kExitFault);
+}
+
+}  // namespace
+
+extern "C" {
+
+// Integer-only until CPACR grants access to CP10/CP11: any FP instruction before that would fault.
+void Reset_Handler() {
+  reg(kScbVtor) = reinterpret_cast<std::uintptr_t>(&g_vectors);
+  reg(kScbCpacr) = reg(kScbCpacr) | kCpacrCp10Cp11Full;
+  // Separate MemManage/BusFault/UsageFault handlers give better messages than an escalated HardFault.
+  reg(kScbShcsr) = reg(kScbShcsr) | kShcsrFaultsEnabled;
+  asm volatile("dsb\n\tisb" ::: "memory");
+  start_runtime();
+}
+
+void NMI_Handler() { fault("NMI"); }
+void HardFault_Handler() { fault("HardFault"); }
+void MemManage_Handler() { fault("MemManage"); }
+void BusFault_Handler() { fault("BusFault"); }
+void UsageFault_Handler() { fault("UsageFault"); }
+void Default_Handler() { fault("unexpected interrupt"); }
+
+}  // extern "C"

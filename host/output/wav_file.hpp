@@ -1,0 +1,18 @@
+#pragma once
+// WAV exports of the haptic signal (libsndfile): mono 32-bit float at the tick rate, or resampled to
+// 44.1 kHz (libsamplerate, best sinc) so that people without a device can listen to it.
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace hmp::output {
+
+inline constexpr int kAudibleRateHz = 44100;
+
+void write_wav(const std::string& path, std::span<const float> samples, int rate_hz, bool force);
+// Band-limited resampling; the result stays within [−1, 1] (the few-percent Gibbs overshoot of the
+// sinc filter at steps is clamped so a player never clips).
+std::vector<float> resample(std::span<const float> samples, int from_hz, int to_hz);
+
+}  // namespace hmp::output

@@ -1,0 +1,152 @@
+#include "shared/synth/engine.hpp"
+
+#include <cmath>
+
+#include "shared/common/text.hpp"
+#include "shared/synth/frequency.hpp"
+
+namespace hmp::synth {
+namespace {
+
+constexpr const char* kPolicyNames[] = {"sum", "highest", "latest"};  // in enum order
+constexpr unsigned kPolicyCount = sizeof kPolicyNames / sizeof kPolicyNames[0];
+
+}  // namespace
+
+const char* name(Polyphony p) {
+  const auto i = static_cast<unsigned>(p);
+  return i < kPolicyCount ? kPolicyNames[i] : "?";
+}
+
+bool find_polyphony(const char* label, Polyphony& out) {
+  for (unsigned i = 0; i < kPolicyCount; ++i) {
+    if (text::iequals(label, kPolicyNames[i])) {
+      out = static_cast<Polyphony>(i);
+      return true;
+    }
+  }
+  return false;
+}
+
+// ---- Limiter -----------------------------------------------------------------------------------------
+
+void Limiter::configure(float release_ms, std::uint32_t tick_hz) {
+  const float release_ticks = release_ms * static_cast<float>(tick_hz) * 0.001f;
+  // One-pole recovery: the gap to unity shrinks by exp(−1/τ) per tick. τ ≤ 0 (or NaN) = instant.
+  recover_ = release_ticks > 0.0f ? 1.0f - std::exp(-1.0f / release_ticks) : 1.0f;
+  gain_ = 1.0f;
+}
+
+float Limiter::process(float x) {
+  const float magnitude = std::fabs(x);
+  if (!(magnitude <= 3.0e38f)) return 0.0f;  // NaN or ±Inf: never let it reach the motors
+
+  if (gain_ < 1.0f) {
+    const float gap = (1.0f - gain_) * (1.0f - recover_);
+    // Below ~1e-6 the float gain would creep towards 1 for ever; snap so unity gain (and with it
+    // bit-exact pass-through) comes back.
+    gain_ = gap < 1.0e-6f ? 1.0f : 1.0f - gap;
+  }
+  if (magnitude * gain_ > 1.0f) gain_ = 1.0f / magnitude;  // drop at once: scale, never flatten
+
+  const float y = x * gain_;
+  // 1/|x| is rounded, so x·gain can overshoot by an ulp; the clamp only ever trims that ulp.
+  return y > 1.0f ? 1.0f : (y < -1.0f ? -1.0f : y);
+}
+
+// ---- Engine ------------------------------------------------------------------------------------------
+
+Engine::Engine(const SynthConfig& cfg) {
+  for (std::uint8_t i = 0; i < envelope::kBuiltinCount; ++i) {
+    slots_[i] = envelope::builtin(static_cast<envelope::Preset>(i));
+    slot_used_[i] = true;
+  }
+  configure(cfg);
+}
+
+void Engine::configure(const SynthConfig& cfg) {
+  cfg_ = cfg;
+  limiter_.configure(cfg.limiter_release_ms, cfg.tick_hz);
+}
+
+// Built-in slots are fixed (a host that wants to override one uploads its version to a user slot).
+bool Engine::set_preset(std::uint8_t slot, const envelope::Adsr& adsr) {
+  if (slot < envelope::kFirstUserSlot || slot >= envelope::kSlotCount || !envelope::valid(adsr)) return false;
+  slots_[slot] = adsr;
+  slot_used_[slot] = true;
+  return true;
+}
+
+const envelope::Adsr* Engine::preset(std::uint8_t slot) const {
+  return slot < envelope::kSlotCount && slot_used_[slot] ? &slots_[slot] : nullptr;
+}
+
+bool Engine::start(const Note& note) {
+  const envelope::Adsr* adsr = preset(note.preset);
+  // Zero duration is a malformed command here (the host always sends N ≥ 1); zero frequency is silence
+  // and frequencies at or above Nyquist cannot be synthesised at this tick rate. Amplitude 0 is allowed.
+  const bool below_nyquist = static_cast<std::uint64_t>(note.freq_q20) * 2 <
+                             (static_cast<std::uint64_t>(cfg_.tick_hz) << kFreqFracBits);
+  if (!adsr || note.duration_ticks == 0 || note.freq_q20 == 0 || !below_nyquist) {
+    ++counters_.rejected;
+    return false;
+  }
+
+  // A free voice, or else the oldest one. Ages are counted modulo 2^32 so the order counter may wrap.
+  Voice* target = nullptr;
+  std::uint32_t oldest_age = 0;
+  for (Voice& v : voices_) {
+    if (!v.active()) {
+      target = &v;
+      break;
+    }
+    const std::uint32_t age = next_order_ - v.order();
+    if (!target || age > oldest_age) {
+      target = &v;
+      oldest_age = age;
+    }
+  }
+  if (target->active()) ++counters_.stolen;
+
+  target->start(note, *adsr, cfg_, next_order_++);
+  ++counters_.started;
+  return true;
+}
+
+float Engine::tick() {
+  float sum = 0.0f;
+  float chosen = 0.0f;
+  const Voice* best = nullptr;  // the voice the highest/latest policy lets through
+  for (Voice& v : voices_) {
+    if (!v.active()) continue;
+    const bool newer = !best || (next_order_ - v.order()) < (next_order_ - best->order());
+    bool pick = false;
+    switch (policy_) {
+      case Polyphony::sum: break;
+      case Polyphony::highest:  // frequency is monotonic in key for every mapping; ties go to the newest
+        pick = !best || v.freq_q20() > best->freq_q20() || (v.freq_q20() == best->freq_q20() && newer);
+        break;
+      case Polyphony::latest: pick = newer; break;
+    }
+    const float y = v.next();  // every voice advances, heard or not
+    sum += y;
+    if (pick) {
+      best = &v;
+      chosen = y;
+    }
+  }
+  return limiter_.process(policy_ == Polyphony::sum ? sum : chosen);
+}
+
+void Engine::stop_all() {
+  for (Voice& v : voices_) v.stop();
+  limiter_.reset();
+}
+
+std::uint8_t Engine::active_voices() const {
+  std::uint8_t count = 0;
+  for (const Voice& v : voices_) count = static_cast<std::uint8_t>(count + (v.active() ? 1 : 0));
+  return count;
+}
+
+}  // namespace hmp::synth

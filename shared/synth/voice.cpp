@@ -1,0 +1,28 @@
+#include "shared/synth/voice.hpp"
+
+#include "shared/synth/frequency.hpp"
+
+namespace hmp::synth {
+
+void Voice::start(const Note& note, const envelope::Adsr& preset, const SynthConfig& cfg, std::uint32_t order) {
+  note_ = note;
+  order_ = order;
+  freq_q20_ = note.freq_q20;
+  sine_ = cfg.sine;
+  env_.start(preset, q16_to_amp(note.amp_q16), note.duration_ticks, static_cast<float>(cfg.tick_hz), cfg.end_fade_ms);
+  phase_ = 0;  // Eq. 8: phase 0 on the note's first tick
+  inc_ = phase_increment(note.freq_q20, cfg.tick_hz);
+  n_ = 0;
+  n_end_ = env_.duration_ticks();  // N, with 0 already promoted to 1 by the envelope
+}
+
+float Voice::next() {
+  if (!active()) return 0.0f;
+  // The top 32 bits address the sine; the low 32 keep the sub-LSB phase so it never drifts.
+  const float y = env_.at(n_) * sine(sine_, static_cast<std::uint32_t>(phase_ >> 32));
+  phase_ += inc_;
+  ++n_;
+  return y;
+}
+
+}  // namespace hmp::synth
