@@ -12,10 +12,10 @@ namespace hmp::envelope {
 // How the phases relate to the note's duration D.
 enum class Shape : std::uint8_t {
   adsr = 0,      // durations as given (Table 1 presets, square, user presets)
-  triangle = 1,  // decay_ms is ignored: the decay fills what attack and release leave of D, so with
-                 // A = R = 0 it is a at the start falling linearly to S (0 for the preset) at D
-  damped = 2,    // 2013 paper: release_ms is ignored: the release fills what attack and decay leave of D
-                 // and falls from its start level to the absolute end level final_ratio (see Adsr)
+  triangle = 1,  // the whole note is the decay: a at the start falling linearly to S (0 for the preset) at D;
+                 // attack_ms, decay_ms and release_ms are ignored
+  damped = 2,    // 2013 paper: the whole note is the release, from a at x = 0 to the absolute end level
+                 // final_ratio at D (r = min(1, final_ratio/a)); durations and sustain are ignored
 };
 
 struct Adsr {

@@ -1,0 +1,102 @@
+#pragma once
+// The song model built from a Standard MIDI File (SPEC §4): logical tracks, paired notes with ticks and
+// times, the global tempo map, and what the reader had to warn about.
+//
+// Logical tracks: format 1 → one per MTrk chunk (also the ones without notes, e.g. a conductor track);
+// format 0 → each chunk split by channel, one logical track per channel in the order of the channel's
+// first note (a chunk without notes still gives one empty track); format 2 → one per pattern, patterns
+// sequenced one after another. Indices are 0-based in that order (what `--track T` means).
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "host/midi/tempo_map.hpp"
+
+namespace hmp::midi {
+
+inline constexpr std::uint8_t kDrumChannel = 9;  // MIDI channel 10, 0-based
+
+// One paired note. 40 bytes: a 5 MB file can hold ~500k of them, so they are kept compact.
+struct Note {
+  std::uint64_t start_tick = 0;  // absolute; format 2 patterns are offset to play one after another
+  std::uint64_t end_tick = 0;    // ≥ start_tick; equal for a zero-length note (kept, see smf_reader.hpp)
+  std::int64_t start_us = 0;     // from the tempo map, integer µs
+  std::int64_t end_us = 0;
+  std::uint32_t track = 0;       // logical track index
+  std::uint8_t channel = 0;      // 0–15 (9 = drums)
+  std::uint8_t key = 0;          // 0–127
+  std::uint8_t velocity = 0;     // 1–127 (velocity 0 is a note-off)
+  std::uint8_t program = 0;      // the channel's GM program at the note's start (0 when never set)
+
+  double start_s() const { return static_cast<double>(start_us) * 1e-6; }
+  double end_s() const { return static_cast<double>(end_us) * 1e-6; }
+};
+static_assert(sizeof(Note) == 40, "Note must stay compact");
+
+// A (channel, program) pair some notes of a track were played with.
+struct ProgramUse {
+  std::uint8_t channel = 0;
+  std::uint8_t program = 0;
+  std::uint32_t notes = 0;  // how many of the track's notes used it
+};
+
+struct Track {
+  std::uint32_t index = 0;   // logical index
+  std::uint32_t chunk = 0;   // the MTrk chunk it came from (0-based, file order; warnings use this)
+  std::string name;          // sequence/track name meta (or instrument name), valid UTF-8; may be empty
+  std::uint16_t channels = 0;              // bit c set: the track has notes on channel c
+  std::vector<ProgramUse> programs;        // in order of first use
+  std::uint32_t note_count = 0;
+  std::array<std::uint64_t, 2> keys{};     // bit k set: key k is used
+  std::uint64_t end_tick = 0;              // End-of-Track (or last event read), absolute
+  std::int64_t end_us = 0;
+
+  bool has_channel(std::uint8_t c) const { return c < 16 && ((channels >> c) & 1u) != 0; }
+  int distinct_keys() const;
+  int key_min() const;  // −1 when the track has no notes
+  int key_max() const;  // −1 when the track has no notes
+  // The program and channel of the track's first note (what `hmp info` shows; `programs` has the rest).
+  std::uint8_t program() const { return programs.empty() ? 0 : programs.front().program; }
+  std::uint8_t channel() const { return programs.empty() ? 0 : programs.front().channel; }
+  bool is_drums() const { return channels == (1u << kDrumChannel); }
+};
+
+struct TimeSignature {
+  std::uint64_t tick = 0;
+  std::int64_t us = 0;
+  std::uint8_t numerator = 4;
+  std::uint8_t denominator_log2 = 2;  // the denominator is 2^this (as stored in the file)
+  std::uint8_t clocks_per_click = 24;
+  std::uint8_t thirty_seconds_per_quarter = 8;
+};
+
+struct Warning {
+  std::int64_t chunk = -1;   // MTrk chunk index, −1 for the file as a whole
+  std::uint64_t offset = 0;  // byte offset in the file as given (RIFF header included)
+  std::string message;       // one line, e.g. "track 2 at byte 0x1a3f: running status after a meta event"
+};
+
+struct Song {
+  std::uint16_t format = 1;                 // as in the header (unknown formats are read as format 1)
+  Division division;
+  std::vector<Track> tracks;
+  std::vector<Note> notes;                  // grouped by chunk, in start order within a chunk
+  TempoMap tempo_map;
+  std::vector<TempoChange> tempo_changes;   // the map's segments: [0] is the starting tempo at tick 0
+  std::vector<TimeSignature> time_signatures;
+  std::uint64_t end_tick = 0;               // the latest track end
+  std::int64_t duration_us = 0;
+
+  double duration_s() const { return static_cast<double>(duration_us) * 1e-6; }
+  // The notes of one logical track, in start order (ties keep file order).
+  std::vector<Note> track_notes(std::uint32_t track) const;
+};
+
+// `--track T` (SPEC §3): a 0-based index, or a case-insensitive part of a track's name or of its GM
+// instrument name. Among several matches the first track with notes wins (then the first at all).
+std::optional<std::uint32_t> find_track(const Song& song, std::string_view query);
+
+}  // namespace hmp::midi

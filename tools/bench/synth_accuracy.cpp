@@ -1,0 +1,153 @@
+// synth-accuracy: error and speed of one voice for each sine implementation (SPEC §7).
+// Error: the voice over a 10-minute note against the double-precision reference of SPEC §6,
+// E(x)·sin(2π f x) for the frequency the device represents; the max over several presets and
+// frequencies at full amplitude. Speed: host ns per voice sample and per sine call (a proxy for the MCU).
+// Prints JSON lines (see scripts/bench). Usage: bench_synth_accuracy [--note-s S] [--tick-hz HZ]…
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <vector>
+
+#include "shared/envelope/envelope.hpp"
+#include "shared/synth/frequency.hpp"
+#include "shared/synth/sine.hpp"
+#include "shared/synth/voice.hpp"
+#include "tests/unit/reference_envelope.hpp"
+
+namespace {
+
+using namespace hmp;
+using Clock = std::chrono::steady_clock;
+
+constexpr double kTwoPi = 6.283185307179586476925;
+constexpr synth::SineImpl kImpls[] = {synth::SineImpl::libm, synth::SineImpl::table, synth::SineImpl::poly};
+// Square exposes the sine at full scale for the whole note; the others add every envelope phase.
+constexpr envelope::Preset kPresets[] = {envelope::Preset::square, envelope::Preset::violin,
+                                         envelope::Preset::harpsichord, envelope::Preset::triangle};
+constexpr double kFrequencies[] = {50.0, 173.205080757, 249.9};
+
+struct Run {
+  std::uint32_t tick_hz;
+  std::uint32_t ticks;
+  float end_fade_ms;
+};
+
+synth::Note full_scale_note(double hz, std::uint32_t ticks) {
+  synth::Note n;
+  n.duration_ticks = ticks;
+  n.freq_q20 = synth::freq_to_q20(hz);
+  n.amp_q16 = synth::amp_to_q16(1.0);
+  return n;
+}
+
+double max_error(synth::SineImpl impl, const Run& run) {
+  const synth::SynthConfig cfg{run.tick_hz, run.end_fade_ms, impl};
+  const double tick_ms = 1000.0 / run.tick_hz;
+  const double d_ms = run.ticks * tick_ms;
+  double worst = 0.0;
+  for (envelope::Preset preset : kPresets) {
+    for (double hz : kFrequencies) {
+      const synth::Note note = full_scale_note(hz, run.ticks);
+      const double f = synth::q20_to_hz(note.freq_q20);  // the frequency the device represents
+      const double peak = static_cast<double>(synth::q16_to_amp(note.amp_q16));
+      synth::Voice v;
+      v.start(note, envelope::builtin(preset), cfg, 0);
+      for (std::uint32_t n = 0; n < run.ticks; ++n) {
+        const double x_ms = n * tick_ms;
+        const double expected = reference::envelope(envelope::builtin(preset), peak, d_ms, x_ms,
+                                                     static_cast<double>(run.end_fade_ms)) *
+                                std::sin(kTwoPi * f * (x_ms / 1000.0));
+        worst = std::max(worst, std::fabs(static_cast<double>(v.next()) - expected));
+      }
+    }
+  }
+  return worst;
+}
+
+// Best of several repetitions: the least disturbed by other processes on a shared machine.
+template <class Body>
+double best_ns_per_item(std::uint32_t items, Body body) {
+  double best = 1e300;
+  for (int rep = 0; rep < 7; ++rep) {
+    const auto t0 = Clock::now();
+    body();
+    const std::chrono::duration<double, std::nano> dt = Clock::now() - t0;
+    best = std::min(best, dt.count() / items);
+  }
+  return best;
+}
+
+volatile float g_sink;  // keeps the timed loops from being optimised away
+
+double voice_ns_per_sample(synth::SineImpl impl, const Run& run) {
+  const synth::SynthConfig cfg{run.tick_hz, run.end_fade_ms, impl};
+  const synth::Note note = full_scale_note(173.205080757, run.ticks);
+  return best_ns_per_item(run.ticks, [&] {
+    synth::Voice v;
+    v.start(note, envelope::builtin(envelope::Preset::violin), cfg, 0);
+    float acc = 0.0f;
+    for (std::uint32_t n = 0; n < run.ticks; ++n) acc += v.next();
+    g_sink = acc;
+  });
+}
+
+// Throughput: independent calls written to a buffer, so a dependency chain does not set the pace.
+double sine_ns_per_call(synth::SineImpl impl) {
+  static float out[1u << 16];
+  constexpr std::uint32_t kRounds = 64;
+  return best_ns_per_item(kRounds * (1u << 16), [&] {
+    std::uint32_t phase = 0;
+    for (std::uint32_t r = 0; r < kRounds; ++r) {
+      for (float& y : out) y = synth::sine(impl, phase += 0x9E3779B9u);
+      g_sink = out[r];
+    }
+  });
+}
+
+void emit(const char* metric, double value, const char* unit, synth::SineImpl impl, double note_s,
+          std::uint32_t tick_hz) {
+  std::printf(
+      "{\"bench\":\"synth-accuracy\",\"metric\":\"%s\",\"value\":%.4g,\"unit\":\"%s\","
+      "\"params\":{\"impl\":\"%s\",\"note_s\":%g,\"tick_hz\":%u}}\n",
+      metric, value, unit, synth::name(impl), note_s, tick_hz);
+  std::fflush(stdout);
+}
+
+[[noreturn]] void usage() {
+  std::fprintf(stderr, "usage: bench_synth_accuracy [--note-s SECONDS] [--tick-hz HZ]...\n");
+  std::exit(2);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  double note_s = 600.0;
+  std::vector<std::uint32_t> rates;
+  for (int i = 1; i < argc; ++i) {
+    if (i + 1 >= argc) usage();
+    const double value = std::strtod(argv[i + 1], nullptr);
+    if (std::strcmp(argv[i], "--note-s") == 0 && value > 0.0) {
+      note_s = value;
+    } else if (std::strcmp(argv[i], "--tick-hz") == 0 && value >= 1.0 && value <= 100000.0) {
+      rates.push_back(static_cast<std::uint32_t>(value));
+    } else {
+      usage();
+    }
+    ++i;
+  }
+  if (rates.empty()) rates = {1000, 10000};
+
+  for (std::uint32_t tick_hz : rates) {
+    const Run run{tick_hz, static_cast<std::uint32_t>(std::llround(note_s * tick_hz)), synth::SynthConfig{}.end_fade_ms};
+    for (synth::SineImpl impl : kImpls) {
+      emit("max_abs_error", max_error(impl, run), "full_scale", impl, note_s, tick_hz);
+      emit("ns_per_sample", voice_ns_per_sample(impl, run), "ns", impl, note_s, tick_hz);
+      emit("sine_ns_per_call", sine_ns_per_call(impl), "ns", impl, note_s, tick_hz);
+    }
+  }
+  return 0;
+}
