@@ -22,7 +22,7 @@ std::uint32_t be32(const std::uint8_t* p) {
   return (std::uint32_t{p[0]} << 24) | (std::uint32_t{p[1]} << 16) | (std::uint32_t{p[2]} << 8) | p[3];
 }
 std::uint16_t be16(const std::uint8_t* p) { return static_cast<std::uint16_t>((p[0] << 8) | p[1]); }
-std::uint32_t le32(const std::uint8_t* p) {
+std::uint32_t le32(const std::uint8_t* p) {  // RIFF sizes are little-endian
   return (std::uint32_t{p[3]} << 24) | (std::uint32_t{p[2]} << 16) | (std::uint32_t{p[1]} << 8) | p[0];
 }
 
@@ -56,9 +56,9 @@ struct Range {
 Range unwrap_riff(std::span<const std::uint8_t> bytes, detail::WarningLog& warnings) {
   if (bytes.size() < 12) fail(-1, 0, "RIFF header cut short");
   if (!is_id(bytes, 8, "RMID")) fail(-1, 8, "not a MIDI file: RIFF form \"" + id_text(bytes.data() + 8) + "\"");
-  const std::size_t riff_end = std::min<std::uint64_t>(bytes.size(), std::uint64_t{le32(bytes.data() + 4)} + 8);
+  // The RIFF size field is not trusted: sub-chunks are looked for up to the end of the file.
   std::size_t pos = 12;
-  while (pos + 8 <= riff_end) {
+  while (pos + 8 <= bytes.size()) {
     const std::uint64_t size = le32(bytes.data() + pos + 4);
     const std::size_t body = pos + 8;
     if (is_id(bytes, pos, "data")) {

@@ -1,6 +1,7 @@
 // After every chunk is read: the global tempo map, note times, each note's program, track statistics.
 #include <algorithm>
 #include <array>
+#include <memory>
 
 #include "host/midi/smf_detail.hpp"
 

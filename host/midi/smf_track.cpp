@@ -49,7 +49,7 @@ class TrackParser {
       return false;
     }
     const std::size_t event_at = p_;
-    std::uint32_t delta;
+    std::uint32_t delta = 0;
     if (!read_vlq(delta, event_at)) return false;
     tick_ += delta;
     if (p_ >= end_) return truncated(event_at);
@@ -114,7 +114,7 @@ class TrackParser {
   bool meta(std::size_t event_at) {
     if (p_ >= end_) return truncated(event_at);
     const std::uint8_t type = data_[p_++];
-    std::uint32_t length;
+    std::uint32_t length = 0;
     if (!read_vlq(length, event_at)) return false;
     if (end_ - p_ < length) return truncated(event_at);
     const std::span<const std::uint8_t> body = file_.subspan(p_, length);
@@ -162,7 +162,7 @@ class TrackParser {
 
   // F0 len data / F7 len data: skipped whole, never parsed as events.
   bool sysex(std::size_t event_at) {
-    std::uint32_t length;
+    std::uint32_t length = 0;
     if (!read_vlq(length, event_at)) return false;
     if (end_ - p_ < length) return truncated(event_at);
     p_ += length;

@@ -32,24 +32,25 @@ bool find_polyphony(const char* label, Polyphony& out) {
 
 void Limiter::configure(float release_ms, std::uint32_t tick_hz) {
   const float release_ticks = release_ms * static_cast<float>(tick_hz) * 0.001f;
-  // One-pole recovery: the gap to unity shrinks by exp(−1/τ) per tick. τ ≤ 0 (or NaN) = instant.
-  recover_ = release_ticks > 0.0f ? 1.0f - std::exp(-1.0f / release_ticks) : 1.0f;
-  gain_ = 1.0f;
+  // One-pole recovery; τ ≤ 0 (or NaN) recovers at once.
+  keep_ = release_ticks > 0.0f ? std::exp(-1.0f / release_ticks) : 0.0f;
+  gap_ = 0.0f;
 }
 
 float Limiter::process(float x) {
   const float magnitude = std::fabs(x);
   if (!(magnitude <= 3.0e38f)) return 0.0f;  // NaN or ±Inf: never let it reach the motors
 
-  if (gain_ < 1.0f) {
-    const float gap = (1.0f - gain_) * (1.0f - recover_);
-    // Below ~1e-6 the float gain would creep towards 1 for ever; snap so unity gain (and with it
-    // bit-exact pass-through) comes back.
-    gain_ = gap < 1.0e-6f ? 1.0f : 1.0f - gap;
+  if (gap_ > 0.0f) {
+    gap_ *= keep_;
+    if (gap_ < 1e-9f) gap_ = 0.0f;  // long since invisible in 1 − gap; avoids denormals
   }
-  if (magnitude * gain_ > 1.0f) gain_ = 1.0f / magnitude;  // drop at once: scale, never flatten
-
-  const float y = x * gain_;
+  float gain = 1.0f - gap_;
+  if (magnitude * gain > 1.0f) {  // drop at once: the waveform is scaled, never flattened
+    gain = 1.0f / magnitude;
+    gap_ = 1.0f - gain;
+  }
+  const float y = x * gain;
   // 1/|x| is rounded, so x·gain can overshoot by an ulp; the clamp only ever trims that ulp.
   return y > 1.0f ? 1.0f : (y < -1.0f ? -1.0f : y);
 }

@@ -20,12 +20,15 @@ bool find_polyphony(const char* name, Polyphony& out);
 class Limiter {
  public:
   void configure(float release_ms, std::uint32_t tick_hz);
-  float process(float x);
-  float gain() const { return gain_; }
-  void reset() { gain_ = 1.0f; }
+  float process(float x);  // NaN/±Inf in → 0 out; |result| ≤ 1
+  float gain() const { return 1.0f - gap_; }
+  void reset() { gap_ = 0.0f; }
  private:
-  float gain_ = 1.0f;
-  float recover_ = 0.0f;  // fraction of the gap to 1 recovered per tick
+  // The state is the gap to unity gain rather than the gain: it decays geometrically with float's
+  // relative precision, so 1 − gap returns to exactly 1.0 (and bit-exact pass-through) instead of
+  // stalling an ulp or a few below it.
+  float gap_ = 0.0f;
+  float keep_ = 0.0f;  // fraction of the gap left after one tick: exp(−1/τ), τ = release in ticks
 };
 
 struct EngineCounters {

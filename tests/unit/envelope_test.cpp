@@ -317,6 +317,23 @@ TEST(EnvelopeShape, ReleaseToZeroIsAStepRightAfterT3) {
   EXPECT_EQ(e.at(99), 0.0f);
 }
 
+// A short note with no attack or decay is all release, starting at x = 0 = t3 exactly, whatever rounding
+// the scale factor D/(A + Dc + R) brings: with r = 0 the first sample is still S.
+TEST(EnvelopeShape, ShortNoteOfOnlyReleaseStartsAtSustain) {
+  Adsr a;
+  a.sustain = 0.5f;
+  a.final_ratio = 0;
+  for (int release = 100; release <= 1000; ++release) {
+    a.release_ms = static_cast<float>(release);
+    for (std::uint32_t ticks = 1; ticks < 100; ++ticks) {
+      Envelope e;
+      e.start(a, 1.0f, ticks, 1000.0f, 0.0f);
+      ASSERT_FLOAT_EQ(e.at(0), 0.5f) << "R " << release << " N " << ticks;
+      if (ticks > 1) ASSERT_EQ(e.at(1), 0.0f) << "R " << release << " N " << ticks;
+    }
+  }
+}
+
 TEST(EnvelopeShape, EndFadeRampsTheLastMilliseconds) {
   Envelope e;
   e.start(preset(Preset::square), 1.0f, 100, 1000.0f, 4.0f);

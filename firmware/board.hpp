@@ -1,0 +1,39 @@
+#pragma once
+// The board seam (SPEC §8): everything the board-independent core needs from a board, as a plain struct
+// of function pointers (no virtual calls, no RTTI, no board header in the core). A board fills one in,
+// constructs hmp::fw::Core with it, and then
+//   - calls core.on_tick() from its tick timer interrupt (tick_hz times per second), and
+//   - calls core.on_packet(report) for every 64-byte report the transport receives (HID OUT report,
+//     a deframed UART packet, or an in-process call). on_packet may run in another interrupt than the
+//     tick: it only fills a lock-free single-producer/single-consumer queue.
+// Every pointer may be null (the call is then skipped; subtick reads as 0).
+#include <cstdint>
+
+#include "shared/protocol/protocol.hpp"
+
+namespace hmp::fw {
+
+struct BoardSeam {
+  void* ctx = nullptr;  // handed back to every call
+
+  // Tick context. The vibration sample for this tick in full-scale units, already clamped to the
+  // configured limit |value| ≤ gain ≤ 1 (later boards turn it into motor duties).
+  void (*output)(void* ctx, float value) = nullptr;
+
+  // Tick context. One device→host report. Must not block: return false when there is no room (the
+  // report is dropped and counted in Core::Stats::tx_dropped).
+  bool (*send)(void* ctx, const protocol::Report& report) = nullptr;
+
+  // Tick context. One line of text without a newline (rate-limited by the core). May be slow
+  // (semihosting): the core logs only rare events.
+  void (*log)(void* ctx, const char* line) = nullptr;
+
+  // Any context. How far the tick timer has counted since the last tick interrupt, as a fraction of the
+  // tick period in 2^-32 units. If the timer has wrapped but the tick interrupt has not run yet (it is
+  // pending), return 0xFFFFFFFF rather than a small value, so tick + subtick never steps back.
+  std::uint32_t (*subtick)(void* ctx) = nullptr;
+
+  protocol::Board id = protocol::Board::sim;  // reported in HelloReply
+};
+
+}  // namespace hmp::fw
