@@ -23,6 +23,8 @@ int Registry::run() const {
 }
 
 void register_all(CLI::App& app, Registry& registry) {
+  register_info(app, registry);
+  register_render(app, registry);
   register_tone(app, registry);
 }
 

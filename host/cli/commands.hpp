@@ -26,5 +26,7 @@ std::string version_string();
 void register_all(CLI::App& app, Registry& registry);
 
 void register_tone(CLI::App& app, Registry& registry);
+void register_info(CLI::App& app, Registry& registry);
+void register_render(CLI::App& app, Registry& registry);
 
 }  // namespace hmp::cli

@@ -68,15 +68,20 @@ struct ChunkInput {
   bool cut_by_eof = false;          // the declared length ran past the end of the file
 };
 
+struct ChunkResult {
+  std::uint64_t end_tick = 0;     // absolute: End-of-Track, or the last complete event
+  std::size_t stop = 0;           // file offset where reading stopped (just after End-of-Track if seen)
+  bool end_of_track = false;
+};
+
 // Parses the chunk's events, appends its notes, tracks, program/tempo/time-signature events and warnings.
-// Returns the chunk's end tick (absolute: End-of-Track, or the last event read).
-std::uint64_t parse_track(std::span<const std::uint8_t> file, const ChunkInput& in, ParseState& state);
+ChunkResult parse_track(std::span<const std::uint8_t> file, const ChunkInput& in, ParseState& state);
 
 // Tempo map, note times and programs, per-track statistics.
 void finish_song(ParseState& state, Song& song);
 
 // Valid UTF-8 of a text meta event: UTF-8 kept, other bytes read as Latin-1, trailing NULs and
-// whitespace dropped, control characters replaced by spaces.
+// whitespace dropped (leading spaces too), control characters replaced by spaces.
 std::string text_to_utf8(std::span<const std::uint8_t> text);
 
 }  // namespace hmp::midi::detail

@@ -185,8 +185,19 @@ class SmfReader {
       in.tick_offset = pattern_end_;
       if (chunk > 0) state_.tempos.push_back(TempoMap::Point{pattern_end_, kDefaultTempo});
     }
-    const std::uint64_t end_tick = detail::parse_track(bytes_, in, state_);
-    if (format_ == 2) pattern_end_ = end_tick;
+    const detail::ChunkResult r = detail::parse_track(bytes_, in, state_);
+    if (format_ == 2) pattern_end_ = r.end_tick;
+    if (r.end_of_track && r.stop < in.end) {
+      // A declared length longer than the track: if the next chunk starts right after End-of-Track,
+      // resume there rather than inside it.
+      if (end - r.stop >= 8 && is_id(bytes_, r.stop, "MTrk")) {
+        state_.warnings.add(chunk, pos + 4,
+                            "declared length " + std::to_string(length) +
+                                " is longer than the track; the next chunk follows its End-of-Track");
+        return r.stop;
+      }
+      state_.warnings.add(chunk, r.stop, std::to_string(in.end - r.stop) + " bytes after End-of-Track ignored");
+    }
     return in.end;
   }
 

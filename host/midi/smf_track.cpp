@@ -35,10 +35,11 @@ class TrackParser {
     ++st_.generation;  // forget the FIFOs of the previous chunk
   }
 
-  std::uint64_t run() {
+  ChunkResult run() {
     while (step()) {
     }
-    return finish();
+    const std::uint64_t end_tick = finish();
+    return ChunkResult{end_tick, p_, saw_end_of_track_};
   }
 
  private:
@@ -124,10 +125,6 @@ class TrackParser {
     switch (type) {
       case 0x2F:  // End-of-Track
         saw_end_of_track_ = true;
-        if (p_ < end_) {
-          st_.warnings.add(in_.chunk, p_,
-                           std::to_string(end_ - p_) + " bytes after End-of-Track ignored");
-        }
         return false;
       case 0x51:  // tempo: µs per quarter note, 24 bits
         if (length >= 3) {
@@ -307,7 +304,7 @@ class TrackParser {
 
 }  // namespace
 
-std::uint64_t parse_track(std::span<const std::uint8_t> file, const ChunkInput& in, ParseState& state) {
+ChunkResult parse_track(std::span<const std::uint8_t> file, const ChunkInput& in, ParseState& state) {
   return TrackParser(file, in, state).run();
 }
 

@@ -21,6 +21,13 @@ constexpr double kConstantHz = 250.0;
 // Keys outside the set's range map like its nearest end.
 int clamp_key(int key, int lo, int hi) { return key < lo ? lo : (key > hi ? hi : key); }
 
+// Rounding of the formulas below can overshoot a range end by an ulp; callers rely on the ranges.
+double clamp(double v, double lo, double hi) { return v < lo ? lo : (v > hi ? hi : v); }
+
+Haptic in_ranges(const Ranges& r, double f_hz, double a_db) {
+  return {clamp(f_hz, r.f_min_hz, r.f_max_hz), db_to_linear(clamp(a_db, r.a_min_db, r.a_max_db), r.a_max_db)};
+}
+
 // Eq. 5–7 as printed: n = k_ε (k − k_min)/Δk, then f and a_dB move by Δ/k_ε per unit of n.
 Haptic map_paper(const Ranges& r, const KeySet& keys, int key) {
   const int k_eps = keys.count();
@@ -36,8 +43,8 @@ Haptic map_paper(const Ranges& r, const KeySet& keys, int key) {
   } else {
     n = k_eps_d * (clamp_key(key, k_min, keys.max()) - k_min) / delta_k;
   }
-  const double a_db = r.a_min_db + (r.a_max_db - r.a_min_db) / k_eps_d * n;
-  return {r.f_min_hz + (r.f_max_hz - r.f_min_hz) / k_eps_d * n, db_to_linear(a_db, r.a_max_db)};
+  return in_ranges(r, r.f_min_hz + (r.f_max_hz - r.f_min_hz) / k_eps_d * n,
+                   r.a_min_db + (r.a_max_db - r.a_min_db) / k_eps_d * n);
 }
 
 // Position i/(k_ε − 1) of the key among the distinct keys, in [0, 1]; 1/2 with fewer than two keys.
@@ -47,15 +54,14 @@ double rank_position(const KeySet& keys, int key) {
   const int k = clamp_key(key, keys.min(), keys.max());
   const auto key8 = static_cast<std::uint8_t>(k);
   // An absent key sits between its neighbours: half a rank below the next key of the set.
-  const double i = keys.contains(key8) ? keys.rank(key8) : keys.rank(key8) - 0.5;
+  const double i = keys.contains(key8) ? keys.count_below(key8) : keys.count_below(key8) - 0.5;
   return i / (k_eps - 1);
 }
 
 Haptic map_rank(const Ranges& r, const KeySet& keys, int key) {
   const double u = rank_position(keys, key);
-  const double f = r.f_min_hz * std::pow(r.f_max_hz / r.f_min_hz, u);
-  const double a_db = r.a_min_db + (r.a_max_db - r.a_min_db) * u;
-  return {f, db_to_linear(a_db, r.a_max_db)};
+  return in_ranges(r, r.f_min_hz * std::pow(r.f_max_hz / r.f_min_hz, u),
+                   r.a_min_db + (r.a_max_db - r.a_min_db) * u);
 }
 
 // 2013 paper Eq. 3–5 with its note_step divided by the number of distinct keys:
@@ -115,13 +121,15 @@ int KeySet::max() const {
   return -1;
 }
 
-int KeySet::rank(std::uint8_t key) const {
-  if (!contains(key)) return -1;
-  // Keys below `key`: all of the low word when key ≥ 64, plus the bits under it in its own word.
+int KeySet::count_below(std::uint8_t key) const {
+  if (key >= kKeyCount) return count();
+  // All of the low word when key ≥ 64, plus the bits under key in its own word.
   const std::uint64_t below_in_word = (std::uint64_t{1} << (key % 64)) - 1;
-  const int low_words = key >= 64 ? std::popcount(bits_[0]) : 0;
-  return low_words + std::popcount(bits_[key / 64] & below_in_word);
+  const int low_word = key >= 64 ? std::popcount(bits_[0]) : 0;
+  return low_word + std::popcount(bits_[key / 64] & below_in_word);
 }
+
+int KeySet::rank(std::uint8_t key) const { return contains(key) ? count_below(key) : -1; }
 
 double db_to_linear(double a_db, double a_max_db) { return std::pow(10.0, (a_db - a_max_db) / 20.0); }
 

@@ -30,6 +30,7 @@ class KeySet {
   int min() const;                    // k_min (−1 when empty)
   int max() const;                    // k_max (−1 when empty)
   int rank(std::uint8_t key) const;   // 0-based rank among the distinct keys (−1 if absent)
+  int count_below(std::uint8_t key) const;  // keys of the set lower than key (= rank when present)
  private:
   std::uint64_t bits_[2] = {0, 0};
 };

@@ -12,8 +12,8 @@
 //
 // Error codes decode() returns: unknown_type (byte 0), bad_length_field (count fields), bad_slot (preset
 // slot numbers), bad_value (any other field out of range, non-finite floats, unknown enum values),
-// nonzero_padding (a byte after the payload or in an unused note/entry slot is not zero). Field checks
-// come before the padding check. decode() is direction-agnostic: the receiver checks the direction with
+// nonzero_padding (a byte after the payload or in an unused note/entry slot is not zero). Fields are
+// checked in wire order (the first bad one decides the code), then the padding. decode() is direction-agnostic: the receiver checks the direction with
 // is_host_to_device() and answers wrong_direction itself.
 #include <cstddef>
 #include <cstdint>

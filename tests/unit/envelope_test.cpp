@@ -329,7 +329,9 @@ TEST(EnvelopeShape, ShortNoteOfOnlyReleaseStartsAtSustain) {
       Envelope e;
       e.start(a, 1.0f, ticks, 1000.0f, 0.0f);
       ASSERT_FLOAT_EQ(e.at(0), 0.5f) << "R " << release << " N " << ticks;
-      if (ticks > 1) ASSERT_EQ(e.at(1), 0.0f) << "R " << release << " N " << ticks;
+      if (ticks > 1) {
+        ASSERT_EQ(e.at(1), 0.0f) << "R " << release << " N " << ticks;
+      }
     }
   }
 }
@@ -408,7 +410,8 @@ TEST(EnvelopeAccuracy, RandomPresetsAgainstReference) {
     // Note lengths: 0–1 ms, up to a minute, or hours (up to ~1e8 ticks).
     const double len = unit(rng);
     const double note_ms = len < 0.2 ? unit(rng) : (len < 0.8 ? log_uniform(1, 6e4) : log_uniform(6e4, 1e7));
-    c.ticks = static_cast<std::uint32_t>(std::min(1e8, std::round(note_ms * static_cast<double>(c.tick_hz) / 1000)));
+    const double ticks = std::round(note_ms * static_cast<double>(c.tick_hz) / 1000);
+    c.ticks = static_cast<std::uint32_t>(std::min(1e8, ticks));
     // Integer-millisecond phases at 1 kHz put boundaries exactly on ticks: keep some of those too.
     if (i % 10 == 0) {
       c.adsr.attack_ms = std::round(c.adsr.attack_ms);

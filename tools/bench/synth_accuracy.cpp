@@ -68,44 +68,36 @@ double max_error(synth::SineImpl impl, const Run& run) {
   return worst;
 }
 
-// Best of several repetitions: the least disturbed by other processes on a shared machine.
-template <class Body>
-double best_ns_per_item(std::uint32_t items, Body body) {
-  double best = 1e300;
-  for (int rep = 0; rep < 7; ++rep) {
-    const auto t0 = Clock::now();
-    body();
-    const std::chrono::duration<double, std::nano> dt = Clock::now() - t0;
-    best = std::min(best, dt.count() / items);
-  }
-  return best;
+double elapsed_ns(Clock::time_point t0) {
+  return std::chrono::duration<double, std::nano>(Clock::now() - t0).count();
 }
 
 volatile float g_sink;  // keeps the timed loops from being optimised away
 
-double voice_ns_per_sample(synth::SineImpl impl, const Run& run) {
+// Host ns per voice sample (sine + envelope + phase): the whole note, one voice.
+double time_voice(synth::SineImpl impl, const Run& run) {
   const synth::SynthConfig cfg{run.tick_hz, run.end_fade_ms, impl};
   const synth::Note note = full_scale_note(173.205080757, run.ticks);
-  return best_ns_per_item(run.ticks, [&] {
-    synth::Voice v;
-    v.start(note, envelope::builtin(envelope::Preset::violin), cfg, 0);
-    float acc = 0.0f;
-    for (std::uint32_t n = 0; n < run.ticks; ++n) acc += v.next();
-    g_sink = acc;
-  });
+  const auto t0 = Clock::now();
+  synth::Voice v;
+  v.start(note, envelope::builtin(envelope::Preset::violin), cfg, 0);
+  float acc = 0.0f;
+  for (std::uint32_t n = 0; n < run.ticks; ++n) acc += v.next();
+  g_sink = acc;
+  return elapsed_ns(t0) / run.ticks;
 }
 
-// Throughput: independent calls written to a buffer, so a dependency chain does not set the pace.
-double sine_ns_per_call(synth::SineImpl impl) {
+// Host ns per sine call, throughput: independent calls into a buffer, so no dependency chain sets the pace.
+double time_sine(synth::SineImpl impl) {
   static float out[1u << 16];
   constexpr std::uint32_t kRounds = 64;
-  return best_ns_per_item(kRounds * (1u << 16), [&] {
-    std::uint32_t phase = 0;
-    for (std::uint32_t r = 0; r < kRounds; ++r) {
-      for (float& y : out) y = synth::sine(impl, phase += 0x9E3779B9u);
-      g_sink = out[r];
-    }
-  });
+  const auto t0 = Clock::now();
+  std::uint32_t phase = 0;
+  for (std::uint32_t r = 0; r < kRounds; ++r) {
+    for (float& y : out) y = synth::sine(impl, phase += 0x9E3779B9u);
+    g_sink = out[r];
+  }
+  return elapsed_ns(t0) / (kRounds * (1u << 16));
 }
 
 void emit(const char* metric, double value, const char* unit, synth::SineImpl impl, double note_s,
@@ -141,12 +133,24 @@ int main(int argc, char** argv) {
   }
   if (rates.empty()) rates = {1000, 10000};
 
+  constexpr std::size_t kImplCount = sizeof kImpls / sizeof kImpls[0];
   for (std::uint32_t tick_hz : rates) {
     const Run run{tick_hz, static_cast<std::uint32_t>(std::llround(note_s * tick_hz)), synth::SynthConfig{}.end_fade_ms};
-    for (synth::SineImpl impl : kImpls) {
-      emit("max_abs_error", max_error(impl, run), "full_scale", impl, note_s, tick_hz);
-      emit("ns_per_sample", voice_ns_per_sample(impl, run), "ns", impl, note_s, tick_hz);
-      emit("sine_ns_per_call", sine_ns_per_call(impl), "ns", impl, note_s, tick_hz);
+    // Timing: the implementations take turns, best of several rounds, so a busy neighbour on a shared
+    // machine slows them alike and the fastest undisturbed run counts.
+    double voice_ns[kImplCount], sine_ns[kImplCount];
+    std::fill(voice_ns, voice_ns + kImplCount, 1e300);
+    std::fill(sine_ns, sine_ns + kImplCount, 1e300);
+    for (int round = 0; round < 7; ++round) {
+      for (std::size_t i = 0; i < kImplCount; ++i) {
+        voice_ns[i] = std::min(voice_ns[i], time_voice(kImpls[i], run));
+        sine_ns[i] = std::min(sine_ns[i], time_sine(kImpls[i]));
+      }
+    }
+    for (std::size_t i = 0; i < kImplCount; ++i) {
+      emit("max_abs_error", max_error(kImpls[i], run), "full_scale", kImpls[i], note_s, tick_hz);
+      emit("ns_per_sample", voice_ns[i], "ns", kImpls[i], note_s, tick_hz);
+      emit("sine_ns_per_call", sine_ns[i], "ns", kImpls[i], note_s, tick_hz);
     }
   }
   return 0;

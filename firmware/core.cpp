@@ -1,0 +1,136 @@
+#include "firmware/core.hpp"
+
+namespace hmp::fw {
+
+using protocol::State;
+
+Core::Core(const BoardSeam& board, std::uint32_t tick_hz, std::uint64_t first_tick)
+    : board_(board), tick_hz_(tick_hz != 0 ? tick_hz : kDefaultTickHz), tick_(first_tick) {
+  tick_lo_.store(static_cast<std::uint32_t>(tick_), std::memory_order_relaxed);
+  last_host_tick_ = tick_;
+  synth_cfg_.tick_hz = tick_hz_;
+  synth_cfg_.end_fade_ms = settings_.end_fade_ms;
+  engine_.configure(synth_cfg_);
+  // Status ≥ 50 Hz while playing (SPEC §9): 100 Hz at any tick rate; 10 Hz otherwise, so a host that
+  // preloads the queue before play still sees queue_free move.
+  status_period_playing_ = tick_hz_ >= 100 ? tick_hz_ / 100 : 1;
+  status_period_idle_ = tick_hz_ >= 10 ? tick_hz_ / 10 : 1;
+  apply_settings();
+}
+
+bool Core::on_packet(const protocol::Report& report) {
+  // An emergency stop must not wait behind other reports (or be lost to a full inbox): a well-formed
+  // one raises a flag the next tick checks first. It still goes through the inbox to be acknowledged.
+  if (report[0] == static_cast<std::uint8_t>(protocol::Type::estop)) {
+    bool zero_payload = true;
+    for (std::size_t i = 3; i < protocol::kReportSize; ++i) zero_payload = zero_payload && report[i] == 0;
+    if (zero_payload) estop_pending_.store(true, std::memory_order_release);
+  }
+  InboxEntry* slot = inbox_.prepare();
+  if (slot == nullptr) {  // the tick turns this into a latched fault (this context must not touch stats_)
+    inbox_lost_.store(inbox_lost_.load(std::memory_order_relaxed) + 1, std::memory_order_release);
+    return false;
+  }
+  for (std::size_t i = 0; i < protocol::kReportSize; ++i) slot->bytes[i] = report[i];
+  slot->rx_tick = tick_lo_.load(std::memory_order_relaxed);
+  slot->rx_subtick = board_.subtick != nullptr ? board_.subtick(board_.ctx) : 0;
+  inbox_.commit();
+  return true;
+}
+
+std::uint64_t Core::rx_tick64(std::uint32_t rx_tick) const {
+  // The report arrived at or before the present tick, less than 2^32 ticks ago.
+  return tick_ - static_cast<std::uint32_t>(static_cast<std::uint32_t>(tick_) - rx_tick);
+}
+
+void Core::on_tick() {
+  ++tick_;
+  tick_lo_.store(static_cast<std::uint32_t>(tick_), std::memory_order_relaxed);
+
+  // 1. Safety first: an emergency stop silences this very tick.
+  if (estop_pending_.exchange(false, std::memory_order_acq_rel)) emergency_stop();
+  const std::uint32_t lost = inbox_lost_.load(std::memory_order_acquire);
+  if (lost != stats_.inbox_full) {
+    faults_ |= protocol::fault_queue_overflow;
+    log_event("inbox full, reports lost: ", lost - stats_.inbox_full);
+    stats_.inbox_full = lost;
+  }
+  // 2. Commands (bounded number per tick).
+  for (std::uint32_t n = 0; n < kMaxPacketsPerTick; ++n) {
+    const InboxEntry* entry = inbox_.front();
+    if (entry == nullptr) break;
+    handle(*entry);
+    inbox_.pop();
+  }
+  // 3. Host watchdog, 4. due notes.
+  check_watchdog();
+  if (state_ == State::playing) start_due_notes();
+  // 5. Voices, mix, policy and limiter (the engine), then ramp/fade, gain and clamp.
+  const float mixed = output_.silent() ? 0.0f : engine_.tick();
+  last_output_ = output_.process(mixed, faults_);
+  if (output_.silent() && engine_.active_voices() > 0) engine_.stop_all();  // a fade has ended
+  if (board_.output != nullptr) board_.output(board_.ctx, last_output_);
+  // 6. Status and Started reports.
+  send_periodic_reports();
+}
+
+void Core::start_due_notes() {
+  for (std::uint32_t n = 0; n < kMaxStartsPerTick && !queue_.empty(); ++n) {
+    const QueuedNote& next = queue_.top();
+    if (next.note.start_tick > tick_) break;
+    const QueuedNote q = next;
+    queue_.pop();
+    if (!engine_.start(q.note)) {
+      ++stats_.engine_refused;
+      continue;
+    }
+    ++stats_.started;
+    if (q.note.start_tick < tick_) {
+      ++stats_.late;
+      if (worth_logging(stats_.late)) log_event("late note, ticks behind: ", tick_ - q.note.start_tick);
+    }
+    note_started(q);
+  }
+}
+
+void Core::check_watchdog() {
+  if (state_ != State::playing || watchdog_ticks_ == 0) return;
+  if (tick_ - last_host_tick_ < watchdog_ticks_) return;
+  faults_ |= protocol::fault_watchdog;
+  log_event("watchdog: host silent for ticks ", tick_ - last_host_tick_);
+  fade_out(State::fault);
+}
+
+void Core::fade_out(State next) {
+  queue_.clear();
+  output_.start_fade();
+  state_ = next;
+}
+
+void Core::send_periodic_reports() {
+  const std::uint32_t period = state_ == State::playing ? status_period_playing_ : status_period_idle_;
+  if (tick_ % period != 0) return;
+  flush_started();
+  protocol::Message m = protocol::make(protocol::Type::status, 0);
+  m.status = status();
+  send(m);
+}
+
+protocol::Status Core::status() const {
+  protocol::Status s;
+  s.tick = tick_;
+  s.queue_free = static_cast<std::uint16_t>(queue_.free_slots() / protocol::kNotesPerBatch);
+  s.last_seq = last_seq_;
+  s.late = stats_.late;
+  s.stolen = engine_.counters().stolen;
+  s.rejected = stats_.rejected + stats_.engine_refused;
+  s.started = stats_.started;
+  s.faults = faults_;
+  s.state = state_;
+  s.active_voices = engine_.active_voices();
+  s.output = last_output_;
+  s.force_n = last_output_ * settings_.peak_force_n;
+  return s;
+}
+
+}  // namespace hmp::fw

@@ -1,0 +1,56 @@
+// Device → host reports and the log.
+#include "firmware/core.hpp"
+#include "firmware/log_line.hpp"
+
+namespace hmp::fw {
+
+void Core::send(protocol::Message& m) {
+  m.seq = ++tx_seq_;
+  protocol::Report report;
+  if (!protocol::encode(m, report)) return;  // cannot happen for the messages built here
+  if (board_.send == nullptr || !board_.send(board_.ctx, report)) ++stats_.tx_dropped;
+}
+
+// Counts the refusal and answers it. queue_full has its own counter: it is flow control (the host
+// re-sends), not a fault of the report.
+void Core::reject(protocol::ErrorCode code, std::uint16_t seq, std::uint8_t type) {
+  std::uint32_t& counter = code == protocol::ErrorCode::queue_full ? stats_.queue_full : stats_.rejected;
+  ++counter;
+  if (worth_logging(counter)) {
+    LogLine line;
+    line.text("refused report: ").text(protocol::name(code)).text(", type ").num(type).text(", seq ").num(seq)
+        .text(", count ").num(counter);
+    if (board_.log != nullptr) board_.log(board_.ctx, line.c_str());
+  }
+  protocol::Message m = protocol::make(protocol::Type::error, 0);
+  m.error.code = code;
+  m.error.seq = seq;
+  m.error.type = type;
+  send(m);
+}
+
+void Core::note_started(const QueuedNote& q) {
+  protocol::StartedEntry& e = started_.entries[started_.count++];
+  e.seq = q.seq;
+  e.index = q.index;
+  e.scheduled_tick = static_cast<std::uint32_t>(q.note.start_tick);
+  e.actual_tick = static_cast<std::uint32_t>(tick_);
+  if (started_.count == protocol::kNotesPerBatch) flush_started();
+}
+
+void Core::flush_started() {
+  if (started_.count == 0) return;
+  protocol::Message m = protocol::make(protocol::Type::started, 0);
+  m.started = started_;
+  send(m);
+  started_ = protocol::Started{};
+}
+
+void Core::log_event(const char* what, std::uint64_t value) {
+  if (board_.log == nullptr) return;
+  LogLine line;
+  line.text(what).num(value);
+  board_.log(board_.ctx, line.c_str());
+}
+
+}  // namespace hmp::fw

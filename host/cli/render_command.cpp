@@ -1,0 +1,105 @@
+// hmp render SONG --track T [--out FILE.csv|.wav|.png] — the haptic signal of one track at the device
+// tick rate, computed by the same shared engine the firmware runs (SPEC §3).
+#include <cmath>
+#include <cstdio>
+
+#include <fmt/format.h>
+
+#include "host/cli/commands.hpp"
+#include "host/cli/song_options.hpp"
+#include "host/common/error.hpp"
+#include "host/common/progress.hpp"
+#include "host/midi/gm.hpp"
+#include "host/output/output_file.hpp"
+#include "host/output/signal_plot.hpp"
+#include "host/output/wav_file.hpp"
+
+namespace hmp::cli {
+
+namespace {
+
+struct RenderOptions {
+  std::string song;
+  std::string track;
+  std::string out = "-";
+  std::optional<double> from_s, to_s;
+  bool audible = false;
+  bool force = false;
+  HapticCliOptions haptic;
+};
+
+int run_render(const RenderOptions& o) {
+  const std::string ext = o.out == "-" ? "csv" : output::extension_of(o.out);
+  if (ext != "csv" && ext != "wav" && ext != "png") throw BadInput("--out " + o.out + ": use a .csv, .wav or .png file");
+  if (o.audible && ext != "wav") throw BadInput("--audible needs a .wav output");
+  for (const auto& t : {o.from_s, o.to_s}) {
+    if (t && !(std::isfinite(*t) && *t >= 0)) throw BadInput("--from/--to: must be seconds ≥ 0");
+  }
+  const haptics::HapticOptions opts = resolve(o.haptic);
+  if (o.out != "-") output::check_writable(o.out, o.force);  // fail before the work, not after
+
+  const midi::ReadResult r = midi::load_song(o.song);
+  for (const midi::Warning& w : r.warnings) std::fprintf(stderr, "warning: %s\n", w.message.c_str());
+  const std::uint32_t track = select_track(r.song, o.track);
+  const haptics::HapticTrack ht = haptics::build_haptic_track(r.song, track, opts);
+
+  std::uint64_t song_end = haptics::seconds_to_tick(r.song.duration_us, opts.tick_hz);
+  for (const haptics::HapticNote& n : ht.notes) song_end = std::max(song_end, n.note.start_tick + n.note.duration_ticks);
+  const std::uint64_t first = o.from_s ? haptics::seconds_to_tick(std::llround(*o.from_s * 1e6), opts.tick_hz) : 0;
+  const std::uint64_t end = o.to_s ? haptics::seconds_to_tick(std::llround(*o.to_s * 1e6), opts.tick_hz) : song_end;
+  if (end <= first) throw BadInput("--from/--to: empty window");
+  if (end - first > (std::uint64_t{1} << 31)) throw BadInput("--from/--to: window too long to render (> 2^31 ticks)");
+
+  haptics::RenderSettings settings;
+  settings.synth.tick_hz = opts.tick_hz;
+  settings.synth.end_fade_ms = static_cast<float>(opts.end_fade_ms);
+  settings.polyphony = opts.polyphony;
+  ProgressBar bar("rendering");
+  const auto notes = ht.device_notes();
+  const std::vector<float> samples = haptics::render_signal(
+      notes, ht.uploads, settings, first, end, [&](std::uint64_t d, std::uint64_t t) { bar.update(d, t); });
+
+  if (ext == "csv") {
+    auto f = output::open_for_writing(o.out, o.force);
+    haptics::write_csv(f.get(), samples, first, opts.tick_hz);
+    if (std::ferror(f.get())) throw std::runtime_error(o.out + ": write failed");
+  } else if (ext == "wav") {
+    if (o.audible) {
+      const auto audio = output::resample(samples, static_cast<int>(opts.tick_hz), output::kAudibleRateHz);
+      output::write_wav(o.out, audio, output::kAudibleRateHz, o.force);
+    } else {
+      output::write_wav(o.out, samples, static_cast<int>(opts.tick_hz), o.force);
+    }
+  } else {
+    std::vector<output::PlotNote> plot_notes;
+    for (const haptics::HapticNote& n : ht.notes) plot_notes.push_back({n.start_s, n.end_s, n.key});
+    const midi::Track& t = r.song.tracks[track];
+    output::PlotSpec spec;
+    spec.title = fmt::format("{} — track {} \"{}\" ({}), mapping {}, envelope {}", o.song, track, t.name,
+                             midi::gm_instrument_name(t.program(), t.channel()), mapping::name(opts.mapping),
+                             opts.envelope);
+    spec.tick_hz = opts.tick_hz;
+    spec.first_tick = first;
+    output::write_signal_png(o.out, samples, plot_notes, spec, o.force);
+  }
+  return kExitOk;
+}
+
+}  // namespace
+
+void register_render(CLI::App& app, Registry& registry) {
+  auto o = std::make_shared<RenderOptions>();
+  CLI::App* cmd = app.add_subcommand("render", "Render one track's haptic signal (CSV, WAV or PNG plot)");
+  cmd->add_option("SONG", o->song, "MIDI file")->required();
+  cmd->add_option("--track", o->track, "Track index, or part of its name or instrument (see hmp info)")->required();
+  cmd->add_option("--out", o->out, "Output: FILE.csv (t_s,value), FILE.wav (float, tick rate), FILE.png, '-' = CSV to stdout")
+      ->capture_default_str();
+  cmd->add_option("--from", o->from_s, "Start of the window in seconds of the song");
+  cmd->add_option("--to", o->to_s, "End of the window in seconds of the song");
+  cmd->add_flag("--audible", o->audible, "WAV resampled to 44.1 kHz so you can listen to it");
+  cmd->add_flag("-f,--force", o->force, "Overwrite an existing output file");
+  add_haptic_options(cmd, o->haptic);
+  cmd->callback([o, &registry] { registry.set([o] { return run_render(*o); }); });
+}
+
+}  // namespace hmp::cli

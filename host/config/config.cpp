@@ -1,0 +1,144 @@
+#include "host/config/config.hpp"
+
+#include <toml++/toml.h>
+
+#include <cmath>
+#include <set>
+
+#include "host/common/error.hpp"
+
+namespace hmp::config {
+
+namespace {
+
+class Reader {
+ public:
+  explicit Reader(std::string path) : path_(std::move(path)) {}
+
+  [[noreturn]] void fail(const std::string& what) const { throw BadInput(path_ + ": " + what); }
+
+  // Every key of `table` must be one of `known` (`where` is the dotted prefix for messages).
+  void only(const toml::table& table, const std::string& where, const std::set<std::string>& known) const {
+    for (const auto& [key, node] : table) {
+      (void)node;
+      const std::string k(key.str());
+      if (!known.count(k)) fail("unknown key '" + (where.empty() ? k : where + "." + k) + "'");
+    }
+  }
+
+  double number(const toml::node& n, const std::string& where) const {
+    if (auto v = n.value<double>(); v && std::isfinite(*v)) return *v;
+    fail("'" + where + "' must be a finite number");
+  }
+
+  std::string text(const toml::node& n, const std::string& where) const {
+    if (auto v = n.value<std::string>()) return *v;
+    fail("'" + where + "' must be a string");
+  }
+
+  template <std::size_t N>
+  std::array<double, N> numbers(const toml::node& n, const std::string& where) const {
+    const toml::array* arr = n.as_array();
+    if (!arr || arr->size() != N) fail("'" + where + "' must be an array of " + std::to_string(N) + " numbers");
+    std::array<double, N> out{};
+    for (std::size_t i = 0; i < N; ++i) out[i] = number(*arr->get(i), where + "[" + std::to_string(i) + "]");
+    return out;
+  }
+
+  const toml::table& table(const toml::node& n, const std::string& where) const {
+    if (const toml::table* t = n.as_table()) return *t;
+    fail("'" + where + "' must be a table");
+  }
+
+ private:
+  std::string path_;
+};
+
+envelope::Adsr read_preset(const Reader& r, const toml::table& t, const std::string& where) {
+  r.only(t, where, {"attack_ms", "decay_ms", "release_ms", "sustain_pct", "final_pct"});
+  envelope::Adsr a;
+  auto get = [&](const char* key, double fallback) {
+    const toml::node* n = t.get(key);
+    return n ? r.number(*n, where + "." + key) : fallback;
+  };
+  const double attack = get("attack_ms", 0), decay = get("decay_ms", 0), release = get("release_ms", 0);
+  const double sustain = get("sustain_pct", 100), final_pct = get("final_pct", 100);
+  for (double ms : {attack, decay, release}) {
+    if (ms < 0 || ms > 1e7) r.fail("'" + where + "': durations must be in [0, 1e7] ms");
+  }
+  if (sustain < 0 || sustain > 100 || final_pct < 0 || final_pct > 100) {
+    r.fail("'" + where + "': sustain_pct and final_pct must be in [0, 100]");
+  }
+  a.attack_ms = static_cast<float>(attack);
+  a.decay_ms = static_cast<float>(decay);
+  a.release_ms = static_cast<float>(release);
+  a.sustain = static_cast<float>(sustain / 100);
+  a.final_ratio = static_cast<float>(final_pct / 100);
+  return a;
+}
+
+}  // namespace
+
+Config load(const std::string& path) {
+  toml::table root;
+  try {
+    root = toml::parse_file(path);
+  } catch (const toml::parse_error& e) {
+    const auto& where = e.source().begin;
+    throw BadInput(path + ":" + std::to_string(where.line) + ":" + std::to_string(where.column) + ": " +
+                   std::string(e.description()));
+  }
+  const Reader r(path);
+  r.only(root, "", {"mapping", "envelope", "presets", "gm", "device"});
+  Config c;
+  if (const toml::node* n = root.get("mapping")) {
+    const auto& t = r.table(*n, "mapping");
+    r.only(t, "mapping", {"mode", "freq_range", "amp_range_db"});
+    if (auto* v = t.get("mode")) c.mapping_mode = r.text(*v, "mapping.mode");
+    if (auto* v = t.get("freq_range")) c.freq_range = r.numbers<2>(*v, "mapping.freq_range");
+    if (auto* v = t.get("amp_range_db")) c.amp_range_db = r.numbers<2>(*v, "mapping.amp_range_db");
+  }
+  if (const toml::node* n = root.get("envelope")) {
+    const auto& t = r.table(*n, "envelope");
+    r.only(t, "envelope", {"default", "end_fade_ms", "polyphony"});
+    if (auto* v = t.get("default")) c.envelope = r.text(*v, "envelope.default");
+    if (auto* v = t.get("end_fade_ms")) c.end_fade_ms = r.number(*v, "envelope.end_fade_ms");
+    if (auto* v = t.get("polyphony")) c.polyphony = r.text(*v, "envelope.polyphony");
+  }
+  if (const toml::node* n = root.get("presets")) {
+    for (const auto& [key, node] : r.table(*n, "presets")) {
+      std::string name(key.str());
+      for (char& ch : name) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+      envelope::Preset builtin;
+      if (envelope::find_builtin(name.c_str(), builtin)) {
+        // Overriding a built-in by name is allowed: the user's measurement replaces Table 1's.
+      }
+      c.presets[name] = read_preset(r, r.table(node, "presets." + name), "presets." + name);
+    }
+  }
+  if (const toml::node* n = root.get("gm")) {
+    for (const auto& [key, node] : r.table(*n, "gm")) {
+      const std::string k(key.str());
+      char* end = nullptr;
+      const long program = std::strtol(k.c_str(), &end, 10);
+      if (k.empty() || *end != '\0' || program < 0 || program > 127) {
+        r.fail("gm: key '" + k + "' must be a GM program number 0–127");
+      }
+      c.gm[static_cast<std::uint8_t>(program)] = r.text(node, "gm." + k);
+    }
+  }
+  if (const toml::node* n = root.get("device")) {
+    const auto& t = r.table(*n, "device");
+    r.only(t, "device", {"tick_hz", "peak_force_n", "direction"});
+    if (auto* v = t.get("tick_hz")) {
+      const double hz = r.number(*v, "device.tick_hz");
+      if (hz < 100 || hz > 100000 || hz != std::floor(hz)) r.fail("'device.tick_hz' must be an integer in [100, 100000]");
+      c.tick_hz = static_cast<std::uint32_t>(hz);
+    }
+    if (auto* v = t.get("peak_force_n")) c.peak_force_n = r.number(*v, "device.peak_force_n");
+    if (auto* v = t.get("direction")) c.direction = r.numbers<3>(*v, "device.direction");
+  }
+  return c;
+}
+
+}  // namespace hmp::config

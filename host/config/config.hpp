@@ -1,0 +1,38 @@
+#pragma once
+// The user's TOML configuration (`--config FILE.toml`): user envelope presets, the GM-program → preset
+// table, mapping ranges and device settings. Unknown keys are errors naming the key, so a typo never
+// silently does nothing.
+//
+//   [mapping]   mode = "paper"            freq_range = [50, 250]      amp_range_db = [7.5, 30]
+//   [envelope]  default = "auto"          end_fade_ms = 2             polyphony = "sum"
+//   [presets.NAME]  attack_ms decay_ms release_ms (ms), sustain_pct final_pct (% of the peak)
+//   [gm]        "33" = "NAME"             (program 0–127 → preset name; overrides SPEC §6 `auto`)
+//   [device]    tick_hz = 1000            peak_force_n = 1.0   direction = [0, 1, 0]
+#include <array>
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+
+#include "shared/envelope/envelope.hpp"
+
+namespace hmp::config {
+
+struct Config {
+  std::optional<std::string> mapping_mode;
+  std::optional<std::array<double, 2>> freq_range;
+  std::optional<std::array<double, 2>> amp_range_db;
+  std::optional<std::string> envelope;
+  std::optional<double> end_fade_ms;
+  std::optional<std::string> polyphony;
+  std::map<std::string, envelope::Adsr> presets;  // user presets by (lower-case) name
+  std::map<std::uint8_t, std::string> gm;         // program → preset name
+  std::optional<std::uint32_t> tick_hz;
+  std::optional<double> peak_force_n;
+  std::optional<std::array<double, 3>> direction;
+};
+
+// Throws BadInput: "FILE: unknown key 'mapping.frq_range'", "FILE:12:3: <toml parse error>", …
+Config load(const std::string& path);
+
+}  // namespace hmp::config

@@ -1,0 +1,180 @@
+#include "host/haptics/haptic_track.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "host/common/error.hpp"
+#include "host/midi/gm.hpp"
+#include "shared/synth/frequency.hpp"
+
+namespace hmp::haptics {
+
+namespace {
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+bool is_auto(const std::string& e) { return e == "auto" || e == "analogue" || e == "analog"; }
+
+// Resolves preset names to slots: built-ins keep their fixed slot unless the user overrode them;
+// user presets get slots from kFirstUserSlot on, in order of first use.
+class SlotTable {
+ public:
+  explicit SlotTable(const HapticOptions& opts) : opts_(opts) {}
+
+  std::uint8_t slot(const std::string& name, HapticTrack& out) {
+    if (auto it = used_.find(name); it != used_.end()) return it->second;
+    std::uint8_t slot = 0;
+    envelope::Preset builtin;
+    if (auto user = opts_.user_presets.find(name); user != opts_.user_presets.end()) {
+      if (next_user_ >= envelope::kSlotCount) throw BadInput("more than 16 user presets in one track");
+      slot = next_user_++;
+      out.uploads.push_back({slot, user->second});
+    } else if (envelope::find_builtin(name.c_str(), builtin)) {
+      slot = static_cast<std::uint8_t>(builtin);
+    } else {
+      throw BadInput("unknown envelope preset '" + name + "'");
+    }
+    if (out.slot_names.size() <= slot) out.slot_names.resize(slot + 1u);
+    out.slot_names[slot] = name;
+    used_[name] = slot;
+    return slot;
+  }
+
+ private:
+  const HapticOptions& opts_;
+  std::map<std::string, std::uint8_t> used_;
+  std::uint8_t next_user_ = envelope::kFirstUserSlot;
+};
+
+}  // namespace
+
+void apply_config(const config::Config& cfg, HapticOptions& opts) {
+  if (cfg.mapping_mode && !mapping::find_mode(cfg.mapping_mode->c_str(), opts.mapping)) {
+    throw BadInput("config: unknown mapping mode '" + *cfg.mapping_mode + "'");
+  }
+  if (cfg.freq_range) {
+    opts.ranges.f_min_hz = (*cfg.freq_range)[0];
+    opts.ranges.f_max_hz = (*cfg.freq_range)[1];
+  }
+  if (cfg.amp_range_db) {
+    opts.ranges.a_min_db = (*cfg.amp_range_db)[0];
+    opts.ranges.a_max_db = (*cfg.amp_range_db)[1];
+  }
+  if (cfg.envelope) opts.envelope = lower(*cfg.envelope);
+  if (cfg.end_fade_ms) opts.end_fade_ms = *cfg.end_fade_ms;
+  if (cfg.polyphony && !synth::find_polyphony(cfg.polyphony->c_str(), opts.polyphony)) {
+    throw BadInput("config: unknown polyphony policy '" + *cfg.polyphony + "'");
+  }
+  if (cfg.tick_hz) opts.tick_hz = *cfg.tick_hz;
+  for (const auto& [name, adsr] : cfg.presets) opts.user_presets[name] = adsr;
+  for (const auto& [program, name] : cfg.gm) opts.gm_presets[program] = lower(name);
+}
+
+void validate(const HapticOptions& o) {
+  const auto& r = o.ranges;
+  if (!(r.f_min_hz > 0) || !(r.f_max_hz >= r.f_min_hz) || !std::isfinite(r.f_max_hz)) {
+    throw BadInput("--freq-range: need 0 < min ≤ max (got " + std::to_string(r.f_min_hz) + ":" +
+                   std::to_string(r.f_max_hz) + ")");
+  }
+  const double alias = 0.45 * o.tick_hz;
+  if (r.f_max_hz >= alias) {
+    throw BadInput("--freq-range: top " + std::to_string(r.f_max_hz) + " Hz must be below 0.45 × tick rate = " +
+                   std::to_string(alias) + " Hz (aliasing)");
+  }
+  if (r.f_max_hz > synth::kFreqMaxHz) throw BadInput("--freq-range: above the device's top frequency 4096 Hz");
+  if (!std::isfinite(r.a_min_db) || !std::isfinite(r.a_max_db) || r.a_min_db > r.a_max_db) {
+    throw BadInput("--amp-range-db: need finite min ≤ max");
+  }
+  if (!(o.end_fade_ms >= 0 && o.end_fade_ms <= 1000)) throw BadInput("--end-fade-ms: must be in [0, 1000]");
+  for (const auto& [program, name] : o.gm_presets) {
+    envelope::Preset p;
+    if (!o.user_presets.count(name) && !envelope::find_builtin(name.c_str(), p)) {
+      throw BadInput("config: gm." + std::to_string(program) + " names unknown preset '" + name + "'");
+    }
+  }
+  if (!is_auto(o.envelope)) {
+    envelope::Preset p;
+    if (!o.user_presets.count(o.envelope) && !envelope::find_builtin(o.envelope.c_str(), p)) {
+      std::string known = "auto, analogue";
+      for (std::uint8_t i = 0; i < envelope::kBuiltinCount; ++i) {
+        known += std::string(", ") + envelope::name(static_cast<envelope::Preset>(i));
+      }
+      for (const auto& [name, adsr] : o.user_presets) known += ", " + name;
+      throw BadInput("--envelope: unknown preset '" + o.envelope + "' (known: " + known + ")");
+    }
+  }
+}
+
+std::uint64_t seconds_to_tick(std::int64_t micros, std::uint32_t tick_hz) {
+  if (micros <= 0) return 0;
+  // round(µs · hz / 1e6), halves up, exactly: floor((2 · µs · hz + 1e6) / 2e6).
+  const auto num = static_cast<unsigned __int128>(micros) * tick_hz * 2u + 1000000u;
+  return static_cast<std::uint64_t>(num / 2000000u);
+}
+
+std::string auto_preset_name(const HapticOptions& opts, std::uint8_t program, std::uint8_t channel) {
+  if (channel != midi::kDrumChannel) {
+    if (auto it = opts.gm_presets.find(program); it != opts.gm_presets.end()) return it->second;
+  }
+  return envelope::name(midi::auto_preset(program, channel));
+}
+
+std::vector<synth::Note> HapticTrack::device_notes() const {
+  std::vector<synth::Note> out;
+  out.reserve(notes.size());
+  for (const HapticNote& n : notes) out.push_back(n.note);
+  return out;
+}
+
+HapticTrack build_haptic_track(const midi::Song& song, std::uint32_t track, const HapticOptions& opts) {
+  validate(opts);
+  if (track >= song.tracks.size()) throw BadInput("--track " + std::to_string(track) + ": no such track");
+  const std::vector<midi::Note> notes = song.track_notes(track);
+
+  HapticTrack out;
+  out.track = track;
+  // Drum notes are felt at a constant frequency (SPEC §6), so only pitched notes define the key range.
+  for (const midi::Note& n : notes) {
+    if (!midi::auto_constant_frequency(n.channel)) out.keys.add(n.key);
+  }
+  const mapping::Mapper mapper(opts.mapping, opts.ranges, out.keys);
+  out.jnd_steps = mapper.jnd_steps();
+  const mapping::Haptic drum{(opts.ranges.f_min_hz + opts.ranges.f_max_hz) / 2,
+                             mapping::db_to_linear((opts.ranges.a_min_db + opts.ranges.a_max_db) / 2,
+                                                   opts.ranges.a_max_db)};
+  SlotTable slots(opts);
+  const bool legacy = opts.mapping == mapping::Mode::legacy2013;
+
+  out.notes.reserve(notes.size());
+  for (const midi::Note& n : notes) {
+    HapticNote h;
+    h.key = n.key;
+    h.channel = n.channel;
+    h.start_s = n.start_s();
+    h.end_s = n.end_s();
+    const mapping::Haptic m = midi::auto_constant_frequency(n.channel) ? drum : mapper.map(n.key);
+    h.freq_hz = m.freq_hz;
+    h.amplitude = m.amplitude;
+
+    std::string preset = opts.envelope;
+    if (is_auto(preset)) preset = legacy ? "legacy2013" : auto_preset_name(opts, n.program, n.channel);
+
+    const std::uint64_t start = seconds_to_tick(n.start_us, opts.tick_hz);
+    const std::uint64_t end = seconds_to_tick(n.end_us, opts.tick_hz);
+    h.note.start_tick = start;
+    h.note.duration_ticks = static_cast<std::uint32_t>(std::clamp<std::uint64_t>(end > start ? end - start : 1, 1, UINT32_MAX));
+    h.note.freq_q20 = synth::freq_to_q20(m.freq_hz);
+    h.note.amp_q16 = synth::amp_to_q16(m.amplitude);
+    h.note.preset = slots.slot(preset, out);
+    h.note.track = static_cast<std::uint8_t>(std::min<std::uint32_t>(track, 255));
+    out.notes.push_back(h);
+  }
+  std::stable_sort(out.notes.begin(), out.notes.end(),
+                   [](const HapticNote& a, const HapticNote& b) { return a.note.start_tick < b.note.start_tick; });
+  return out;
+}
+
+}  // namespace hmp::haptics

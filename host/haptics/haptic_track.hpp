@@ -1,0 +1,66 @@
+#pragma once
+// From a song's track to the notes the device plays: mapping (SPEC §5), envelope choice (SPEC §6 `auto`,
+// a fixed preset, or a user preset from the config), and note times → device ticks (SPEC §6 "Ticks").
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "host/config/config.hpp"
+#include "host/haptics/signal_renderer.hpp"
+#include "host/midi/song.hpp"
+#include "shared/mapping/mapping.hpp"
+#include "shared/synth/engine.hpp"
+#include "shared/synth/voice.hpp"
+
+namespace hmp::haptics {
+
+// Everything the mapping/envelope options of SPEC §3 choose.
+struct HapticOptions {
+  mapping::Mode mapping = mapping::Mode::paper;
+  mapping::Ranges ranges{};
+  std::string envelope = "auto";  // auto | analogue (= auto) | square | triangle | any preset name
+  synth::Polyphony polyphony = synth::Polyphony::sum;
+  double end_fade_ms = 2.0;
+  std::uint32_t tick_hz = 1000;
+  std::map<std::string, envelope::Adsr> user_presets;  // from the config
+  std::map<std::uint8_t, std::string> gm_presets;      // program → preset name, from the config
+};
+
+// Applies a loaded config (values the command line did not set explicitly are taken from it; the caller
+// applies the config first and the command line after).
+void apply_config(const config::Config& cfg, HapticOptions& opts);
+// Throws BadInput when the options cannot work: empty/inverted ranges, f_max ≥ 0.45 × tick rate,
+// unknown envelope name.
+void validate(const HapticOptions& opts);
+
+// One note on its way to the device, with where it came from.
+struct HapticNote {
+  synth::Note note;         // ticks, Q12.20 frequency, Q16 amplitude, preset slot
+  std::uint8_t key = 0;
+  std::uint8_t channel = 0;
+  double freq_hz = 0;       // mapped, before quantisation
+  double amplitude = 0;     // mapped, linear
+  double start_s = 0, end_s = 0;
+};
+
+struct HapticTrack {
+  std::uint32_t track = 0;
+  std::vector<HapticNote> notes;       // sorted by start tick
+  std::vector<UserPreset> uploads;     // user presets the notes use, with their slots
+  std::vector<std::string> slot_names; // preset name of every slot used (index = slot), "" if unused
+  mapping::KeySet keys;
+  double jnd_steps = 0;
+
+  std::vector<synth::Note> device_notes() const;
+};
+
+// SPEC §6 ticks: start = round(start_s/T) with halves up; N = max(1, round(end_s/T) − start).
+std::uint64_t seconds_to_tick(std::int64_t micros, std::uint32_t tick_hz);
+
+// The preset name `auto` picks for one note (config's [gm] table first, then SPEC §6).
+std::string auto_preset_name(const HapticOptions& opts, std::uint8_t program, std::uint8_t channel);
+
+HapticTrack build_haptic_track(const midi::Song& song, std::uint32_t track, const HapticOptions& opts);
+
+}  // namespace hmp::haptics

@@ -1,0 +1,58 @@
+// Writes the seed corpus of fuzz_protocol: one valid report per message type (notes and started at every
+// count), so the fuzzer starts from inputs that get past the type and range checks.
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+#include "shared/protocol/protocol.hpp"
+
+namespace protocol = hmp::protocol;
+using protocol::Type;
+
+namespace {
+
+bool write_seed(const std::string& dir, const std::string& name, const protocol::Message& m) {
+  protocol::Report r;
+  if (!protocol::encode(m, r)) {
+    std::fprintf(stderr, "protocol_seeds: %s does not encode\n", name.c_str());
+    return false;
+  }
+  std::ofstream out(dir + "/" + name + ".bin", std::ios::binary);
+  out.write(reinterpret_cast<const char*>(r), sizeof r);
+  return static_cast<bool>(out);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 2) {
+    std::fprintf(stderr, "usage: %s OUTPUT_DIR (must exist)\n", argv[0]);
+    return 2;
+  }
+  const std::string dir = argv[1];
+  bool ok = true;
+  const Type types[] = {Type::hello,     Type::sync,       Type::long_note, Type::preset, Type::settings,
+                        Type::transport, Type::estop,      Type::hello_reply, Type::sync_reply, Type::status};
+  for (Type t : types) ok = write_seed(dir, protocol::name(t), protocol::make(t, 1)) && ok;
+
+  for (std::uint8_t count = 1; count <= protocol::kNotesPerBatch; ++count) {
+    protocol::Message notes = protocol::make(Type::notes, count);
+    notes.notes.count = count;
+    notes.notes.base_tick = 1000;
+    for (std::uint8_t i = 0; i < count; ++i)
+      notes.notes.notes[i] = {static_cast<std::uint8_t>(i * 10), i, 250, (100u + i) << 20, 40000};
+    ok = write_seed(dir, "notes_" + std::to_string(count), notes) && ok;
+
+    protocol::Message started = protocol::make(Type::started, count);
+    started.started.count = count;
+    for (std::uint8_t i = 0; i < count; ++i) started.started.entries[i] = {7, i, 1000u + i, 1000u + i};
+    ok = write_seed(dir, "started_" + std::to_string(count), started) && ok;
+  }
+  protocol::Message error = protocol::make(Type::error, 1);
+  error.error = {protocol::ErrorCode::queue_full, 9, static_cast<std::uint8_t>(Type::notes)};
+  ok = write_seed(dir, "error", error) && ok;
+  protocol::Message seek = protocol::make(Type::transport, 2);
+  seek.transport = {protocol::TransportOp::seek, 123456};
+  ok = write_seed(dir, "transport_seek", seek) && ok;
+  return ok ? 0 : 1;
+}
