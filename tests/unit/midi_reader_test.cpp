@@ -138,7 +138,7 @@ TEST(MidiReader, Format2PatternsPlayInSequenceEachWithItsOwnTempo) {
   EXPECT_DOUBLE_EQ(s.notes[2].start_s(), 2.5 + 0.125);
   EXPECT_DOUBLE_EQ(s.notes[2].end_s(), 2.5 + 0.125 + 0.25);
   EXPECT_DOUBLE_EQ(s.duration_s(), 2.875);
-  EXPECT_DOUBLE_EQ(s.tracks[1].end_us * 1e-6, 2.5);
+  EXPECT_EQ(s.tracks[1].end_us, 2500000);
 }
 
 TEST(MidiReader, UnknownFormatReadAsFormat1) {

@@ -79,7 +79,7 @@ TEST(MidiTempoMap, NoDriftOverManyChanges) {
   // 10,000 tempo changes 7 ticks apart with tempi that make every segment's time fractional.
   std::mt19937 rng(7);
   std::vector<TempoMap::Point> pts;
-  for (int i = 0; i < 10000; ++i) pts.push_back({static_cast<std::uint64_t>(i) * 7, 400000 + rng() % 300001});
+  for (int i = 0; i < 10000; ++i) pts.push_back({static_cast<std::uint64_t>(i) * 7, static_cast<std::uint32_t>(400000 + rng() % 300001)});
   const TempoMap map = TempoMap::metrical(997, pts);
   const std::uint64_t last = 10000ull * 7 + 123;
   // Exact reference in integers: Σ Δtick·tempo, divided once.
