@@ -10,9 +10,7 @@
 #include "host/common/error.hpp"
 #include "host/common/progress.hpp"
 #include "host/midi/gm.hpp"
-#include "host/output/output_file.hpp"
-#include "host/output/signal_plot.hpp"
-#include "host/output/wav_file.hpp"
+#include "host/output/signal_export.hpp"
 
 namespace hmp::cli {
 
@@ -29,14 +27,12 @@ struct RenderOptions {
 };
 
 int run_render(const RenderOptions& o) {
-  const std::string ext = o.out == "-" ? "csv" : output::extension_of(o.out);
-  if (ext != "csv" && ext != "wav" && ext != "png") throw BadInput("--out " + o.out + ": use a .csv, .wav or .png file");
-  if (o.audible && ext != "wav") throw BadInput("--audible needs a .wav output");
+  const output::SignalExport out{o.out, o.audible, o.force};
   for (const auto& t : {o.from_s, o.to_s}) {
     if (t && !(std::isfinite(*t) && *t >= 0)) throw BadInput("--from/--to: must be seconds ≥ 0");
   }
   const haptics::HapticOptions opts = resolve(o.haptic);
-  if (o.out != "-") output::check_writable(o.out, o.force);  // fail before the work, not after
+  output::check_export(out);  // fail before the work, not after
 
   const midi::ReadResult r = midi::load_song(o.song);
   for (const midi::Warning& w : r.warnings) std::fprintf(stderr, "warning: %s\n", w.message.c_str());
@@ -59,29 +55,15 @@ int run_render(const RenderOptions& o) {
   const std::vector<float> samples = haptics::render_signal(
       notes, ht.uploads, settings, first, end, [&](std::uint64_t d, std::uint64_t t) { bar.update(d, t); });
 
-  if (ext == "csv") {
-    auto f = output::open_for_writing(o.out, o.force);
-    haptics::write_csv(f.get(), samples, first, opts.tick_hz);
-    if (std::ferror(f.get())) throw std::runtime_error(o.out + ": write failed");
-  } else if (ext == "wav") {
-    if (o.audible) {
-      const auto audio = output::resample(samples, static_cast<int>(opts.tick_hz), output::kAudibleRateHz);
-      output::write_wav(o.out, audio, output::kAudibleRateHz, o.force);
-    } else {
-      output::write_wav(o.out, samples, static_cast<int>(opts.tick_hz), o.force);
-    }
-  } else {
-    std::vector<output::PlotNote> plot_notes;
-    for (const haptics::HapticNote& n : ht.notes) plot_notes.push_back({n.start_s, n.end_s, n.key});
-    const midi::Track& t = r.song.tracks[track];
-    output::PlotSpec spec;
-    spec.title = fmt::format("{} — track {} \"{}\" ({}), mapping {}, envelope {}", o.song, track, t.name,
-                             midi::gm_instrument_name(t.program(), t.channel()), mapping::name(opts.mapping),
-                             opts.envelope);
-    spec.tick_hz = opts.tick_hz;
-    spec.first_tick = first;
-    output::write_signal_png(o.out, samples, plot_notes, spec, o.force);
-  }
+  std::vector<output::PlotNote> plot_notes;
+  for (const haptics::HapticNote& n : ht.notes) plot_notes.push_back({n.start_s, n.end_s, n.key});
+  const midi::Track& t = r.song.tracks[track];
+  output::PlotSpec spec;
+  spec.title = fmt::format("{} — track {} \"{}\" ({}), mapping {}, envelope {}", o.song, track, t.name,
+                           midi::gm_instrument_name(t.program(), t.channel()), mapping::name(opts.mapping), opts.envelope);
+  spec.tick_hz = opts.tick_hz;
+  spec.first_tick = first;
+  output::export_signal(out, samples, plot_notes, spec);
   return kExitOk;
 }
 

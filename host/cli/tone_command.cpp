@@ -4,11 +4,13 @@
 #include <optional>
 #include <string>
 
+#include <fmt/format.h>
+
 #include "host/cli/commands.hpp"
 #include "host/common/error.hpp"
 #include "host/haptics/adsr_option.hpp"
 #include "host/haptics/signal_renderer.hpp"
-#include "host/output/output_file.hpp"
+#include "host/output/signal_export.hpp"
 #include "shared/synth/frequency.hpp"
 
 namespace hmp::cli {
@@ -57,10 +59,15 @@ int run_tone(const ToneOptions& o) {
   haptics::RenderSettings settings;
   settings.synth.tick_hz = o.tick_hz;
   settings.synth.end_fade_ms = static_cast<float>(o.end_fade_ms);
-  auto file = output::open_for_writing(o.out, o.force);  // checks before the (possibly long) render
+  const output::SignalExport out{o.out, false, o.force};
+  output::check_export(out);  // before the (possibly long) render
   const auto samples = haptics::render_signal({&note, 1}, {&preset, 1}, settings, 0, n_ticks);
-  haptics::write_csv(file.get(), samples, 0, o.tick_hz);
-  if (std::ferror(file.get())) throw std::runtime_error(o.out + ": write failed");
+  output::PlotSpec spec;
+  spec.title = fmt::format("hmp tone: {:g} Hz, amplitude {:g}, {:g} ms, envelope {}", o.freq_hz, o.amp, o.ms,
+                           o.instrument ? *o.instrument : "--adsr " + *o.adsr);
+  spec.tick_hz = o.tick_hz;
+  const output::PlotNote plot_note{0.0, static_cast<double>(n_ticks) / o.tick_hz, 60};
+  output::export_signal(out, samples, {&plot_note, 1}, spec);
   return kExitOk;
 }
 
@@ -77,7 +84,7 @@ void register_tone(CLI::App& app, Registry& registry) {
   auto* adsr = cmd->add_option("--adsr", opts->adsr,
                                "Custom envelope: attack=MS,decay=MS,sustain=PCT,release=MS,final=PCT");
   inst->excludes(adsr);
-  cmd->add_option("--out", opts->out, "Output file (.csv), '-' for standard output")->capture_default_str();
+  cmd->add_option("--out", opts->out, "Output: FILE.csv, FILE.wav (float, tick rate) or FILE.png (plot); '-' = CSV on stdout")->capture_default_str();
   cmd->add_option("--tick-hz", opts->tick_hz, "Device tick rate in Hz")
       ->capture_default_str()->check(CLI::Range(100u, 100000u));
   cmd->add_option("--end-fade-ms", opts->end_fade_ms, "Fade at the note's end in ms (0 = paper-exact)")

@@ -1,7 +1,5 @@
 #include "host/haptics/signal_renderer.hpp"
 
-#include <cstdio>
-
 #include "host/common/error.hpp"
 
 namespace hmp::haptics {
@@ -38,15 +36,6 @@ std::vector<float> render_signal(std::span<const synth::Note> notes, std::span<c
   }
   if (progress) progress(total, total);
   return out;
-}
-
-void write_csv(std::FILE* out, std::span<const float> samples, std::uint64_t first_tick, std::uint32_t tick_hz) {
-  std::fputs("t_s,value\n", out);
-  const double period = 1.0 / tick_hz;
-  for (std::size_t i = 0; i < samples.size(); ++i) {
-    const double t = static_cast<double>(first_tick + i) * period;
-    std::fprintf(out, "%.9g,%.9g\n", t, static_cast<double>(samples[i]));
-  }
 }
 
 }  // namespace hmp::haptics

@@ -2,8 +2,8 @@
 // Renders the haptic signal of a list of notes tick by tick with the same shared engine the firmware
 // runs (shared/synth/engine.hpp): notes start on their tick, voices mix under the polyphony policy and
 // the limiter. Used by `hmp tone` and `hmp render`.
+// Output formats: host/output/signal_export.hpp.
 #include <cstdint>
-#include <cstdio>
 #include <functional>
 #include <span>
 #include <vector>
@@ -32,8 +32,5 @@ using Progress = std::function<void(std::uint64_t, std::uint64_t)>;
 std::vector<float> render_signal(std::span<const synth::Note> notes, std::span<const UserPreset> presets,
                                  const RenderSettings& settings, std::uint64_t first_tick,
                                  std::uint64_t end_tick, const Progress& progress = {});
-
-// CSV with header "t_s,value", ≥ 9 significant digits.
-void write_csv(std::FILE* out, std::span<const float> samples, std::uint64_t first_tick, std::uint32_t tick_hz);
 
 }  // namespace hmp::haptics

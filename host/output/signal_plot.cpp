@@ -133,16 +133,18 @@ void write_signal_png(const std::string& path, std::span<const float> samples, s
   const double t1 = t0 + std::max<double>(1.0, static_cast<double>(samples.size())) / spec.tick_hz;
   const double left = 70, right = 20, top = 40, gap = 30, bottom = 45;
   const double inner_h = spec.height - top - gap - bottom;
-  const Box roll{left, top, spec.width - left - right, inner_h * 0.35};
-  const Box wave{left, top + roll.h + gap, roll.w, inner_h * 0.65};
+  // One note (hmp tone) needs no piano roll: the waveform gets the whole height.
+  const bool with_roll = notes.size() > 1;
+  const Box roll{left, top, spec.width - left - right, with_roll ? inner_h * 0.35 : 0.0};
+  const Box wave{left, with_roll ? top + roll.h + gap : top, roll.w, with_roll ? inner_h * 0.65 : inner_h + gap};
 
   cairo_set_source_rgb(cr.get(), 0.1, 0.1, 0.1);
   cairo_set_font_size(cr.get(), 15);
   text(cr.get(), left, 24, spec.title);
   cairo_set_font_size(cr.get(), 12);
-  draw_time_grid(cr.get(), roll, t0, t1, false);
+  if (with_roll) draw_time_grid(cr.get(), roll, t0, t1, false);
   draw_time_grid(cr.get(), wave, t0, t1, true);
-  draw_notes(cr.get(), roll, notes, t0, t1);
+  if (with_roll) draw_notes(cr.get(), roll, notes, t0, t1);
   draw_waveform(cr.get(), wave, samples);
   cairo_set_source_rgb(cr.get(), 0.2, 0.2, 0.2);
   text(cr.get(), wave.x + wave.w, spec.height - 8.0, "time (s)", 1.0);

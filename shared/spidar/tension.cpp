@@ -3,7 +3,6 @@
 #include <cmath>
 #include <limits>
 
-#include "shared/spidar/cholesky.hpp"
 
 namespace hmp::spidar {
 
@@ -50,27 +49,177 @@ template <class T> T gradient(const BoxQp<T>& qp, const T (&t)[kStrings], int i)
   return s;
 }
 
-// Free strings' tensions for the given active set (active ones already at their bounds in t).
+// Sweep operator (Beaton) on the symmetric matrix s (full storage): sweeping string k in makes it free,
+// sweeping it out makes it active again. With the free set F swept in, starting from s = H:
+//   s_FF = −H_FF⁻¹,  s_AF = H_AF·H_FF⁻¹,  s_AA = H_AA − H_AF·H_FF⁻¹·H_FA.
+// So one sweep (64 multiply-adds, one division) is a whole active-set change, and the quantities the
+// active-set steps need — the free strings' response to a push, the active strings' multiplier rates — are
+// read off row k. Fails when the pivot is not clearly positive (in) or negative (out). The fixed 8×8 loops
+// beat a triangle-only update on the Cortex-M4 (fully unrolled, no index arithmetic).
 template <class T>
-bool solve_free(const BoxQp<T>& qp, Mask active, T (&t)[kStrings], T tiny) {
-  int idx[kStrings];
-  int n = 0;
-  for (int i = 0; i < kStrings; ++i)
-    if (!(active & bit(i))) idx[n++] = i;
-  T a[kStrings][kStrings];
-  T rhs[kStrings];
-  for (int r = 0; r < n; ++r) {
-    const int i = idx[r];
-    T s = qp.g[i];
-    for (int j = 0; j < kStrings; ++j)
-      if (active & bit(j)) s -= qp.h[i][j] * t[j];
-    rhs[r] = s;
-    for (int c = 0; c <= r; ++c) a[r][c] = qp.h[i][idx[c]];
+bool sweep(T (&s)[kStrings][kStrings], int k, bool in, T tiny) {
+  const T d = s[k][k];
+  if (in ? !(d > tiny) : !(d < -tiny)) return false;
+  const T inv = static_cast<T>(1) / d;
+  T r[kStrings];
+  for (int j = 0; j < kStrings; ++j) r[j] = s[k][j] * inv;
+  for (int i = 0; i < kStrings; ++i) {
+    const T sik = s[i][k];
+    for (int j = 0; j < kStrings; ++j) s[i][j] -= sik * r[j];
   }
-  if (!cholesky_solve(a, n, rhs, tiny)) return false;
-  for (int r = 0; r < n; ++r) t[idx[r]] = rhs[r];
+  const T sign = in ? static_cast<T>(1) : static_cast<T>(-1);
+  for (int i = 0; i < kStrings; ++i) s[i][k] = s[k][i] = sign * r[i];
+  s[k][k] = -inv;
   return true;
 }
+
+// The dual active-set method of Goldfarb & Idnani specialised to bounds. Invariant: t minimises the
+// objective with the active strings held at their bounds, and every active string's multiplier is ≥ 0
+// (holding it at the bound really helps). Each step picks the free string that violates its bounds most and
+// pushes it to the bound along the path that keeps the invariant, releasing any active string whose
+// multiplier reaches zero on the way. No cycling: each completed push strictly raises the dual objective.
+template <class T>
+class DualActiveSet {
+ public:
+  enum class Outcome { optimal, out_of_budget, singular };
+
+  DualActiveSet(const BoxQp<T>& qp, T tol_t, T tol_g, T tiny) : qp_(qp), tol_t_(tol_t), tol_g_(tol_g), tiny_(tiny) {}
+
+  // Starts from the given active set (the previous tick's); `max_changes` bounds the sweeps after set-up.
+  Outcome run(Mask lower, Mask upper, int max_changes) {
+    lower_ = lower;
+    upper_ = static_cast<Mask>(upper & ~lower);
+    budget_ = max_changes;
+    for (int i = 0; i < kStrings; ++i) t_[i] = (lower_ & bit(i)) ? qp_.lo : ((upper_ & bit(i)) ? qp_.hi : static_cast<T>(0));
+    for (int i = 0; i < kStrings; ++i)
+      for (int j = 0; j < kStrings; ++j) s_[i][j] = qp_.h[i][j];
+    for (int i = 0; i < kStrings; ++i)
+      if (!is_active(i) && !sweep(s_, i, true, tiny_)) return Outcome::singular;
+    solve_held();
+    // A warm start may hold strings whose multiplier is now negative: release them (worst first).
+    for (;;) {
+      int worst = -1;
+      T worst_mu = -tol_g_;
+      for (int j = 0; j < kStrings; ++j)
+        if (is_active(j) && multiplier(j) < worst_mu) worst_mu = multiplier(j), worst = j;
+      if (worst < 0) break;
+      if (changes_ >= budget_) return Outcome::out_of_budget;
+      if (!release(worst)) return Outcome::singular;
+      // Releasing a string with gradient γ moves the held optimum by −γ·H_F'F'⁻¹ e_j.
+      const T gamma = grad_[worst];
+      const T (&col)[kStrings] = s_[worst];  // symmetric: row = column
+      for (int i = 0; i < kStrings; ++i) {
+        if (is_active(i)) grad_[i] -= col[i] * gamma;
+        else t_[i] += col[i] * gamma;
+      }
+      grad_[worst] = 0;
+    }
+    for (;;) {
+      int p = -1;
+      T worst = tol_t_;
+      for (int i = 0; i < kStrings; ++i) {
+        if (is_active(i)) continue;
+        const T v = t_[i] < qp_.lo ? qp_.lo - t_[i] : t_[i] - qp_.hi;
+        if (v > worst) worst = v, p = i;
+      }
+      if (p < 0) break;
+      const Outcome o = push_to_bound(p);
+      if (o != Outcome::optimal) return o;
+    }
+    solve_held();  // drop the rounding collected along the paths
+    return Outcome::optimal;
+  }
+
+  const T (&tensions() const)[kStrings] { return t_; }
+  Mask lower() const { return lower_; }
+  Mask upper() const { return upper_; }
+  int changes() const { return changes_; }
+
+ private:
+  bool is_active(int i) const { return ((lower_ | upper_) & bit(i)) != 0; }
+  // Oriented so that ≥ 0 means the bound is holding the string where the objective wants it.
+  T multiplier(int j) const { return (lower_ & bit(j)) ? grad_[j] : -grad_[j]; }
+
+  bool release(int j) {
+    ++changes_;
+    lower_ &= static_cast<Mask>(~bit(j));
+    upper_ &= static_cast<Mask>(~bit(j));
+    return sweep(s_, j, true, tiny_);
+  }
+
+  // Free strings' optimum with the active ones at their bounds, and the active strings' gradients Ht − g.
+  void solve_held() {
+    int fr[kStrings], ac[kStrings];
+    int nf = 0, na = 0;
+    for (int i = 0; i < kStrings; ++i) {
+      if (is_active(i)) ac[na++] = i;
+      else fr[nf++] = i;
+    }
+    T rhs[kStrings];
+    for (int a = 0; a < nf; ++a) {
+      T r = qp_.g[fr[a]];
+      for (int b = 0; b < na; ++b) r -= qp_.h[fr[a]][ac[b]] * t_[ac[b]];
+      rhs[a] = r;
+    }
+    for (int a = 0; a < nf; ++a) {
+      T v = 0;
+      for (int b = 0; b < nf; ++b) v -= s_[fr[a]][fr[b]] * rhs[b];
+      t_[fr[a]] = v;
+      grad_[fr[a]] = 0;
+    }
+    for (int b = 0; b < na; ++b) {
+      T gsum = -qp_.g[ac[b]];
+      for (int k = 0; k < kStrings; ++k) gsum += qp_.h[ac[b]][k] * t_[k];
+      grad_[ac[b]] = gsum;
+    }
+  }
+
+  // Apply a growing force τ to string p until it reaches its violated bound. The free strings move along
+  // z = H_FF⁻¹ e_p = −s_Fp; active string j's gradient changes at rate s_jp; p's own gradient is the force.
+  Outcome push_to_bound(int p) {
+    const bool up = t_[p] < qp_.lo;
+    const T target = up ? qp_.lo : qp_.hi;
+    const T dir = up ? static_cast<T>(1) : static_cast<T>(-1);
+    for (;;) {
+      if (changes_ >= budget_) return Outcome::out_of_budget;
+      const T (&col)[kStrings] = s_[p];
+      const T zp = -col[p];
+      if (!(zp > 0)) return Outcome::singular;
+      T step = (target - t_[p]) * dir / zp;
+      int blocking = -1;
+      for (int j = 0; j < kStrings; ++j) {
+        if (!is_active(j)) continue;
+        const T rate = ((lower_ & bit(j)) ? dir : -dir) * col[j];  // d multiplier_j / dτ
+        if (rate >= 0) continue;
+        const T mu = multiplier(j);
+        const T reach = mu > 0 ? mu / -rate : static_cast<T>(0);
+        if (reach < step) step = reach, blocking = j;
+      }
+      const T move = step * dir;
+      for (int i = 0; i < kStrings; ++i) {
+        if (is_active(i)) grad_[i] += move * col[i];
+        else t_[i] -= move * col[i];
+      }
+      grad_[p] += move;
+      if (blocking < 0) {
+        t_[p] = target;
+        ++changes_;
+        (up ? lower_ : upper_) |= bit(p);
+        return sweep(s_, p, false, tiny_) ? Outcome::optimal : Outcome::singular;
+      }
+      if (!release(blocking)) return Outcome::singular;
+      grad_[blocking] = 0;
+    }
+  }
+
+  const BoxQp<T>& qp_;
+  T tol_t_, tol_g_, tiny_;
+  T s_[kStrings][kStrings];
+  T t_[kStrings];
+  T grad_[kStrings];
+  Mask lower_ = 0, upper_ = 0;
+  int budget_ = 0, changes_ = 0;
+};
 
 // Projected Gauss–Seidel: exact minimisation along each coordinate, clamped to the box. Monotone, so it
 // can only improve on its start; used when block pivoting runs out of iterations.
@@ -133,66 +282,15 @@ TensionResult<T> solve_tensions(const StringGeometry<T>& strings, const Vec3<T>&
   const T tol_g = static_cast<T>(16) * eps * (g_max + h_max * hi);
   const T tiny = static_cast<T>(64) * eps * h_max;
 
-  // Block principal pivoting (Júdice & Pires): exchange every infeasible string while their number keeps
-  // falling (with a few grace steps), otherwise exchange only the highest-numbered one (Murty's rule), which
-  // cannot cycle for a positive definite H.
-  Mask lower = state.at_lower;
-  Mask upper = static_cast<Mask>(state.at_upper & ~lower);
-  T t[kStrings];
-  for (T& v : t) v = lo;
-  int best = kStrings + 1, grace = 3;
-  bool converged = false, solved = false;
-  int it = 0;
-  while (it < params.max_iterations) {
-    for (int i = 0; i < kStrings; ++i) t[i] = (lower & bit(i)) ? lo : ((upper & bit(i)) ? hi : t[i]);
-    ++it;
-    if (!solve_free(qp, static_cast<Mask>(lower | upper), t, tiny)) {
-      r.flags |= flag::ill_conditioned;
-      break;
-    }
-    solved = true;
-    Mask to_lower = 0, to_upper = 0, to_free = 0;
-    for (int i = 0; i < kStrings; ++i) {
-      if (lower & bit(i)) {
-        if (gradient(qp, t, i) < -tol_g) to_free |= bit(i);  // pulling it above t_min lowers the cost
-      } else if (upper & bit(i)) {
-        if (gradient(qp, t, i) > tol_g) to_free |= bit(i);
-      } else if (t[i] < lo - tol_t) {
-        to_lower |= bit(i);
-      } else if (t[i] > hi + tol_t) {
-        to_upper |= bit(i);
-      }
-    }
-    Mask wrong = static_cast<Mask>(to_lower | to_upper | to_free);
-    if (!wrong) {
-      converged = true;
-      break;
-    }
-    int count = 0;
-    for (int i = 0; i < kStrings; ++i) count += (wrong >> i) & 1;
-    if (count < best) {
-      best = count;
-      grace = 3;
-    } else if (grace > 0) {
-      --grace;
-    } else {
-      Mask top = 0x80;
-      while (!(wrong & top)) top = static_cast<Mask>(top >> 1);
-      to_lower &= top;
-      to_upper &= top;
-      to_free &= top;
-    }
-    lower = static_cast<Mask>((lower & ~to_free) | to_lower);
-    upper = static_cast<Mask>((upper & ~to_free) | to_upper);
-  }
-  r.iterations = static_cast<std::uint8_t>(it);
-
-  if (solved) {
-    for (int i = 0; i < kStrings; ++i) r.tension[i] = t[i];
-  }
-  if (!converged) {
-    r.flags |= flag::not_converged;
-    finish(strings, r, lo, hi);  // clamp the last iterate, then polish it monotonically
+  DualActiveSet<T> solver(qp, tol_t, tol_g, tiny);
+  const auto outcome = solver.run(state.at_lower, state.at_upper, params.max_iterations);
+  r.iterations = static_cast<std::uint8_t>(solver.changes());
+  for (int i = 0; i < kStrings; ++i) r.tension[i] = solver.tensions()[i];
+  Mask lower = solver.lower(), upper = solver.upper();
+  if (outcome != DualActiveSet<T>::Outcome::optimal) {
+    r.flags |= outcome == DualActiveSet<T>::Outcome::singular ? flag::ill_conditioned : flag::not_converged;
+    // The dual method's iterates break bounds until it finishes: clamp, then polish monotonically.
+    finish(strings, r, lo, hi);
     projected_gauss_seidel(qp, r.tension, params.fallback_sweeps);
     lower = upper = 0;
     for (int i = 0; i < kStrings; ++i) {

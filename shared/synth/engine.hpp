@@ -48,7 +48,9 @@ class Engine {
   bool set_preset(std::uint8_t slot, const envelope::Adsr& adsr);  // false: bad slot or invalid preset
   const envelope::Adsr* preset(std::uint8_t slot) const;           // nullptr if empty
 
-  // Start a note now (on this tick). Steals the oldest voice when full. false = rejected.
+  // Start a note now (on this tick). Steals the oldest voice when full (counted). false = rejected and
+  // counted: empty preset slot, duration 0 (malformed here, although a voice would play it as 1 tick),
+  // frequency 0 or at/above Nyquist (tick_hz / 2). Amplitude 0 is a valid, silent note.
   bool start(const Note& note);
   // Advance every voice one tick; returns the mixed, limited sample in [−1, 1].
   float tick();

@@ -94,6 +94,7 @@ class HostLink {
     for (const TestNote& n : batch) base = n.start < base ? n.start : base;
     m.notes.base_tick = static_cast<std::uint32_t>(base);
     for (std::size_t i = 0; i < batch.size(); ++i) {
+      EXPECT_LE(batch[i].start - base, 255u) << "test put notes too far apart into one batch";
       const synth::Note s = to_synth(batch[i]);
       m.notes.notes[i].offset = static_cast<std::uint8_t>(batch[i].start - base);
       m.notes.notes[i].preset = s.preset;
@@ -155,6 +156,20 @@ class HostLink {
     }
     ADD_FAILURE() << "no status report";
     return {};
+  }
+
+  // Runs `ticks` ticks like a live host: a Sync every 100 ms keeps the device's watchdog fed.
+  // Returns the output of every tick.
+  std::vector<float> run(std::size_t ticks) {
+    const std::size_t chunk = dev_.core().tick_hz() / 10;
+    std::vector<float> out(ticks);
+    for (std::size_t done = 0; done < ticks;) {
+      const std::size_t n = ticks - done < chunk ? ticks - done : chunk;
+      dev_.advance(n, out.data() + done);
+      done += n;
+      if (done < ticks) sync(0);
+    }
+    return out;
   }
 
   std::uint16_t seq() const { return seq_; }

@@ -28,7 +28,7 @@ TEST_P(Timing, NotesStartOnTheirExactTickAndOutputMatchesTheEngine) {
                                            host.notes({notes[4]})};
   const std::uint64_t first = dev.tick() + 1;
   const std::size_t span = static_cast<std::size_t>(t0 + 400 + hz / 4 + 50 - first);
-  const std::vector<float> got = dev.record(span);
+  const std::vector<float> got = host.run(span);
   const std::vector<float> want = reference_output(notes, first, span, hz);
   for (std::size_t i = 0; i < span; ++i) ASSERT_EQ(got[i], want[i]) << "tick " << first + i;
 
@@ -62,7 +62,7 @@ TEST_P(Timing, LateNoteStartsAtOnceAndIsCounted) {
   // It arrived during tick `now`; the next tick is the earliest it can start.
   TestNote actual = late;
   actual.start = now + 1;
-  const std::vector<float> got = dev.record(300);
+  const std::vector<float> got = host.run(300);
   const std::vector<float> want = reference_output({actual}, now + 1, 300, hz);
   for (std::size_t i = 0; i < want.size(); ++i) ASSERT_EQ(got[i], want[i]) << "tick " << now + 1 + i;
   const Replies r = host.collect();
@@ -140,7 +140,7 @@ TEST(Timing, BaseTickIsExtendedAcrossThe32BitWrap) {
   host.long_note(notes[2]);
   const std::uint64_t first = dev.tick() + 1;
   const std::size_t span = static_cast<std::size_t>(wrap + 400 - first);
-  const std::vector<float> got = dev.record(span);
+  const std::vector<float> got = host.run(span);
   const std::vector<float> want = reference_output(notes, first, span, 1000);
   for (std::size_t i = 0; i < span; ++i) ASSERT_EQ(got[i], want[i]) << "tick " << first + i;
   const Replies r = host.collect();

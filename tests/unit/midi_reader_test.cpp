@@ -283,7 +283,7 @@ TEST(MidiReader, TruncationMidEventKeepsEarlierEvents) {
   ASSERT_EQ(r.song.notes.size(), 2u);
   EXPECT_EQ(r.song.tracks[0].end_tick, 192u);
   // Offset of the cut event: 22 + 4 events × 4 bytes = 38 = 0x26.
-  EXPECT_TRUE(has_warning(r, "track 0 at byte 0x26: event cut off by the end of the file")) << all_warnings(r);
+  EXPECT_TRUE(has_warning(r, "track 0 at byte 0x26: event cut off by the end of the track data")) << all_warnings(r);
 }
 
 TEST(MidiReader, TruncatedInsideDeltaOrSysexOrMeta) {

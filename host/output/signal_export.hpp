@@ -1,0 +1,22 @@
+#pragma once
+// Writes a haptic signal in the format the output path names: .csv (t_s,value), .wav (float at the tick
+// rate, or 44.1 kHz with `audible`), .png (plot with the notes above the waveform). "-" is CSV on stdout.
+#include <span>
+#include <string>
+
+#include "host/output/signal_plot.hpp"
+
+namespace hmp::output {
+
+struct SignalExport {
+  std::string path = "-";
+  bool audible = false;
+  bool force = false;
+};
+
+// Throws BadInput for an unknown extension or --audible without .wav (call before long work).
+void check_export(const SignalExport& e);
+void export_signal(const SignalExport& e, std::span<const float> samples, std::span<const PlotNote> notes,
+                   const PlotSpec& spec);
+
+}  // namespace hmp::output

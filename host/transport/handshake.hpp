@@ -1,0 +1,28 @@
+#pragma once
+// Opening a session (docs/protocol.md, Hello): send Hello, read the HelloReply and the Status the
+// device sends right after it. Shared by `hmp devices` and the player.
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "host/transport/transport.hpp"
+
+namespace hmp::transport {
+
+struct DeviceIdentity {
+  protocol::HelloReply hello;              // for an incompatible device only protocol_version is known
+  std::optional<protocol::Status> status;  // absent when the device sent none in time
+  bool compatible() const { return hello.protocol_version == protocol::kProtocolVersion; }
+};
+
+// Sends a Hello numbered `seq` and waits up to `timeout` for the HelloReply (reports before it are
+// skipped), then up to `timeout` more for the Status. nullopt: no HelloReply in time, or the link closed.
+// A HelloReply of another protocol version is recognised by its fixed first bytes and returned as such.
+std::optional<DeviceIdentity> say_hello(Transport& link, std::uint16_t seq, Timeout timeout);
+
+const char* board_name(protocol::Board board);  // "sim", "qemu-an386", "stm32f407" (HMP_BOARD names)
+const char* state_name(protocol::State state);  // "idle", "playing", …
+std::string fault_names(std::uint32_t faults);  // "none" or "estop,watchdog"
+std::string firmware_version(const protocol::HelloReply& hello);  // "0.1.0"
+
+}  // namespace hmp::transport

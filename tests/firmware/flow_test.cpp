@@ -1,0 +1,152 @@
+// Flow control (SPEC §9): a bounded note queue, Status.queue_free in note reports, a report that does not
+// fit is refused whole with Error queue_full and nothing is lost when the host re-sends it.
+#include <gtest/gtest.h>
+
+#include <deque>
+#include <map>
+#include <set>
+
+#include "tests/firmware/host_link.hpp"
+
+namespace hmp::test {
+namespace {
+
+constexpr std::uint16_t kFreeWhenEmpty = 256 / p::kNotesPerBatch;
+
+TEST(Flow, QueueFreeCountsNoteReportsAndABatchThatDoesNotFitIsRefusedWhole) {
+  sim::SimDevice dev;
+  HostLink host(dev);
+  host.hello();  // not playing: nothing leaves the queue
+  EXPECT_EQ(host.status().queue_free, kFreeWhenEmpty);
+  const std::uint64_t far = dev.tick() + 100000;
+  // 51 full reports take 255 slots.
+  for (std::uint16_t i = 0; i < kFreeWhenEmpty; ++i) {
+    std::vector<TestNote> batch(p::kNotesPerBatch, TestNote{far + i, 10, 80.0, 0.5});
+    host.notes(batch);
+    if (i % 8 == 7) dev.advance(1);
+  }
+  p::Status s = host.status();
+  EXPECT_EQ(s.queue_free, 0u);
+  EXPECT_EQ(s.last_seq, host.seq());
+  EXPECT_EQ(dev.core().queued_notes(), 255u);
+  host.collect();
+  // One slot is left: a one-note report fits (the host was told 0 reports, the device is not stricter
+  // than it must be), a two-note report does not, and is not half-taken.
+  const std::uint16_t two = host.notes({{far, 10, 80.0, 0.5}, {far, 10, 81.0, 0.5}});
+  dev.advance(1);
+  Replies r = host.collect();
+  ASSERT_EQ(r.errors.size(), 1u);
+  EXPECT_EQ(r.errors[0].code, p::ErrorCode::queue_full);
+  EXPECT_EQ(r.errors[0].seq, two);
+  EXPECT_EQ(dev.core().queued_notes(), 255u);
+  host.long_note({far + 1, 10, 80.0, 0.5});
+  dev.advance(1);
+  EXPECT_EQ(dev.core().queued_notes(), 256u);
+  const std::uint16_t refused_long = host.long_note({far + 1, 10, 80.0, 0.5});
+  dev.advance(1);
+  r = host.collect();
+  ASSERT_EQ(r.errors.size(), 1u);
+  EXPECT_EQ(r.errors[0].code, p::ErrorCode::queue_full);
+  EXPECT_EQ(r.errors[0].seq, refused_long);
+  s = host.status();
+  EXPECT_EQ(s.rejected, 0u);  // flow control, not a malformed report
+  EXPECT_EQ(dev.core().stats().queue_full, 2u);
+  EXPECT_EQ(s.last_seq, refused_long - 1);
+}
+
+// A song longer than the queue, sent by a greedy host that ignores queue_free and simply re-sends what
+// the device refused. Every note must start exactly once, on its tick.
+TEST(Flow, GreedyHostThatResendsRefusedReportsLosesNothing) {
+  sim::SimDevice dev;
+  HostLink host(dev);
+  host.hello();
+  host.settings(exact_settings());
+  host.play();
+  dev.advance(1);
+  const std::uint64_t t0 = dev.tick() + 200;
+  std::deque<std::vector<TestNote>> to_send;
+  std::set<std::uint64_t> expected_starts;
+  for (int b = 0; b < 600; ++b) {  // 3000 notes, 2 ticks apart: 6 s, far more than 256 notes of queue
+    std::vector<TestNote> batch;
+    for (int k = 0; k < 5; ++k) {
+      const std::uint64_t start = t0 + static_cast<std::uint64_t>(b * 5 + k) * 2;
+      batch.push_back({start, 3, 100.0, 0.2});
+      expected_starts.insert(start);
+    }
+    to_send.push_back(batch);
+  }
+  std::map<std::uint16_t, std::vector<TestNote>> in_flight;  // seq → batch, until accepted or refused
+  std::map<std::uint64_t, int> starts;                       // scheduled tick → times started
+  std::uint32_t refused = 0;
+  while (dev.tick() < t0 + 6200) {
+    if (!to_send.empty()) {
+      in_flight[host.notes(to_send.front())] = to_send.front();
+      to_send.pop_front();
+    }
+    dev.advance(1);
+    if (dev.tick() % 50 == 0) host.sync(0);
+    const Replies r = host.collect();
+    for (const p::Error& e : r.errors) {
+      ASSERT_EQ(e.code, p::ErrorCode::queue_full);
+      ++refused;
+      to_send.push_front(in_flight.at(e.seq));  // re-send it first (it is the earliest outstanding)
+    }
+    for (const p::StartedEntry& e : r.started) {
+      ASSERT_EQ(e.actual_tick, e.scheduled_tick);
+      ++starts[e.scheduled_tick];
+    }
+  }
+  EXPECT_GT(refused, 100u) << "the test must actually overflow the queue";
+  ASSERT_EQ(starts.size(), expected_starts.size());
+  for (const auto& [tick, times] : starts) {
+    EXPECT_EQ(times, 1) << "tick " << tick;
+    EXPECT_TRUE(expected_starts.count(static_cast<std::uint64_t>(tick) | (t0 & ~0xFFFFFFFFull)));
+  }
+  const p::Status s = host.status();
+  EXPECT_EQ(s.started, expected_starts.size());
+  EXPECT_EQ(s.late, 0u);
+  EXPECT_EQ(s.rejected, 0u);
+}
+
+// A well-behaved host sends only as many reports as the last Status allowed: it never sees queue_full.
+TEST(Flow, HostThatFollowsQueueFreeIsNeverRefused) {
+  sim::SimDevice dev;
+  HostLink host(dev);
+  host.hello();
+  host.settings(exact_settings());
+  host.play();
+  dev.advance(1);
+  const std::uint64_t t0 = dev.tick() + 100;
+  std::size_t next = 0, started = 0;
+  const std::size_t batches = 400;
+  std::uint16_t credit = 0;
+  std::uint16_t credit_seq = 0;  // the last seq the credit was computed after
+  while (dev.tick() < t0 + batches * 10 + 100) {
+    // Credit = queue_free of the newest status, minus reports sent since its last_seq.
+    while (credit > 0 && next < batches) {
+      std::vector<TestNote> batch;
+      for (std::uint64_t k = 0; k < 5; ++k) batch.push_back({t0 + next * 10 + k * 2, 2, 120.0, 0.3});
+      host.notes(batch);
+      ++next;
+      --credit;
+    }
+    dev.advance(1);
+    if (dev.tick() % 50 == 0) host.sync(0);
+    const Replies r = host.collect();
+    ASSERT_TRUE(r.errors.empty());
+    started += r.started.size();
+    for (const p::Status& s : r.statuses) {
+      if (static_cast<std::int16_t>(s.last_seq - credit_seq) < 0) continue;
+      credit_seq = s.last_seq;
+      // Reports sent after last_seq are in flight: they will take room the status does not show yet.
+      const auto in_flight = static_cast<std::uint16_t>(host.seq() - s.last_seq);
+      credit = s.queue_free > in_flight ? static_cast<std::uint16_t>(s.queue_free - in_flight) : 0;
+    }
+  }
+  EXPECT_EQ(next, batches);
+  EXPECT_EQ(started, batches * 5);
+  EXPECT_EQ(dev.core().stats().queue_full, 0u);
+}
+
+}  // namespace
+}  // namespace hmp::test
