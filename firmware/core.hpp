@@ -29,13 +29,13 @@ inline constexpr std::uint8_t kFirmwareMajor = 0, kFirmwareMinor = 1, kFirmwareP
 // Counters beyond the ones the Status report carries (all cumulative, wrapping).
 struct Stats {
   std::uint32_t packets = 0;       // reports taken from the inbox
-  std::uint32_t rejected = 0;      // reports refused as invalid: malformed, wrong direction, wrong version, bad slot
-  std::uint32_t queue_full = 0;    // note reports refused for lack of room (the host re-sends them)
+  std::uint32_t rejected = 0;      // reports refused, each answered by an Error (= Status.rejected)
+  std::uint32_t queue_full = 0;    // of which note reports refused for lack of room (the host re-sends)
   std::uint32_t inbox_full = 0;    // reports on_packet could not take (the transport lost them)
   std::uint32_t late = 0;          // notes started after their scheduled tick
   std::uint32_t started = 0;       // notes started
   std::uint32_t engine_refused = 0;  // notes the engine would not start (counted in Status.rejected too)
-  std::uint32_t tx_dropped = 0;    // device reports the board had no room for
+  std::uint32_t tx_dropped = 0;    // device reports not sent (the board had no room)
 };
 
 // One received report with its arrival time.
@@ -98,9 +98,9 @@ class Core {
   void on_hello(const protocol::Message& m);
   void on_sync(const protocol::Message& m, const InboxEntry& entry);
   protocol::ErrorCode check_playable(std::uint8_t preset, std::uint32_t freq_q20) const;
-  bool on_notes(const protocol::Message& m, std::uint64_t rx_tick);
-  bool on_long_note(const protocol::Message& m);
-  bool on_preset(const protocol::Message& m);
+  void on_notes(const protocol::Message& m, std::uint64_t rx_tick);
+  void on_long_note(const protocol::Message& m);
+  void on_preset(const protocol::Message& m);
   void on_settings(const protocol::Message& m);
   void on_transport(const protocol::Message& m);
   void emergency_stop();
@@ -132,9 +132,11 @@ class Core {
   std::uint64_t song_tick_ = 0;            // last seek target (informational, logged)
   std::uint32_t watchdog_ticks_ = 0;
   std::uint32_t status_period_playing_ = 1, status_period_idle_ = 1;
+  std::uint32_t status_countdown_ = 1;  // ticks until the next Status (the next one included)
   std::uint32_t faults_ = protocol::fault_none;
   protocol::State state_ = protocol::State::idle;
-  std::uint16_t last_seq_ = 0;
+  std::uint16_t last_seq_ = 0;             // last well-formed host report processed (done or refused)
+  bool version_locked_ = false;            // a Hello of another version came last
   std::uint16_t tx_seq_ = 0;
   float last_output_ = 0.0f;
 };

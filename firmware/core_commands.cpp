@@ -23,34 +23,33 @@ void Core::handle(const InboxEntry& entry) {
     reject(ErrorCode::wrong_direction, m.seq, static_cast<std::uint8_t>(m.type));
     return;
   }
-  // A well-formed report shows the host is alive, even one refused below for what it asks.
+  // A well-formed report shows the host is alive, even one refused below for what it asks, and it is
+  // "processed" for Status.last_seq whether carried out or refused (docs/protocol.md, flow control).
   const std::uint64_t rx = rx_tick64(entry.rx_tick);
   if (rx > last_host_tick_) last_host_tick_ = rx;
+  last_seq_ = m.seq;
 
-  bool accepted = true;
+  // After a Hello of another protocol version only Hello, Sync and Estop are understood.
+  if (version_locked_ && m.type != Type::hello && m.type != Type::sync && m.type != Type::estop) {
+    reject(ErrorCode::version_mismatch, m.seq, static_cast<std::uint8_t>(m.type));
+    return;
+  }
   switch (m.type) {
-    case Type::hello:
-      if (m.hello.protocol_version != protocol::kProtocolVersion) {
-        on_hello(m);  // the reply tells the host our version; the Error says we refuse its own
-        reject(ErrorCode::version_mismatch, m.seq, static_cast<std::uint8_t>(m.type));
-        return;
-      }
-      on_hello(m);
-      break;
+    case Type::hello: on_hello(m); break;
     case Type::sync: on_sync(m, entry); break;
-    case Type::notes: accepted = on_notes(m, rx); break;
-    case Type::long_note: accepted = on_long_note(m); break;
-    case Type::preset: accepted = on_preset(m); break;
+    case Type::notes: on_notes(m, rx); break;
+    case Type::long_note: on_long_note(m); break;
+    case Type::preset: on_preset(m); break;
     case Type::settings: on_settings(m); break;
     case Type::transport: on_transport(m); break;
     case Type::estop: emergency_stop(); break;
-    default: accepted = false; break;  // unreachable: decode knows no other host type
+    default: break;  // unreachable: decode knows no other host type
   }
-  if (accepted) last_seq_ = m.seq;
 }
 
 void Core::on_hello(const protocol::Message& m) {
-  if (m.hello.protocol_version == protocol::kProtocolVersion) {
+  version_locked_ = m.hello.protocol_version != protocol::kProtocolVersion;
+  if (!version_locked_) {
     // A new session: nothing of the old one keeps sounding or waiting, faults are acknowledged.
     // Settings and uploaded presets stay.
     queue_.clear();
@@ -60,6 +59,7 @@ void Core::on_hello(const protocol::Message& m) {
     state_ = State::idle;
     log_event("hello, protocol ", m.hello.protocol_version);
   }
+  // The reply tells a host of another version which version we speak; the Error then refuses its own.
   protocol::Message reply = protocol::make(Type::hello_reply, 0);
   reply.hello_reply.protocol_version = protocol::kProtocolVersion;
   reply.hello_reply.fw_major = kFirmwareMajor;
@@ -71,6 +71,7 @@ void Core::on_hello(const protocol::Message& m) {
   reply.hello_reply.queue_capacity = kQueueCapacityReports;
   reply.hello_reply.preset_slots = envelope::kSlotCount;
   send(reply);
+  if (version_locked_) reject(ErrorCode::version_mismatch, m.seq, static_cast<std::uint8_t>(m.type));
 }
 
 void Core::on_sync(const protocol::Message& m, const InboxEntry& entry) {
@@ -91,18 +92,18 @@ ErrorCode Core::check_playable(std::uint8_t preset, std::uint32_t freq_q20) cons
   return ErrorCode::none;
 }
 
-bool Core::on_notes(const protocol::Message& m, std::uint64_t rx_tick) {
+void Core::on_notes(const protocol::Message& m, std::uint64_t rx_tick) {
   const protocol::Notes& batch = m.notes;
   for (std::uint8_t i = 0; i < batch.count; ++i) {
     const ErrorCode e = check_playable(batch.notes[i].preset, batch.notes[i].freq_q20);
     if (e != ErrorCode::none) {
       reject(e, m.seq, static_cast<std::uint8_t>(m.type));
-      return false;
+      return;
     }
   }
   if (batch.count > queue_.free_slots()) {
     reject(ErrorCode::queue_full, m.seq, static_cast<std::uint8_t>(m.type));
-    return false;
+    return;
   }
   // base_tick carries the low 32 bits; take the 64-bit tick nearest to the arrival (a base up to 2^31
   // ticks in the past or future). Before tick 0 there is nothing: such notes are simply late.
@@ -120,19 +121,18 @@ bool Core::on_notes(const protocol::Message& m, std::uint64_t rx_tick) {
     note.track = batch.track;
     queue_.push(note, m.seq, i);
   }
-  return true;
 }
 
-bool Core::on_long_note(const protocol::Message& m) {
+void Core::on_long_note(const protocol::Message& m) {
   const protocol::LongNote& l = m.long_note;
   const ErrorCode e = check_playable(l.preset, l.freq_q20);
   if (e != ErrorCode::none) {
     reject(e, m.seq, static_cast<std::uint8_t>(m.type));
-    return false;
+    return;
   }
   if (queue_.free_slots() == 0) {
     reject(ErrorCode::queue_full, m.seq, static_cast<std::uint8_t>(m.type));
-    return false;
+    return;
   }
   synth::Note note;
   note.start_tick = l.start_tick;
@@ -142,13 +142,12 @@ bool Core::on_long_note(const protocol::Message& m) {
   note.preset = l.preset;
   note.track = l.track;
   queue_.push(note, m.seq, 0);
-  return true;
 }
 
-bool Core::on_preset(const protocol::Message& m) {
-  if (engine_.set_preset(m.preset.slot, m.preset.adsr)) return true;
-  reject(ErrorCode::bad_slot, m.seq, static_cast<std::uint8_t>(m.type));
-  return false;
+void Core::on_preset(const protocol::Message& m) {
+  if (!engine_.set_preset(m.preset.slot, m.preset.adsr)) {
+    reject(ErrorCode::bad_slot, m.seq, static_cast<std::uint8_t>(m.type));  // decode checks it: unreachable
+  }
 }
 
 void Core::on_settings(const protocol::Message& m) {

@@ -7,19 +7,24 @@ namespace hmp::fw {
 void Core::send(protocol::Message& m) {
   m.seq = ++tx_seq_;
   protocol::Report report;
-  if (!protocol::encode(m, report)) return;  // cannot happen for the messages built here
-  if (board_.send == nullptr || !board_.send(board_.ctx, report)) ++stats_.tx_dropped;
+  // encode() refusing one of our own reports would be a bug; count it like a report the board dropped.
+  if (!protocol::encode(m, report) || board_.send == nullptr || !board_.send(board_.ctx, report)) {
+    ++stats_.tx_dropped;
+  }
 }
 
-// Counts the refusal and answers it. queue_full has its own counter: it is flow control (the host
-// re-sends), not a fault of the report.
+// Counts the refusal and answers it. A note report refused for lack of room also latches
+// fault_queue_overflow: a host that follows the credit rule (docs/protocol.md) never causes one.
 void Core::reject(protocol::ErrorCode code, std::uint16_t seq, std::uint8_t type) {
-  std::uint32_t& counter = code == protocol::ErrorCode::queue_full ? stats_.queue_full : stats_.rejected;
-  ++counter;
-  if (worth_logging(counter)) {
+  ++stats_.rejected;
+  if (code == protocol::ErrorCode::queue_full) {
+    ++stats_.queue_full;
+    faults_ |= protocol::fault_queue_overflow;
+  }
+  if (worth_logging(stats_.rejected)) {
     LogLine line;
     line.text("refused report: ").text(protocol::name(code)).text(", type ").num(type).text(", seq ").num(seq)
-        .text(", count ").num(counter);
+        .text(", refusals ").num(stats_.rejected);
     if (board_.log != nullptr) board_.log(board_.ctx, line.c_str());
   }
   protocol::Message m = protocol::make(protocol::Type::error, 0);

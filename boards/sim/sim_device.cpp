@@ -4,7 +4,8 @@
 
 namespace hmp::sim {
 
-SimDevice::SimDevice(std::uint32_t tick_hz, std::uint64_t first_tick) : core_(make_seam(this), tick_hz, first_tick) {}
+SimDevice::SimDevice(std::uint32_t tick_hz, std::uint64_t first_tick)
+    : core_(make_seam(this), tick_hz, first_tick) {}
 
 fw::BoardSeam SimDevice::make_seam(SimDevice* self) {
   fw::BoardSeam seam;
@@ -34,7 +35,9 @@ bool SimDevice::on_send(void* ctx, const protocol::Report& report) {
 
 void SimDevice::on_log(void* ctx, const char* line) {
   auto* self = static_cast<SimDevice*>(ctx);
-  if (self->echo_log_) std::fprintf(stderr, "[sim %llu] %s\n", static_cast<unsigned long long>(self->tick()), line);
+  if (self->echo_log_) {
+    std::fprintf(stderr, "[sim %llu] %s\n", static_cast<unsigned long long>(self->tick()), line);
+  }
   if (self->log_.size() >= kMaxLogLines) self->log_.pop_front();
   self->log_.emplace_back(line);
 }

@@ -26,6 +26,7 @@ void register_all(CLI::App& app, Registry& registry) {
   register_info(app, registry);
   register_render(app, registry);
   register_tone(app, registry);
+  register_devices(app, registry);
 }
 
 }  // namespace hmp::cli

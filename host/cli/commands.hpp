@@ -28,5 +28,6 @@ void register_all(CLI::App& app, Registry& registry);
 void register_tone(CLI::App& app, Registry& registry);
 void register_info(CLI::App& app, Registry& registry);
 void register_render(CLI::App& app, Registry& registry);
+void register_devices(CLI::App&, Registry&);
 
 }  // namespace hmp::cli

@@ -214,9 +214,10 @@ class SmfReader {
 }  // namespace
 
 detail::ParseState::ParseState(std::size_t file_size) : slots(16 * 128) {
-  // A note needs at least 3 bytes (delta, key, velocity under running status), so this never grows;
-  // pages that are never written cost no memory.
-  notes.reserve(file_size / 3 + 1);
+  // A note needs at least 3 bytes (delta, key, velocity under running status), so up to a few million
+  // notes this never grows (no copy, no doubling); pages that are never written cost no memory.
+  constexpr std::size_t kReserveCap = std::size_t{1} << 22;
+  notes.reserve(std::min(file_size / 3 + 1, kReserveCap));
 }
 
 ReadResult read_smf(std::span<const std::uint8_t> bytes) { return SmfReader(bytes).read(); }

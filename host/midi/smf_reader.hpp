@@ -22,6 +22,8 @@
 // - Format 0 files with several MTrk chunks (invalid) are read chunk by chunk, each split by channel,
 //   all playing together. Unknown formats (> 2) are read as format 1.
 // - Division 0 ticks per quarter is read as 96, SMPTE 0 ticks per frame as 1.
+// - Places in messages: "track N" is the MTrk chunk (0-based, file order; for format 0 one chunk may be
+//   several logical tracks), "byte 0x…" the offset in the bytes given (a RIFF header included).
 // - Names are made valid UTF-8: bytes that are not UTF-8 are read as Latin-1; trailing NULs/spaces dropped.
 #include <cstdint>
 #include <filesystem>

@@ -136,7 +136,7 @@ void write_signal_png(const std::string& path, std::span<const float> samples, s
   // One note (hmp tone) needs no piano roll: the waveform gets the whole height.
   const bool with_roll = notes.size() > 1;
   const Box roll{left, top, spec.width - left - right, with_roll ? inner_h * 0.35 : 0.0};
-  const Box wave{left, with_roll ? top + roll.h + gap : top, roll.w, with_roll ? inner_h * 0.65 : inner_h + gap};
+  const Box wave{left, top + (with_roll ? roll.h : 0.0) + gap, roll.w, with_roll ? inner_h * 0.65 : inner_h};
 
   cairo_set_source_rgb(cr.get(), 0.1, 0.1, 0.1);
   cairo_set_font_size(cr.get(), 15);

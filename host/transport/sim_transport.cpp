@@ -79,8 +79,10 @@ void SimTransport::pace() {
       continue;
     }
     // Sleep until the next tick is due (or until closed).
-    const auto next_ns = static_cast<std::int64_t>((device_.tick() + 1 - start_tick_) * 1'000'000'000.0 / options_.tick_hz);
-    changed_.wait_until(lock, start_time_ + std::chrono::nanoseconds(next_ns), [this] { return stop_; });
+    const std::uint64_t ticks = device_.tick() + 1 - start_tick_, hz = options_.tick_hz;
+    const std::uint64_t next_ns = ticks / hz * 1'000'000'000u + ticks % hz * 1'000'000'000u / hz;
+    changed_.wait_until(lock, start_time_ + std::chrono::nanoseconds(static_cast<std::int64_t>(next_ns)),
+                        [this] { return stop_; });
   }
 }
 

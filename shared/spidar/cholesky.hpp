@@ -40,4 +40,15 @@ void cholesky_solve(const T (&l)[N][N], int n, T (&b)[N]) {
   }
 }
 
+// Full-size versions: the size is a compile-time constant, so the compiler can unroll the loops (the pose's
+// 6×6 normal equations).
+template <class T, int N>
+bool cholesky_factor(T (&a)[N][N], T tiny) {
+  return cholesky_factor(a, N, tiny);
+}
+template <class T, int N>
+void cholesky_solve(const T (&l)[N][N], T (&b)[N]) {
+  cholesky_solve(l, N, b);
+}
+
 }  // namespace hmp::spidar

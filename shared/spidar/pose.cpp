@@ -68,6 +68,7 @@ Flags PoseEstimator<T>::update(const Frame<T>& frame, const T (&lengths)[kString
   for (int i = 0; i < kStrings; ++i)
     if (!std::isfinite(lengths[i])) return static_cast<Flags>(strings_.flags | flag::invalid_input);
   Flags flags = 0;
+  const T inv_rho = static_cast<T>(1) / params.rotation_scale;
   for (int it = 0; it < params.iterations; ++it) {
     compute_strings(frame, pose_.position, to_matrix(pose_.orientation), strings_);
     // Normal equations, lower triangle only.
@@ -84,20 +85,26 @@ Flags PoseEstimator<T>::update(const Frame<T>& frame, const T (&lengths)[kString
       }
     }
     residual_rms_ = std::sqrt(squares * static_cast<T>(1.0 / kStrings));
+    // Rotation unknowns as arc lengths ρ·θ: scale the rotation rows/columns by 1/ρ.
+    for (int r = 3; r < 6; ++r) {
+      rhs[r] *= inv_rho;
+      for (int c = 0; c < 3; ++c) n[r][c] *= inv_rho;
+      for (int c = 3; c <= r; ++c) n[r][c] *= inv_rho * inv_rho;
+    }
     T diag_max = 0;
     for (int r = 0; r < 6; ++r) {
       n[r][r] += params.sigma;
       diag_max = n[r][r] > diag_max ? n[r][r] : diag_max;
     }
-    if (!cholesky_factor(n, 6, static_cast<T>(64) * std::numeric_limits<T>::epsilon() * diag_max)) {
+    if (!cholesky_factor(n, static_cast<T>(64) * std::numeric_limits<T>::epsilon() * diag_max)) {
       flags |= flag::ill_conditioned;
       break;
     }
-    cholesky_solve(n, 6, rhs);
+    cholesky_solve(n, rhs);
     pose_.position += Vec3<T>{rhs[0], rhs[1], rhs[2]};
     // Small-angle quaternion (1, δ/2) then renormalise: exact to first order, and Gauss–Newton converges to
     // the same fixed point (δ → 0) without any trigonometry.
-    const T half = static_cast<T>(0.5);
+    const T half = static_cast<T>(0.5) * inv_rho;
     Quat<T> q = Quat<T>{1, half * rhs[3], half * rhs[4], half * rhs[5]} * pose_.orientation;
     const T inv = static_cast<T>(1) / std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
     pose_.orientation = {q.w * inv, q.x * inv, q.y * inv, q.z * inv};

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 
+#include "shared/spidar/cholesky.hpp"
 
 namespace hmp::spidar {
 
@@ -78,6 +79,8 @@ bool sweep(T (&s)[kStrings][kStrings], int k, bool in, T tiny) {
 // (holding it at the bound really helps). Each step picks the free string that violates its bounds most and
 // pushes it to the bound along the path that keeps the invariant, releasing any active string whose
 // multiplier reaches zero on the way. No cycling: each completed push strictly raises the dual objective.
+// (D. Goldfarb, A. Idnani, "A numerically stable dual method for solving strictly convex quadratic
+// programs", Math. Programming 27, 1983; bounds make every constraint a single coordinate.)
 template <class T>
 class DualActiveSet {
  public:
@@ -85,17 +88,53 @@ class DualActiveSet {
 
   DualActiveSet(const BoxQp<T>& qp, T tol_t, T tol_g, T tiny) : qp_(qp), tol_t_(tol_t), tol_g_(tol_g), tiny_(tiny) {}
 
-  // Starts from the given active set (the previous tick's); `max_changes` bounds the sweeps after set-up.
+  // Starts from the given active set (the previous tick's); `max_changes` bounds the active-set changes.
   Outcome run(Mask lower, Mask upper, int max_changes) {
     lower_ = lower;
     upper_ = static_cast<Mask>(upper & ~lower);
+    save();
     budget_ = max_changes;
     for (int i = 0; i < kStrings; ++i) t_[i] = (lower_ & bit(i)) ? qp_.lo : ((upper_ & bit(i)) ? qp_.hi : static_cast<T>(0));
+    // Every pass ends on a fresh Cholesky solve for the active set it reached, and the optimality test is
+    // made on that: the swept matrix only steers the search, so the rounding its sweeps collect (sweeping
+    // out cancels digits) never reaches the answer. Most ticks the first guess is right and this solve is
+    // all there is. A second pass starts a fresh swept matrix from where the first one ended.
+    for (;;) {
+      if (!solve_held_cholesky()) return Outcome::singular;
+      if (optimal_now()) return Outcome::optimal;
+      if (changes_ >= budget_) return Outcome::out_of_budget;
+      const Outcome o = search();
+      if (o != Outcome::optimal) return o;
+    }
+  }
+
+  const T (&tensions() const)[kStrings] { return t_; }
+  // The active set to start the next solve from: after an overrun, the last one reached by a completed
+  // step (a release of a wrong-signed string, or a finished push), never one in the middle of a push —
+  // a push cut short would be undone by the next solve, and a static scene could then cycle forever.
+  Mask lower() const { return saved_lower_; }
+  Mask upper() const { return saved_upper_; }
+  int changes() const { return changes_; }
+
+ private:
+  bool is_active(int i) const { return ((lower_ | upper_) & bit(i)) != 0; }
+  void save() { saved_lower_ = lower_; saved_upper_ = upper_; }
+  // Oriented so that ≥ 0 means the bound is holding the string where the objective wants it.
+  T multiplier(int j) const { return (lower_ & bit(j)) ? grad_[j] : -grad_[j]; }
+
+  bool release(int j) {
+    ++changes_;
+    lower_ &= static_cast<Mask>(~bit(j));
+    upper_ &= static_cast<Mask>(~bit(j));
+    return sweep(s_, j, true, tiny_);
+  }
+
+  // Goldfarb–Idnani from the current active set (t and the gradients must be the held optimum).
+  Outcome search() {
     for (int i = 0; i < kStrings; ++i)
       for (int j = 0; j < kStrings; ++j) s_[i][j] = qp_.h[i][j];
     for (int i = 0; i < kStrings; ++i)
       if (!is_active(i) && !sweep(s_, i, true, tiny_)) return Outcome::singular;
-    solve_held();
     // A warm start may hold strings whose multiplier is now negative: release them (worst first).
     for (;;) {
       int worst = -1;
@@ -105,6 +144,7 @@ class DualActiveSet {
       if (worst < 0) break;
       if (changes_ >= budget_) return Outcome::out_of_budget;
       if (!release(worst)) return Outcome::singular;
+      save();
       // Releasing a string with gradient γ moves the held optimum by −γ·H_F'F'⁻¹ e_j.
       const T gamma = grad_[worst];
       const T (&col)[kStrings] = s_[worst];  // symmetric: row = column
@@ -122,49 +162,42 @@ class DualActiveSet {
         const T v = t_[i] < qp_.lo ? qp_.lo - t_[i] : t_[i] - qp_.hi;
         if (v > worst) worst = v, p = i;
       }
-      if (p < 0) break;
+      if (p < 0) return Outcome::optimal;
       const Outcome o = push_to_bound(p);
       if (o != Outcome::optimal) return o;
     }
-    solve_held();  // drop the rounding collected along the paths
-    return Outcome::optimal;
   }
 
-  const T (&tensions() const)[kStrings] { return t_; }
-  Mask lower() const { return lower_; }
-  Mask upper() const { return upper_; }
-  int changes() const { return changes_; }
-
- private:
-  bool is_active(int i) const { return ((lower_ | upper_) & bit(i)) != 0; }
-  // Oriented so that ≥ 0 means the bound is holding the string where the objective wants it.
-  T multiplier(int j) const { return (lower_ & bit(j)) ? grad_[j] : -grad_[j]; }
-
-  bool release(int j) {
-    ++changes_;
-    lower_ &= static_cast<Mask>(~bit(j));
-    upper_ &= static_cast<Mask>(~bit(j));
-    return sweep(s_, j, true, tiny_);
-  }
-
-  // Free strings' optimum with the active ones at their bounds, and the active strings' gradients Ht − g.
-  void solve_held() {
-    int fr[kStrings], ac[kStrings];
-    int nf = 0, na = 0;
+  // Splits the strings into free (fr) and active (ac) index lists and forms the free strings' right-hand
+  // side g_F − H_FA t_A. Returns the number of free strings.
+  int held_rhs(int (&fr)[kStrings], int (&ac)[kStrings], int& na, T (&rhs)[kStrings]) const {
+    int nf = 0;
+    na = 0;
     for (int i = 0; i < kStrings; ++i) {
       if (is_active(i)) ac[na++] = i;
       else fr[nf++] = i;
     }
-    T rhs[kStrings];
     for (int a = 0; a < nf; ++a) {
       T r = qp_.g[fr[a]];
       for (int b = 0; b < na; ++b) r -= qp_.h[fr[a]][ac[b]] * t_[ac[b]];
       rhs[a] = r;
     }
+    return nf;
+  }
+
+  // Free strings' optimum with the active ones at their bounds (H_FF t_F = g_F − H_FA t_A) by Cholesky of
+  // the gathered free block, and the active strings' gradients Ht − g.
+  bool solve_held_cholesky() {
+    int fr[kStrings], ac[kStrings], na;
+    T rhs[kStrings];
+    const int nf = held_rhs(fr, ac, na, rhs);
+    T l[kStrings][kStrings];
+    for (int a = 0; a < nf; ++a)
+      for (int b = 0; b <= a; ++b) l[a][b] = qp_.h[fr[a]][fr[b]];
+    if (!cholesky_factor(l, nf, tiny_)) return false;
+    cholesky_solve(l, nf, rhs);
     for (int a = 0; a < nf; ++a) {
-      T v = 0;
-      for (int b = 0; b < nf; ++b) v -= s_[fr[a]][fr[b]] * rhs[b];
-      t_[fr[a]] = v;
+      t_[fr[a]] = rhs[a];
       grad_[fr[a]] = 0;
     }
     for (int b = 0; b < na; ++b) {
@@ -172,6 +205,18 @@ class DualActiveSet {
       for (int k = 0; k < kStrings; ++k) gsum += qp_.h[ac[b]][k] * t_[k];
       grad_[ac[b]] = gsum;
     }
+    return true;
+  }
+  // KKT test: free strings within their bounds, active strings' multipliers non-negative.
+  bool optimal_now() const {
+    for (int i = 0; i < kStrings; ++i) {
+      if (is_active(i)) {
+        if (multiplier(i) < -tol_g_) return false;
+      } else if (t_[i] < qp_.lo - tol_t_ || t_[i] > qp_.hi + tol_t_) {
+        return false;
+      }
+    }
+    return true;
   }
 
   // Apply a growing force τ to string p until it reaches its violated bound. The free strings move along
@@ -205,6 +250,7 @@ class DualActiveSet {
         t_[p] = target;
         ++changes_;
         (up ? lower_ : upper_) |= bit(p);
+        save();
         return sweep(s_, p, false, tiny_) ? Outcome::optimal : Outcome::singular;
       }
       if (!release(blocking)) return Outcome::singular;
@@ -217,12 +263,12 @@ class DualActiveSet {
   T s_[kStrings][kStrings];
   T t_[kStrings];
   T grad_[kStrings];
-  Mask lower_ = 0, upper_ = 0;
+  Mask lower_ = 0, upper_ = 0, saved_lower_ = 0, saved_upper_ = 0;
   int budget_ = 0, changes_ = 0;
 };
 
 // Projected Gauss–Seidel: exact minimisation along each coordinate, clamped to the box. Monotone, so it
-// can only improve on its start; used when block pivoting runs out of iterations.
+// can only improve on its start; polishes the answer when the active-set search runs out of budget.
 template <class T>
 void projected_gauss_seidel(const BoxQp<T>& qp, T (&t)[kStrings], int sweeps) {
   T inv_diag[kStrings];
@@ -267,6 +313,7 @@ TensionResult<T> solve_tensions(const StringGeometry<T>& strings, const Vec3<T>&
     r.flags |= flag::invalid_input;
     state = {};
     finish(strings, r, lo, hi);
+    if (!is_finite(r.force) || !is_finite(r.torque)) r.force = r.torque = {};  // unknown, not NaN
     return r;
   }
   r.flags |= conditioning_flags(strings, params.degenerate_ratio);
@@ -292,11 +339,9 @@ TensionResult<T> solve_tensions(const StringGeometry<T>& strings, const Vec3<T>&
     // The dual method's iterates break bounds until it finishes: clamp, then polish monotonically.
     finish(strings, r, lo, hi);
     projected_gauss_seidel(qp, r.tension, params.fallback_sweeps);
-    lower = upper = 0;
-    for (int i = 0; i < kStrings; ++i) {
-      if (r.tension[i] <= lo) lower |= bit(i);
-      else if (r.tension[i] >= hi) upper |= bit(i);
-    }
+    // Out of budget: keep the active set reached so far, the next tick carries on from it. Singular: the
+    // set is suspect, start the next tick from scratch.
+    if (outcome == DualActiveSet<T>::Outcome::singular) lower = upper = 0;
   }
   state.at_lower = lower;
   state.at_upper = upper;

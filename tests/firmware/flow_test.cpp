@@ -13,7 +13,7 @@ namespace {
 
 constexpr std::uint16_t kFreeWhenEmpty = 256 / p::kNotesPerBatch;
 
-TEST(Flow, QueueFreeCountsNoteReportsAndABatchThatDoesNotFitIsRefusedWhole) {
+TEST(FirmwareFlow, QueueFreeCountsNoteReportsAndABatchThatDoesNotFitIsRefusedWhole) {
   sim::SimDevice dev;
   HostLink host(dev);
   host.hello();  // not playing: nothing leaves the queue
@@ -49,14 +49,16 @@ TEST(Flow, QueueFreeCountsNoteReportsAndABatchThatDoesNotFitIsRefusedWhole) {
   EXPECT_EQ(r.errors[0].code, p::ErrorCode::queue_full);
   EXPECT_EQ(r.errors[0].seq, refused_long);
   s = host.status();
-  EXPECT_EQ(s.rejected, 0u);  // flow control, not a malformed report
+  EXPECT_EQ(s.rejected, 2u);  // a report sent without credit is refused like any other
   EXPECT_EQ(dev.core().stats().queue_full, 2u);
-  EXPECT_EQ(s.last_seq, refused_long - 1);
+  EXPECT_NE(s.faults & p::fault_queue_overflow, 0u);
+  EXPECT_EQ(s.last_seq, refused_long);  // processed, though refused
+  EXPECT_EQ(s.state, p::State::idle);   // the fault is a record, it does not stop anything
 }
 
 // A song longer than the queue, sent by a greedy host that ignores queue_free and simply re-sends what
 // the device refused. Every note must start exactly once, on its tick.
-TEST(Flow, GreedyHostThatResendsRefusedReportsLosesNothing) {
+TEST(FirmwareFlow, GreedyHostThatResendsRefusedReportsLosesNothing) {
   sim::SimDevice dev;
   HostLink host(dev);
   host.hello();
@@ -105,11 +107,12 @@ TEST(Flow, GreedyHostThatResendsRefusedReportsLosesNothing) {
   const p::Status s = host.status();
   EXPECT_EQ(s.started, expected_starts.size());
   EXPECT_EQ(s.late, 0u);
-  EXPECT_EQ(s.rejected, 0u);
+  EXPECT_EQ(s.rejected, refused);
+  EXPECT_EQ(dev.core().stats().queue_full, refused);
 }
 
 // A well-behaved host sends only as many reports as the last Status allowed: it never sees queue_full.
-TEST(Flow, HostThatFollowsQueueFreeIsNeverRefused) {
+TEST(FirmwareFlow, HostThatFollowsQueueFreeIsNeverRefused) {
   sim::SimDevice dev;
   HostLink host(dev);
   host.hello();
@@ -146,6 +149,7 @@ TEST(Flow, HostThatFollowsQueueFreeIsNeverRefused) {
   EXPECT_EQ(next, batches);
   EXPECT_EQ(started, batches * 5);
   EXPECT_EQ(dev.core().stats().queue_full, 0u);
+  EXPECT_EQ(dev.core().faults(), 0u);
 }
 
 }  // namespace

@@ -48,7 +48,7 @@ std::vector<TestNote> chord(std::size_t voices, std::uint64_t at) {
   return notes;
 }
 
-TEST(Polyphony, SixteenVoiceChordSoundsWholeWithoutStealing) {
+TEST(FirmwarePolyphony, SixteenVoiceChordSoundsWholeWithoutStealing) {
   const std::vector<TestNote> notes = chord(synth::kVoiceCount, 0);
   const Played got = play(notes, p::PolicyCode::sum, 600);
   const std::vector<float> want = reference_output(shifted(notes, got.t0), got.first, 600, 1000);
@@ -62,7 +62,7 @@ TEST(Polyphony, SixteenVoiceChordSoundsWholeWithoutStealing) {
   EXPECT_TRUE(saw_full);
 }
 
-TEST(Polyphony, SeventeenthNoteStealsTheOldestAndIsCounted) {
+TEST(FirmwarePolyphony, SeventeenthNoteStealsTheOldestAndIsCounted) {
   std::vector<TestNote> notes;
   for (std::size_t i = 0; i < synth::kVoiceCount + 3; ++i)
     notes.push_back({i * 2, 500, 60.0 + 7.0 * static_cast<double>(i), 0.04});
@@ -78,7 +78,7 @@ std::vector<float> solo(const TestNote& n, std::uint64_t first, std::size_t tick
   return reference_output({n}, first, ticks, 1000);
 }
 
-TEST(Polyphony, HighestPolicyOutputsOnlyTheHighestNote) {
+TEST(FirmwarePolyphony, HighestPolicyOutputsOnlyTheHighestNote) {
   // Low note first and longest, a higher one on top, then a higher still that ends first.
   const std::vector<TestNote> notes = {{0, 600, 60.0, 0.5}, {100, 300, 120.0, 0.3}, {150, 100, 200.0, 0.2}};
   const Played got = play(notes, p::PolicyCode::highest, 700);
@@ -96,7 +96,7 @@ TEST(Polyphony, HighestPolicyOutputsOnlyTheHighestNote) {
   EXPECT_EQ(got.output, reference_output(abs_notes, first, 700, 1000, synth::Polyphony::highest));
 }
 
-TEST(Polyphony, LatestPolicyOutputsOnlyTheNewestNote) {
+TEST(FirmwarePolyphony, LatestPolicyOutputsOnlyTheNewestNote) {
   const std::vector<TestNote> notes = {{0, 600, 200.0, 0.5}, {100, 300, 60.0, 0.3}, {150, 100, 90.0, 0.2}};
   const Played got = play(notes, p::PolicyCode::latest, 700);
   const auto abs_notes = shifted(notes, got.t0);
@@ -112,7 +112,7 @@ TEST(Polyphony, LatestPolicyOutputsOnlyTheNewestNote) {
   }
 }
 
-TEST(Polyphony, SumPolicyLimitsALoudChordSmoothly) {
+TEST(FirmwarePolyphony, SumPolicyLimitsALoudChordSmoothly) {
   // 16 full-scale notes add far beyond full scale: the limiter must keep |y| ≤ 1 (and the device
   // matches the engine sample for sample).
   std::vector<TestNote> notes;
@@ -128,7 +128,7 @@ TEST(Polyphony, SumPolicyLimitsALoudChordSmoothly) {
 
 // More notes due on one tick than there are voices: the first 16 start on time, the rest on the next
 // tick (counted late), stealing the oldest.
-TEST(Polyphony, MoreNotesOnOneTickThanVoicesSpillToTheNextTick) {
+TEST(FirmwarePolyphony, MoreNotesOnOneTickThanVoicesSpillToTheNextTick) {
   const std::vector<TestNote> notes = chord(synth::kVoiceCount + 4, 0);
   const Played got = play(notes, p::PolicyCode::sum, 500);
   ASSERT_EQ(got.replies.started.size(), notes.size());

@@ -10,7 +10,7 @@
 namespace hmp::test {
 namespace {
 
-TEST(Safety, OutputRampsInOverHalfASecond) {
+TEST(FirmwareSafety, OutputRampsInOverHalfASecond) {
   sim::SimDevice dev;
   HostLink host(dev);
   host.hello();  // default settings: ramp_in_ms = 500, gain 1
@@ -29,9 +29,9 @@ TEST(Safety, OutputRampsInOverHalfASecond) {
 
 // The host plays a long note and then goes silent; the device must keep playing until the watchdog
 // time has passed, then fade to exactly zero within 20 ms and latch the fault.
-class Watchdog : public ::testing::TestWithParam<std::uint32_t> {};
+class FirmwareWatchdog : public ::testing::TestWithParam<std::uint32_t> {};
 
-TEST_P(Watchdog, HostSilenceFadesOutWithinTwentyMilliseconds) {
+TEST_P(FirmwareWatchdog, HostSilenceFadesOutWithinTwentyMilliseconds) {
   const std::uint32_t hz = GetParam();
   sim::SimDevice dev(hz);
   HostLink host(dev);
@@ -59,7 +59,7 @@ TEST_P(Watchdog, HostSilenceFadesOutWithinTwentyMilliseconds) {
   EXPECT_EQ(r.statuses.back().active_voices, 0u);
 }
 
-TEST_P(Watchdog, ALiveHostKeepsItQuiet) {
+TEST_P(FirmwareWatchdog, ALiveHostKeepsItQuiet) {
   const std::uint32_t hz = GetParam();
   sim::SimDevice dev(hz);
   HostLink host(dev);
@@ -71,10 +71,10 @@ TEST_P(Watchdog, ALiveHostKeepsItQuiet) {
   EXPECT_EQ(s.state, p::State::playing);
 }
 
-INSTANTIATE_TEST_SUITE_P(TickRates, Watchdog, ::testing::Values(1000u, 10000u),
+INSTANTIATE_TEST_SUITE_P(TickRates, FirmwareWatchdog, ::testing::Values(1000u, 10000u),
                          [](const auto& p) { return std::to_string(p.param) + "Hz"; });
 
-TEST(Safety, WatchdogTimeIsASetting) {
+TEST(FirmwareSafety, WatchdogTimeIsASetting) {
   sim::SimDevice dev;
   HostLink host(dev);
   host.hello();
@@ -89,7 +89,7 @@ TEST(Safety, WatchdogTimeIsASetting) {
   EXPECT_NE(dev.core().faults() & p::fault_watchdog, 0u);
 }
 
-TEST(Safety, OutputNeverExceedsTheConfiguredGain) {
+TEST(FirmwareSafety, OutputNeverExceedsTheConfiguredGain) {
   std::mt19937 rng(7);
   for (int round = 0; round < 20; ++round) {
     sim::SimDevice dev;
@@ -122,7 +122,7 @@ TEST(Safety, OutputNeverExceedsTheConfiguredGain) {
   }
 }
 
-TEST(Safety, ZeroGainIsSilent) {
+TEST(FirmwareSafety, ZeroGainIsSilent) {
   sim::SimDevice dev;
   HostLink host(dev);
   host.hello();

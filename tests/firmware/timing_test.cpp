@@ -7,9 +7,9 @@
 namespace hmp::test {
 namespace {
 
-class Timing : public ::testing::TestWithParam<std::uint32_t> {};
+class FirmwareTiming : public ::testing::TestWithParam<std::uint32_t> {};
 
-TEST_P(Timing, NotesStartOnTheirExactTickAndOutputMatchesTheEngine) {
+TEST_P(FirmwareTiming, NotesStartOnTheirExactTickAndOutputMatchesTheEngine) {
   const std::uint32_t hz = GetParam();
   sim::SimDevice dev(hz);
   HostLink host(dev);
@@ -48,7 +48,7 @@ TEST_P(Timing, NotesStartOnTheirExactTickAndOutputMatchesTheEngine) {
   EXPECT_EQ(s.faults, 0u);
 }
 
-TEST_P(Timing, LateNoteStartsAtOnceAndIsCounted) {
+TEST_P(FirmwareTiming, LateNoteStartsAtOnceAndIsCounted) {
   const std::uint32_t hz = GetParam();
   sim::SimDevice dev(hz);
   HostLink host(dev);
@@ -72,7 +72,7 @@ TEST_P(Timing, LateNoteStartsAtOnceAndIsCounted) {
   EXPECT_EQ(host.status().late, 1u);
 }
 
-TEST_P(Timing, StatusComesAtLeastFiftyTimesASecondWhilePlaying) {
+TEST_P(FirmwareTiming, StatusComesAtLeastFiftyTimesASecondWhilePlaying) {
   const std::uint32_t hz = GetParam();
   sim::SimDevice dev(hz);
   HostLink host(dev);
@@ -93,7 +93,7 @@ TEST_P(Timing, StatusComesAtLeastFiftyTimesASecondWhilePlaying) {
   }
 }
 
-TEST_P(Timing, HelloReplyAndSyncReportTheTickRateAndClock) {
+TEST_P(FirmwareTiming, HelloReplyAndSyncReportTheTickRateAndClock) {
   const std::uint32_t hz = GetParam();
   sim::SimDevice dev(hz);
   HostLink host(dev);
@@ -120,12 +120,12 @@ TEST_P(Timing, HelloReplyAndSyncReportTheTickRateAndClock) {
   EXPECT_EQ(r.syncs[0].subtick, 0x40000000u);
 }
 
-INSTANTIATE_TEST_SUITE_P(TickRates, Timing, ::testing::Values(1000u, 10000u),
+INSTANTIATE_TEST_SUITE_P(TickRates, FirmwareTiming, ::testing::Values(1000u, 10000u),
                          [](const auto& p) { return std::to_string(p.param) + "Hz"; });
 
 // The batch carries only the low 32 bits of its base tick; the device picks the 64-bit tick nearest its
 // own clock, so notes right after the 2^32 wrap (and before it) land where the host meant them.
-TEST(Timing, BaseTickIsExtendedAcrossThe32BitWrap) {
+TEST(FirmwareTiming, BaseTickIsExtendedAcrossThe32BitWrap) {
   const std::uint64_t wrap = std::uint64_t{1} << 32;
   sim::SimDevice dev(1000, wrap - 100);
   HostLink host(dev);

@@ -33,7 +33,7 @@ struct Playing {
   }
 };
 
-TEST(Transport, HelloWithAnotherProtocolVersionIsRefusedButAnswered) {
+TEST(FirmwareTransport, HelloWithAnotherProtocolVersionIsRefusedButAnswered) {
   sim::SimDevice dev;
   HostLink host(dev);
   const std::uint16_t seq = host.hello(p::kProtocolVersion + 1);
@@ -47,10 +47,39 @@ TEST(Transport, HelloWithAnotherProtocolVersionIsRefusedButAnswered) {
   EXPECT_EQ(r.errors[0].type, static_cast<std::uint8_t>(p::Type::hello));
   const p::Status s = host.status();
   EXPECT_EQ(s.rejected, 1u);
-  EXPECT_EQ(s.last_seq, 0u);  // not accepted
+  EXPECT_EQ(s.last_seq, seq);  // processed (and refused)
 }
 
-TEST(Transport, SeekCutsSoundingAndQueuedNotes) {
+// After a Hello of another version the device understands only Hello, Sync and Estop until a Hello of
+// its own version arrives (docs/protocol.md, versioning).
+TEST(FirmwareTransport, AfterAWrongVersionOnlyHelloSyncAndEstopAreUnderstood) {
+  sim::SimDevice dev;
+  HostLink host(dev);
+  host.hello(p::kProtocolVersion + 1);
+  const std::uint16_t play = host.play();
+  const std::uint16_t notes = host.notes({{dev.tick() + 10, 100, 100.0, 0.5}});
+  host.sync(42);
+  dev.advance(2);
+  Replies r = host.collect();
+  ASSERT_EQ(r.errors.size(), 3u);
+  EXPECT_EQ(r.errors[1].seq, play);
+  EXPECT_EQ(r.errors[1].code, p::ErrorCode::version_mismatch);
+  EXPECT_EQ(r.errors[2].seq, notes);
+  EXPECT_EQ(r.errors[2].code, p::ErrorCode::version_mismatch);
+  ASSERT_EQ(r.syncs.size(), 1u);
+  EXPECT_EQ(r.syncs[0].host_time_us, 42u);
+  EXPECT_EQ(dev.core().queued_notes(), 0u);
+  EXPECT_NE(host.status().state, p::State::playing);
+
+  host.hello();
+  host.play();
+  dev.advance(2);
+  r = host.collect();
+  EXPECT_TRUE(r.errors.empty());
+  EXPECT_EQ(host.status().state, p::State::playing);
+}
+
+TEST(FirmwareTransport, SeekCutsSoundingAndQueuedNotes) {
   Playing d;
   ASSERT_GT(d.peak(50), 0.5f);
   d.host.transport(p::TransportOp::seek, 123456);
@@ -68,7 +97,7 @@ TEST(Transport, SeekCutsSoundingAndQueuedNotes) {
   EXPECT_GT(d.peak(100), 0.4f);
 }
 
-TEST(Transport, StopFadesOutWithinTwentyMillisecondsAndFlushes) {
+TEST(FirmwareTransport, StopFadesOutWithinTwentyMillisecondsAndFlushes) {
   Playing d;
   d.host.transport(p::TransportOp::stop);
   const std::vector<float> after = d.host.run(1500);
@@ -81,7 +110,7 @@ TEST(Transport, StopFadesOutWithinTwentyMillisecondsAndFlushes) {
   EXPECT_EQ(s.queue_free, 256u / p::kNotesPerBatch);
 }
 
-TEST(Transport, PauseSilencesAndPlayRampsBackIn) {
+TEST(FirmwareTransport, PauseSilencesAndPlayRampsBackIn) {
   Playing d;
   d.host.transport(p::TransportOp::pause);
   const std::vector<float> paused = d.host.run(300);
@@ -102,7 +131,7 @@ TEST(Transport, PauseSilencesAndPlayRampsBackIn) {
   EXPECT_GT(late, 0.95f);
 }
 
-TEST(Transport, EmergencyStopSilencesTheNextTickAndLatchesUntilStop) {
+TEST(FirmwareTransport, EmergencyStopSilencesTheNextTickAndLatchesUntilStop) {
   Playing d;
   ASSERT_GT(d.peak(20), 0.5f);
   d.host.estop();
@@ -129,7 +158,7 @@ TEST(Transport, EmergencyStopSilencesTheNextTickAndLatchesUntilStop) {
   EXPECT_GT(d.peak(300), 0.5f);
 }
 
-TEST(Transport, EmergencyStopActsEvenBehindAFullInbox) {
+TEST(FirmwareTransport, EmergencyStopActsEvenBehindAFullInbox) {
   Playing d;
   // Fill the inbox with syncs without running the tick, then the estop: the inbox has no room for it.
   p::Message sync = p::make(p::Type::sync, 1);
@@ -146,7 +175,7 @@ TEST(Transport, EmergencyStopActsEvenBehindAFullInbox) {
   EXPECT_NE(d.dev.core().faults() & p::fault_queue_overflow, 0u);  // the lost report is latched too
 }
 
-TEST(Transport, HelloClearsALatchedFault) {
+TEST(FirmwareTransport, HelloClearsALatchedFault) {
   Playing d;
   d.host.estop();
   d.host.run(5);
@@ -157,7 +186,7 @@ TEST(Transport, HelloClearsALatchedFault) {
   EXPECT_EQ(s.state, p::State::idle);
 }
 
-TEST(Transport, NotesNeedAnUploadedPreset) {
+TEST(FirmwareTransport, NotesNeedAnUploadedPreset) {
   sim::SimDevice dev;
   HostLink host(dev);
   host.hello();
@@ -190,7 +219,7 @@ TEST(Transport, NotesNeedAnUploadedPreset) {
   EXPECT_EQ(host.status().rejected, 1u);
 }
 
-TEST(Transport, UnplayableFrequenciesAreRefusedWholeBatch) {
+TEST(FirmwareTransport, UnplayableFrequenciesAreRefusedWholeBatch) {
   sim::SimDevice dev;
   HostLink host(dev);
   host.hello();
@@ -210,7 +239,7 @@ TEST(Transport, UnplayableFrequenciesAreRefusedWholeBatch) {
   EXPECT_EQ(host.collect().started.size(), 0u);
 }
 
-TEST(Transport, DeviceReportTypesSentToTheDeviceAreRefused) {
+TEST(FirmwareTransport, DeviceReportTypesSentToTheDeviceAreRefused) {
   sim::SimDevice dev;
   HostLink host(dev);
   const std::uint16_t seq = host.send(p::make(p::Type::status, 0));

@@ -25,25 +25,25 @@ inline void put_be(Bytes& b, std::uint32_t v, int bytes) {
 inline void append(Bytes& to, const Bytes& from) { to.insert(to.end(), from.begin(), from.end()); }
 
 // Events of one track; each call takes the delta time before the event.
-class Track {
+class Events {
  public:
-  Track& raw(std::uint32_t delta, std::initializer_list<std::uint8_t> bytes) {
+  Events& raw(std::uint32_t delta, std::initializer_list<std::uint8_t> bytes) {
     put_vlq(data, delta);
     data.insert(data.end(), bytes);
     return *this;
   }
-  Track& bytes(std::initializer_list<std::uint8_t> bytes) {  // no delta
+  Events& bytes(std::initializer_list<std::uint8_t> bytes) {  // no delta
     data.insert(data.end(), bytes);
     return *this;
   }
-  Track& on(std::uint32_t delta, int ch, int key, int vel = 100) {
+  Events& on(std::uint32_t delta, int ch, int key, int vel = 100) {
     return raw(delta, {u8(0x90 | ch), u8(key), u8(vel)});
   }
-  Track& off(std::uint32_t delta, int ch, int key, int vel = 64) {
+  Events& off(std::uint32_t delta, int ch, int key, int vel = 64) {
     return raw(delta, {u8(0x80 | ch), u8(key), u8(vel)});
   }
-  Track& program(std::uint32_t delta, int ch, int program) { return raw(delta, {u8(0xC0 | ch), u8(program)}); }
-  Track& meta(std::uint32_t delta, int type, const Bytes& body) {
+  Events& program(std::uint32_t delta, int ch, int program) { return raw(delta, {u8(0xC0 | ch), u8(program)}); }
+  Events& meta(std::uint32_t delta, int type, const Bytes& body) {
     put_vlq(data, delta);
     data.push_back(0xFF);
     data.push_back(u8(type));
@@ -51,11 +51,11 @@ class Track {
     append(data, body);
     return *this;
   }
-  Track& name(std::uint32_t delta, const std::string& text) { return meta(delta, 0x03, Bytes(text.begin(), text.end())); }
-  Track& tempo(std::uint32_t delta, std::uint32_t us_per_quarter) {
+  Events& name(std::uint32_t delta, const std::string& text) { return meta(delta, 0x03, Bytes(text.begin(), text.end())); }
+  Events& tempo(std::uint32_t delta, std::uint32_t us_per_quarter) {
     return meta(delta, 0x51, {u8(us_per_quarter >> 16), u8(us_per_quarter >> 8), u8(us_per_quarter)});
   }
-  Track& end(std::uint32_t delta = 0) { return meta(delta, 0x2F, {}); }
+  Events& end(std::uint32_t delta = 0) { return meta(delta, 0x2F, {}); }
 
   Bytes data;
 
@@ -80,9 +80,9 @@ inline Bytes header(int format, int ntrks, int division, std::uint32_t length = 
   return chunk("MThd", body, length);
 }
 
-inline Bytes smf(int format, int division, const std::vector<Track>& tracks) {
+inline Bytes smf(int format, int division, const std::vector<Events>& tracks) {
   Bytes b = header(format, static_cast<int>(tracks.size()), division);
-  for (const Track& t : tracks) append(b, chunk("MTrk", t.data));
+  for (const Events& t : tracks) append(b, chunk("MTrk", t.data));
   return b;
 }
 

@@ -44,8 +44,8 @@ std::string all_warnings(const ReadResult& r) {
 // Seconds at 120 bpm (the default) for a tick count at a given tpq.
 double at120(double ticks, double tpq) { return ticks / tpq * 0.5; }
 
-Track scale_track(int ch, int first_key, int count, int len = 96) {
-  Track t;
+Events scale_track(int ch, int first_key, int count, int len = 96) {
+  Events t;
   for (int i = 0; i < count; ++i) t.on(0, ch, first_key + i).off(static_cast<std::uint32_t>(len), ch, first_key + i);
   return t.end();
 }
@@ -55,9 +55,9 @@ Track scale_track(int ch, int first_key, int count, int len = 96) {
 // ---- formats and logical tracks ----
 
 TEST(MidiReader, Format1TracksNotesAndTimes) {
-  Track conductor;
+  Events conductor;
   conductor.name(0, "Conductor").end();
-  Track piano;
+  Events piano;
   piano.name(0, "Piano").on(0, 0, 60, 90).off(96, 0, 60).on(48, 0, 64, 80).off(48, 0, 64).end(24);
   const ReadResult r = read(smf(1, 96, {conductor, piano}));
   const auto& s = r.song;
@@ -88,7 +88,7 @@ TEST(MidiReader, Format1TracksNotesAndTimes) {
 }
 
 TEST(MidiReader, Format0IsSplitByChannelInOrderOfFirstNote) {
-  Track t;
+  Events t;
   t.name(0, "Song").program(0, 1, 40).on(0, 3, 50).on(0, 1, 70).on(0, 3, 52);
   t.off(96, 3, 50).off(0, 1, 70).off(0, 3, 52).on(0, 9, 36).off(10, 9, 36).end();
   const ReadResult r = read(smf(0, 96, {t}));
@@ -108,7 +108,7 @@ TEST(MidiReader, Format0IsSplitByChannelInOrderOfFirstNote) {
 }
 
 TEST(MidiReader, Format0WithoutNotesHasOneEmptyTrack) {
-  Track t;
+  Events t;
   t.name(0, "Silence").end(480);
   const ReadResult r = read(smf(0, 96, {t}));
   ASSERT_EQ(r.song.tracks.size(), 1u);
@@ -118,11 +118,11 @@ TEST(MidiReader, Format0WithoutNotesHasOneEmptyTrack) {
 }
 
 TEST(MidiReader, Format2PatternsPlayInSequenceEachWithItsOwnTempo) {
-  Track p1;
+  Events p1;
   p1.tempo(0, 1000000).on(0, 0, 60).off(96, 0, 60).end(96);  // 60 bpm: 2 s long
-  Track p2;
+  Events p2;
   p2.on(0, 0, 62).off(96, 0, 62).end();                    // default 120 bpm again
-  Track p3;
+  Events p3;
   p3.tempo(0, 250000).on(48, 1, 64).off(96, 1, 64).end();  // 240 bpm
   const ReadResult r = read(smf(2, 96, {p1, p2, p3}));
   const auto& s = r.song;
@@ -275,7 +275,7 @@ TEST(MidiReader, MissingEndOfTrackLengthByte) {
 }
 
 TEST(MidiReader, TruncationMidEventKeepsEarlierEvents) {
-  Track t;
+  Events t;
   t.on(0, 0, 60).off(96, 0, 60).on(0, 0, 62).off(96, 0, 62).raw(0, {0x90, 0x40});  // velocity missing
   Bytes b = header(1, 1, 96);
   append(b, chunk("MTrk", t.data));
@@ -289,7 +289,7 @@ TEST(MidiReader, TruncationMidEventKeepsEarlierEvents) {
 TEST(MidiReader, TruncatedInsideDeltaOrSysexOrMeta) {
   for (const Bytes& tail : {Bytes{0x81}, Bytes{0x00, 0xF0, 0x05, 0x01}, Bytes{0x00, 0xFF, 0x01, 0x10, 'a'},
                             Bytes{0x00, 0xFF}, Bytes{0x00, 0xFF, 0x01, 0x8F}}) {
-    Track t = scale_track(0, 60, 2);
+    Events t = scale_track(0, 60, 2);
     t.data.resize(t.data.size() - 4);  // drop End-of-Track
     t.data.insert(t.data.end(), tail.begin(), tail.end());
     Bytes b = header(1, 1, 96);
@@ -337,7 +337,7 @@ TEST(MidiReader, TooLongDeclaredLengthStopsAtEndOfTrack) {
 }
 
 TEST(MidiReader, MissingEndOfTrackEndsAtLastEvent) {
-  Track t;
+  Events t;
   t.on(0, 0, 60).off(96, 0, 60).on(0, 0, 62);  // no EOT, last note still on
   Bytes b = header(1, 1, 96);
   append(b, chunk("MTrk", t.data));
@@ -351,7 +351,7 @@ TEST(MidiReader, MissingEndOfTrackEndsAtLastEvent) {
 // ---- running status, illegal bytes, sysex ----
 
 TEST(MidiReader, RunningStatus) {
-  Track t;
+  Events t;
   t.on(0, 2, 60).bytes({0x60, 0x3C, 0x00, 0x00, 0x3E, 0x50, 0x60, 0x3E, 0x00}).end();
   const ReadResult r = read(smf(1, 96, {t}));
   ASSERT_EQ(r.song.notes.size(), 2u);
@@ -366,7 +366,7 @@ TEST(MidiReader, RunningStatus) {
 TEST(MidiReader, RunningStatusSurvivesMetaAndSysexWithWarning) {
   for (const Bytes& interruption : {Bytes{0xFF, 0x01, 0x05, 'b', 'r', 'e', 'a', 'k'}, Bytes{0xF0, 0x02, 0x7E, 0xF7},
                                     Bytes{0xF7, 0x01, 0xF8}}) {
-    Track t;
+    Events t;
     t.on(0, 0, 60).bytes({0x60, 0x3C, 0x00});  // running status note-off
     t.bytes({0x00});
     t.data.insert(t.data.end(), interruption.begin(), interruption.end());
@@ -379,12 +379,12 @@ TEST(MidiReader, RunningStatusSurvivesMetaAndSysexWithWarning) {
 
 TEST(MidiReader, DataByteWithoutRunningStatusIsAnError) {
   // Nothing readable at all → BadInput naming track and byte.
-  Track bad;
+  Events bad;
   bad.bytes({0x00, 0x3C, 0x7F}).end();
   EXPECT_EQ(error_of(smf(1, 96, {bad})), "track 0 at byte 0x17: data byte without running status");
 
   // Another track has notes → that track ends with a warning, the rest is kept.
-  Track good = scale_track(0, 60, 3);
+  Events good = scale_track(0, 60, 3);
   const ReadResult r = read(smf(1, 96, {good, bad}));
   EXPECT_EQ(r.song.notes.size(), 3u);
   EXPECT_EQ(r.song.tracks.size(), 2u);
@@ -393,7 +393,7 @@ TEST(MidiReader, DataByteWithoutRunningStatusIsAnError) {
 }
 
 TEST(MidiReader, ErrorMidTrackKeepsWhatCameBefore) {
-  Track t;
+  Events t;
   t.on(0, 0, 60).off(96, 0, 60).on(0, 0, 62).off(96, 0, 62).raw(0, {0xF4}).on(0, 0, 64).off(96, 0, 64).end();
   const ReadResult r = read(smf(1, 96, {t}));
   EXPECT_EQ(r.song.notes.size(), 2u);
@@ -403,7 +403,7 @@ TEST(MidiReader, ErrorMidTrackKeepsWhatCameBefore) {
 TEST(MidiReader, SystemBytesF1ToFEAreErrors) {
   for (int status = 0xF1; status <= 0xFE; ++status) {
     if (status == 0xF7) continue;  // F7 is the sysex escape, tested below
-    Track t;
+    Events t;
     t.raw(0, {static_cast<std::uint8_t>(status), 0x00}).on(0, 0, 60).off(96, 0, 60).end();
     char want[80];
     std::snprintf(want, sizeof want, "track 0 at byte 0x17: illegal status byte 0x%02x", status);
@@ -412,7 +412,7 @@ TEST(MidiReader, SystemBytesF1ToFEAreErrors) {
 }
 
 TEST(MidiReader, StatusByteWhereDataBelongsIsAnError) {
-  Track t;
+  Events t;
   t.on(0, 0, 60).off(96, 0, 60).raw(0, {0x90, 0x3E, 0x90}).end();
   const ReadResult r = read(smf(1, 96, {t}));
   EXPECT_EQ(r.song.notes.size(), 1u);
@@ -420,7 +420,7 @@ TEST(MidiReader, StatusByteWhereDataBelongsIsAnError) {
 }
 
 TEST(MidiReader, SysexAndEscapeBytesAreSkippedNotParsed) {
-  Track t;
+  Events t;
   t.raw(0, {0xF0, 0x05, 0x90, 0x3C, 0x7F, 0x00, 0xF7});  // sysex whose data looks like a note-on
   t.raw(0, {0xF7, 0x03, 0x90, 0x40, 0x7F});              // F7 escape with a "note-on" inside
   t.raw(0, {0xF7, 0x00});                                // empty escape
@@ -434,7 +434,7 @@ TEST(MidiReader, SysexAndEscapeBytesAreSkippedNotParsed) {
 // ---- VLQ and ticks ----
 
 TEST(MidiReader, FourByteVlqIsTheMaximum) {
-  Track t;
+  Events t;
   t.on(0x0FFFFFFF, 0, 60).off(1, 0, 60).end();
   const ReadResult r = read(smf(1, 96, {t}));
   ASSERT_EQ(r.song.notes.size(), 1u);
@@ -443,19 +443,19 @@ TEST(MidiReader, FourByteVlqIsTheMaximum) {
 }
 
 TEST(MidiReader, FiveByteVlqIsAnError) {
-  Track t;
+  Events t;
   t.on(0, 0, 60).off(96, 0, 60).bytes({0x81, 0x80, 0x80, 0x80, 0x00, 0x90, 0x3C, 0x40}).end();
   const ReadResult r = read(smf(1, 96, {t}));
   EXPECT_EQ(r.song.notes.size(), 1u);
   EXPECT_TRUE(has_warning(r, "track 0 at byte 0x1e: variable-length quantity longer than 4 bytes")) << all_warnings(r);
   // Also in a meta length.
-  Track m;
+  Events m;
   m.on(0, 0, 60).off(96, 0, 60).bytes({0x00, 0xFF, 0x01, 0xFF, 0xFF, 0xFF, 0xFF, 0x01}).end();
   EXPECT_TRUE(has_warning(read(smf(1, 96, {m})), "longer than 4 bytes"));
 }
 
 TEST(MidiReader, AbsoluteTicksBeyond32Bits) {
-  Track t;
+  Events t;
   for (int i = 0; i < 20; ++i) t.meta(0x0FFFFFFF, 0x01, {'x'});
   t.on(5, 0, 60).off(10, 0, 60).end();
   const ReadResult r = read(smf(1, 480, {t}));
@@ -470,7 +470,7 @@ TEST(MidiReader, AbsoluteTicksBeyond32Bits) {
 // ---- note pairing ----
 
 TEST(MidiReader, VelocityZeroIsNoteOff) {
-  Track t;
+  Events t;
   t.on(0, 0, 60).on(48, 0, 60, 0).end();
   const ReadResult r = read(smf(1, 96, {t}));
   ASSERT_EQ(r.song.notes.size(), 1u);
@@ -478,7 +478,7 @@ TEST(MidiReader, VelocityZeroIsNoteOff) {
 }
 
 TEST(MidiReader, OverlappingSameKeyNotesPairFirstInFirstOut) {
-  Track t;
+  Events t;
   t.on(0, 0, 60, 10).on(10, 0, 60, 20).off(10, 0, 60).off(10, 0, 60).end();
   const ReadResult r = read(smf(1, 96, {t}));
   ASSERT_EQ(r.song.notes.size(), 2u);
@@ -491,9 +491,9 @@ TEST(MidiReader, OverlappingSameKeyNotesPairFirstInFirstOut) {
 }
 
 TEST(MidiReader, PairingIsPerChannelAndPerTrack) {
-  Track a;
+  Events a;
   a.on(0, 0, 60).on(0, 1, 60).off(10, 1, 60).off(10, 0, 60).end();
-  Track b;
+  Events b;
   b.off(5, 0, 60).end();  // another track cannot end track 0's note
   const ReadResult r = read(smf(1, 96, {a, b}));
   ASSERT_EQ(r.song.notes.size(), 2u);
@@ -507,7 +507,7 @@ TEST(MidiReader, PairingIsPerChannelAndPerTrack) {
 
 TEST(MidiReader, AtOneTickTheOldNoteEndsBeforeTheNewOneStarts) {
   // Re-struck key: at tick 96 the file lists the new note-on before the note-off.
-  Track t;
+  Events t;
   t.on(0, 0, 60).on(96, 0, 60).off(0, 0, 60).off(96, 0, 60).end();
   const ReadResult r = read(smf(1, 96, {t}));
   ASSERT_EQ(r.song.notes.size(), 2u);
@@ -518,7 +518,7 @@ TEST(MidiReader, AtOneTickTheOldNoteEndsBeforeTheNewOneStarts) {
 }
 
 TEST(MidiReader, ZeroLengthNotesAreKept) {
-  Track t;
+  Events t;
   t.on(50, 0, 60).off(0, 0, 60).on(0, 0, 60).off(50, 0, 60).end();  // music21 test16's pattern
   const ReadResult r = read(smf(1, 96, {t}));
   ASSERT_EQ(r.song.notes.size(), 2u);
@@ -529,7 +529,7 @@ TEST(MidiReader, ZeroLengthNotesAreKept) {
 }
 
 TEST(MidiReader, NotesStillOnEndAtEndOfTrack) {
-  Track t;
+  Events t;
   t.on(0, 0, 60).on(10, 0, 64).end(200);
   const ReadResult r = read(smf(1, 96, {t}));
   ASSERT_EQ(r.song.notes.size(), 2u);
@@ -541,9 +541,9 @@ TEST(MidiReader, NotesStillOnEndAtEndOfTrack) {
 // ---- tempo, time signature, SMPTE ----
 
 TEST(MidiReader, TempoInANonFirstTrackIsGlobal) {
-  Track notes;
+  Events notes;
   notes.on(0, 0, 60).off(96, 0, 60).on(0, 0, 62).off(96, 0, 62).on(0, 0, 64).off(96, 0, 64).end();
-  Track tempo_track;
+  Events tempo_track;
   tempo_track.tempo(96, 1000000).tempo(96, 250000).end();
   const ReadResult r = read(smf(1, 96, {notes, tempo_track}));
   ASSERT_EQ(r.song.notes.size(), 3u);
@@ -559,7 +559,7 @@ TEST(MidiReader, TempoInANonFirstTrackIsGlobal) {
 }
 
 TEST(MidiReader, MalformedTempoIsIgnored) {
-  Track t;
+  Events t;
   t.meta(0, 0x51, {0x00, 0x00, 0x00}).meta(0, 0x51, {0x07}).on(0, 0, 60).off(96, 0, 60).end();
   const ReadResult r = read(smf(1, 96, {t}));
   EXPECT_DOUBLE_EQ(r.song.notes[0].end_s(), 0.5);
@@ -567,9 +567,9 @@ TEST(MidiReader, MalformedTempoIsIgnored) {
 }
 
 TEST(MidiReader, TimeSignaturesAreCollected) {
-  Track a;
+  Events a;
   a.meta(0, 0x58, {3, 2, 24, 8}).end();
-  Track b;
+  Events b;
   b.meta(192, 0x58, {6, 3, 36, 8}).on(0, 0, 60).off(10, 0, 60).end();
   const ReadResult r = read(smf(1, 96, {a, b}));
   ASSERT_EQ(r.song.time_signatures.size(), 2u);
@@ -580,7 +580,7 @@ TEST(MidiReader, TimeSignaturesAreCollected) {
 }
 
 TEST(MidiReader, SmpteDivisionIgnoresTempo) {
-  Track t;
+  Events t;
   t.tempo(0, 1000000).on(0, 0, 60).off(1000, 0, 60).end();
   // 25 fps × 40 ticks per frame: 1 ms per tick.
   Bytes b = header(1, 1, 0xE728);
@@ -602,9 +602,9 @@ TEST(MidiReader, SmpteDivisionIgnoresTempo) {
 // ---- programs ----
 
 TEST(MidiReader, ProgramIsTheChannelsProgramAtNoteStart) {
-  Track conductor;
+  Events conductor;
   conductor.program(0, 0, 73).program(200, 0, 40).end();  // channel 0: flute, then violin at tick 200
-  Track player;
+  Events player;
   player.on(0, 0, 60).off(100, 0, 60);           // starts at 0: flute
   player.on(100, 0, 62).off(100, 0, 62);         // starts at 200 (same tick as the change): violin
   player.on(0, 1, 50).off(10, 1, 50);            // channel 1 never set: 0
@@ -627,11 +627,11 @@ TEST(MidiReader, ProgramIsTheChannelsProgramAtNoteStart) {
 // ---- names and hostile lengths ----
 
 TEST(MidiReader, NamesBecomeValidUtf8) {
-  Track latin1;
+  Events latin1;
   latin1.meta(0, 0x03, {'C', 'a', 'f', 0xE9, ' ', 0x00}).end();
-  Track utf8;
+  Events utf8;
   utf8.meta(0, 0x03, {'C', 'a', 'f', 0xC3, 0xA9}).end();
-  Track instrument;
+  Events instrument;
   instrument.meta(0, 0x04, {'O', 'b', 'o', 'e'}).end();
   const ReadResult r = read(smf(1, 96, {latin1, utf8, instrument}));
   EXPECT_EQ(r.song.tracks[0].name, "Caf\xC3\xA9");
@@ -643,7 +643,7 @@ TEST(MidiReader, HugeDeclaredLengthsDoNotAllocateOrHang) {
   for (const Bytes& tail : {Bytes{0x00, 0xFF, 0x01, 0xFF, 0xFF, 0xFF, 0x7F},   // meta of 256 MB
                             Bytes{0x00, 0xF0, 0xFF, 0xFF, 0xFF, 0x7F},         // sysex of 256 MB
                             Bytes{0x00, 0xF7, 0xFF, 0xFF, 0xFF, 0x7F}}) {
-    Track t = scale_track(0, 60, 1);
+    Events t = scale_track(0, 60, 1);
     t.data.resize(t.data.size() - 4);
     t.data.insert(t.data.end(), tail.begin(), tail.end());
     const ReadResult r = read(smf(1, 96, {t}));

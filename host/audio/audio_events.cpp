@@ -1,0 +1,40 @@
+#include "host/audio/audio_events.hpp"
+
+#include <algorithm>
+#include <array>
+
+namespace hmp::audio {
+
+std::vector<AudioEvent> audio_events(const midi::Song& song) { return audio_events(song.notes); }
+
+std::vector<AudioEvent> audio_events(const std::vector<midi::Note>& notes) {
+  using Kind = AudioEvent::Kind;
+  std::vector<AudioEvent> raw;
+  raw.reserve(notes.size() * 2);
+  for (const midi::Note& n : notes) {
+    const auto ch = static_cast<std::uint8_t>(n.channel & 0x0F), key = static_cast<std::uint8_t>(n.key & 0x7F);
+    const auto velocity = static_cast<std::uint8_t>(std::clamp<int>(n.velocity, 1, 127));
+    const auto program = static_cast<std::uint8_t>(n.program & 0x7F);
+    raw.push_back({n.start_us, Kind::note_on, ch, key, velocity, program});
+    raw.push_back({std::max(n.end_us, n.start_us + 1), Kind::note_off, ch, key, 0, 0});
+  }
+  std::stable_sort(raw.begin(), raw.end(), [](const AudioEvent& a, const AudioEvent& b) {
+    return a.time_us != b.time_us ? a.time_us < b.time_us : a.kind < b.kind;
+  });
+
+  std::vector<AudioEvent> out;
+  out.reserve(raw.size());
+  std::array<std::array<std::uint32_t, 128>, 16> held{};  // sounding notes per channel and key
+  for (const AudioEvent& e : raw) {
+    std::uint32_t& count = held[e.channel][e.key];
+    if (e.kind == Kind::note_on) {
+      ++count;
+      out.push_back(e);
+    } else if (--count == 0) {  // every note-off sorts after its own note-on (end > start): count ≥ 1
+      out.push_back(e);
+    }
+  }
+  return out;
+}
+
+}  // namespace hmp::audio

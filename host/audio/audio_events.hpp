@@ -1,0 +1,32 @@
+#pragma once
+// The song's audio as a time-ordered list of channel events for the synthesizer (SPEC §14): note-on /
+// note-off with velocity, each note-on carrying the GM program its channel had at that moment in the
+// file (the synthesizer switches the channel's program just before the note when it differs). Built
+// from the song model (host/midi/song.hpp), which keeps paired notes with their program; controllers
+// (volume, pan, sustain pedal, pitch bend) are not in the model and so not in the audio.
+#include <cstdint>
+#include <vector>
+
+#include "host/midi/song.hpp"
+
+namespace hmp::audio {
+
+struct AudioEvent {
+  enum class Kind : std::uint8_t { note_off = 0, note_on = 1 };  // at equal times, offs come first
+  std::int64_t time_us = 0;  // song time
+  Kind kind = Kind::note_on;
+  std::uint8_t channel = 0;   // 0–15 (9: GM drums)
+  std::uint8_t key = 0;       // 0–127
+  std::uint8_t velocity = 0;  // note_on: 1–127
+  std::uint8_t program = 0;   // note_on: GM program 0–127 (drum kit on channel 9)
+  friend bool operator==(const AudioEvent&, const AudioEvent&) = default;
+};
+
+// All notes, sorted by time, note-offs before note-ons at equal times. Overlapping notes of the same
+// key and channel sound until the last of them ends (one note-off, then), as a synthesizer releases
+// every voice of a key on a note-off. A zero-length note gets its note-off 1 µs after its note-on (the
+// synthesizer's minimum note length keeps it audible).
+std::vector<AudioEvent> audio_events(const midi::Song& song);
+std::vector<AudioEvent> audio_events(const std::vector<midi::Note>& notes);
+
+}  // namespace hmp::audio

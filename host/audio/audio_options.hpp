@@ -1,0 +1,26 @@
+#pragma once
+// Settings of the song's audio (SPEC §14), shared by the live player and the offline renderer.
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "host/audio/song_synth.hpp"
+
+namespace hmp::audio {
+
+// Where warnings go (one line each, no "warning:" prefix). The default prints "warning: …" on stderr.
+using WarningSink = std::function<void(const std::string&)>;
+void print_warning(const std::string& message);
+
+struct AudioOptions {
+  bool enabled = true;    // false (`--no-audio`): no SoundFont is loaded and no audio driver is created
+  std::string soundfont;  // a .sf2/.sf3 path; empty: the standard places (soundfont.hpp)
+  std::vector<std::string> drivers = {"pulseaudio", "alsa", "sdl2"};  // FluidSynth drivers, tried in order
+  SynthSettings synth;
+  // Driver buffering: frames per period and number of periods. The output latency estimate is
+  // period_frames × periods / sample_rate (5.3 ms × 4 = 21 ms at 48 kHz by default).
+  int period_frames = 256;
+  int periods = 4;
+};
+
+}  // namespace hmp::audio

@@ -1,0 +1,178 @@
+#include "host/audio/audio_player.hpp"
+
+#include <fluidsynth.h>
+
+#include <algorithm>
+
+#include "host/audio/fluid_runtime.hpp"
+#include "host/audio/soundfont.hpp"
+
+namespace hmp::audio {
+
+AudioPlayer::AudioPlayer(const AudioOptions& options, WarningSink warn)
+    : options_(options), warn_(std::move(warn)) {
+  if (!options_.enabled) {
+    go_silent("audio disabled (--no-audio)", false);
+    return;
+  }
+  const std::optional<std::string> soundfont = find_soundfont(options_.soundfont);
+  if (!soundfont) {
+    go_silent(options_.soundfont.empty()
+                  ? "no General MIDI SoundFont found (install fluid-soundfont-gm)"
+                  : "SoundFont " + options_.soundfont + " not found",
+              true);
+    return;
+  }
+  // The driver first (cheap to try, and usually what is missing), the SoundFont only for a driver.
+  synth_ = std::make_unique<SongSynth>(options_.synth, "");
+  if (!open_driver()) return;
+  bool loaded = false;
+  {
+    std::lock_guard lock(mutex_);  // the callback renders nothing while not playing; this is belt and braces
+    loaded = synth_->load_soundfont(*soundfont);
+  }
+  if (!loaded) go_silent(synth_->load_error(), true);
+}
+
+AudioPlayer::~AudioPlayer() {
+  if (driver_ != nullptr) delete_fluid_audio_driver(driver_);
+  if (sdl_acquired_) sdl_audio_release();
+}
+
+void AudioPlayer::go_silent(const std::string& reason, bool warn_user) {
+  if (driver_ != nullptr) delete_fluid_audio_driver(driver_);
+  driver_ = nullptr;
+  synth_.reset();
+  driver_name_ = "none";
+  silence_reason_ = reason;
+  if (warn_user && warn_) warn_("audio: " + reason + ": playing without sound");
+}
+
+bool AudioPlayer::open_driver() {
+  fluid_settings_t* settings = synth_->fluid_settings();
+  fluid_settings_setint(settings, "audio.period-size", options_.period_frames);
+  fluid_settings_setint(settings, "audio.periods", options_.periods);
+  std::string tried;
+  for (const std::string& name : options_.drivers) {
+    if (name == "sdl2" && !sdl_acquired_) sdl_acquired_ = sdl_audio_acquire();
+    fluid_settings_setstr(settings, "audio.driver", name.c_str());
+    take_fluid_messages();
+    count_audio_driver_attempt();
+    driver_ = new_fluid_audio_driver2(settings, &AudioPlayer::on_audio, this);
+    if (driver_ != nullptr) {
+      driver_name_ = name;
+      return true;
+    }
+    const std::vector<std::string> log = take_fluid_messages();
+    tried += (tried.empty() ? "" : "; ") + name + (log.empty() ? "" : ": " + log.back());
+  }
+  if (sdl_acquired_) {
+    sdl_audio_release();
+    sdl_acquired_ = false;
+  }
+  go_silent("no audio output could be opened (" + (tried.empty() ? std::string("no driver to try") : tried) + ")", true);
+  return false;
+}
+
+std::chrono::steady_clock::duration AudioPlayer::latency() const {
+  return std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+      std::chrono::duration<double>(output_latency_s()));
+}
+
+double AudioPlayer::output_latency_s() const {
+  if (driver_ == nullptr) return 0.0;
+  const int seen = period_seen_.load();
+  const int period = seen > 0 ? seen : options_.period_frames;
+  return static_cast<double>(period) * options_.periods / options_.synth.sample_rate;
+}
+
+int AudioPlayer::on_audio(void* self, int len, int, float*[], int nout, float* out[]) {
+  static_cast<AudioPlayer*>(self)->render(len, nout, out);
+  return FLUID_OK;
+}
+
+void AudioPlayer::render(int len, int nout, float* out[]) {
+  const TimePoint called = now();
+  callbacks_.fetch_add(1);
+  period_seen_.store(len);
+  std::lock_guard lock(mutex_);
+  if (!playing_ || !synth_ || nout < 1 || len <= 0) return;  // the driver zeroed the buffers
+  float* right = nout >= 2 ? out[1] : nullptr;
+  if (right == nullptr) {
+    spare_.resize(static_cast<std::size_t>(len));
+    right = spare_.data();
+  }
+  // This buffer's first sample is heard once the buffers queued ahead of it have played.
+  clock_.observe(synth_->position_us(), called + latency());
+  synth_->render(out[0], right, static_cast<std::size_t>(len));
+}
+
+void AudioPlayer::set_events(const std::vector<AudioEvent>& events) {
+  std::lock_guard lock(mutex_);
+  playing_ = false;
+  clock_.pause(now());
+  clock_.set_paused_position(0);
+  if (synth_) synth_->set_events(events);
+}
+
+void AudioPlayer::start(std::int64_t song_us) {
+  std::lock_guard lock(mutex_);
+  if (synth_) synth_->seek(song_us);
+  clock_.start(song_us, now() + latency());
+  playing_ = true;
+}
+
+void AudioPlayer::pause() {
+  std::lock_guard lock(mutex_);
+  if (!playing_) return;
+  playing_ = false;
+  clock_.pause(now());
+  if (synth_) synth_->release_all();
+}
+
+void AudioPlayer::resume() {
+  std::int64_t at = 0;
+  {
+    std::lock_guard lock(mutex_);
+    if (playing_) return;
+    at = clock_.song_us(now());
+  }
+  start(at);
+}
+
+void AudioPlayer::seek(std::int64_t song_us) {
+  bool was_playing = false;
+  {
+    std::lock_guard lock(mutex_);
+    was_playing = playing_;
+    if (!was_playing) {
+      if (synth_) synth_->seek(song_us);
+      clock_.set_paused_position(song_us);
+    }
+  }
+  if (was_playing) start(song_us);
+}
+
+void AudioPlayer::stop() {
+  std::lock_guard lock(mutex_);
+  if (playing_) clock_.pause(now());
+  playing_ = false;
+  if (synth_) synth_->seek(clock_.song_us(now()));  // seek cuts every voice at once
+}
+
+bool AudioPlayer::playing() const {
+  std::lock_guard lock(mutex_);
+  return playing_;
+}
+
+std::int64_t AudioPlayer::song_time_us(TimePoint t) const {
+  std::lock_guard lock(mutex_);
+  return clock_.song_us(t);
+}
+
+AudioPlayer::TimePoint AudioPlayer::heard_at(std::int64_t song_us) const {
+  std::lock_guard lock(mutex_);
+  return clock_.heard_at(song_us);
+}
+
+}  // namespace hmp::audio

@@ -1,0 +1,86 @@
+#pragma once
+// The song's audio during `hmp play` (SPEC §14): FluidSynth with the GM SoundFont on the first audio
+// driver that opens (pulseaudio, alsa, sdl2), rendering from the audio callback, sample-accurately
+// against a song position it owns; a PlaybackClock tells the rest of the player which song time is
+// being heard. Without audio (`--no-audio`, no SoundFont, no sound device) the same clock runs on the
+// host clock and nothing is rendered: one warning says why (none for --no-audio), and nothing else of
+// FluidSynth's or ALSA's reaches stderr.
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "host/audio/audio_events.hpp"
+#include "host/audio/audio_options.hpp"
+#include "host/audio/playback_clock.hpp"
+#include "host/audio/song_synth.hpp"
+
+struct _fluid_audio_driver_t;
+
+namespace hmp::audio {
+
+class AudioPlayer {
+ public:
+  using TimePoint = PlaybackClock::TimePoint;
+
+  explicit AudioPlayer(const AudioOptions& options, WarningSink warn = print_warning);
+  ~AudioPlayer();
+  AudioPlayer(const AudioPlayer&) = delete;
+  AudioPlayer& operator=(const AudioPlayer&) = delete;
+
+  // The song's events (audio_events()); stops playback and goes to song time 0. With a SoundFont this
+  // also measures the instruments' onsets (song_synth.hpp): tens of ms for a whole GM song.
+  void set_events(const std::vector<AudioEvent>& events);
+
+  // Plays from `song_us`. The clock says `song_us` once the first sample is heard, output latency later.
+  void start(std::int64_t song_us);
+  // Stops the sound (notes are released) and the clock, at the song time being heard now.
+  void pause();
+  // Continues from where pause() stopped.
+  void resume();
+  // Moves to `song_us`, playing or paused as before.
+  void seek(std::int64_t song_us);
+  // Stops at once (no release tails); the position stays.
+  void stop();
+  bool playing() const;
+
+  // The clock: song time heard at `t` (now by default), and its inverse.
+  std::int64_t song_time_us(TimePoint t = std::chrono::steady_clock::now()) const;
+  TimePoint heard_at(std::int64_t song_us) const;
+  // Output latency estimate: period × periods / sample rate, the period being what the driver's
+  // callbacks actually ask for (the requested one until the first callback). 0 when silent.
+  double output_latency_s() const;
+
+  bool audible() const { return driver_ != nullptr; }  // a driver runs and a SoundFont is loaded
+  const std::string& driver_name() const { return driver_name_; }  // "pulseaudio", …, or "none"
+  const std::string& silence_reason() const { return silence_reason_; }  // empty when audible
+  std::uint64_t callbacks() const { return callbacks_.load(); }
+
+ private:
+  static int on_audio(void* self, int len, int nfx, float* fx[], int nout, float* out[]);
+  void render(int len, int nout, float* out[]);
+  bool open_driver();
+  void go_silent(const std::string& reason, bool warn_user);
+  TimePoint now() const { return std::chrono::steady_clock::now(); }
+  std::chrono::steady_clock::duration latency() const;
+
+  AudioOptions options_;
+  WarningSink warn_;
+  std::unique_ptr<SongSynth> synth_;  // null when silent
+  _fluid_audio_driver_t* driver_ = nullptr;
+  bool sdl_acquired_ = false;
+  std::string driver_name_ = "none";
+  std::string silence_reason_;
+
+  mutable std::mutex mutex_;  // synth_, clock_, playing_ between the control calls and the audio thread
+  PlaybackClock clock_;
+  bool playing_ = false;
+  std::atomic<int> period_seen_{0};  // frames per callback the driver actually uses
+  std::atomic<std::uint64_t> callbacks_{0};
+  std::vector<float> spare_;  // right channel when a driver hands out a single buffer
+};
+
+}  // namespace hmp::audio

@@ -1,0 +1,16 @@
+#pragma once
+// Where the General MIDI SoundFont is (SPEC §14: Debian's fluid-soundfont-gm).
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace hmp::audio {
+
+// The standard places, in the order they are searched.
+const std::vector<std::string>& standard_soundfont_paths();
+
+// An explicit path is used as given (nullopt when it is not a readable file: the caller warns instead
+// of silently picking another one); an empty one means the first readable standard path.
+std::optional<std::string> find_soundfont(const std::string& explicit_path = "");
+
+}  // namespace hmp::audio

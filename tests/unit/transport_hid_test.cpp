@@ -1,0 +1,76 @@
+// HID transport without a device (CI machines have none): enumeration returns a list (empty here, and
+// never a foreign interface), opening reports the documented one-line errors, ids parse and print.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "host/common/error.hpp"
+#include "host/transport/hid_transport.hpp"
+
+namespace {
+
+using hmp::transport::HidId;
+using hmp::transport::HidTransport;
+using hmp::transport::TransportError;
+
+TEST(TransportHid, EnumerationWithoutADeviceIsEmptyNotAnError) {
+  std::vector<hmp::transport::HidDeviceInfo> found;
+  ASSERT_NO_THROW(found = hmp::transport::enumerate_hid());
+  for (const auto& d : found) {  // on a machine that does have one: only the protocol's interface
+    EXPECT_EQ(d.usage_page, hmp::protocol::kUsagePage);
+    EXPECT_EQ(d.id, HidId{});
+  }
+  // Any VID:PID, twice (hid_init must be idempotent).
+  EXPECT_NO_THROW(hmp::transport::enumerate_hid(HidId{0xFFFF, 0xFFFE}));
+  EXPECT_NO_THROW(hmp::transport::enumerate_hid(HidId{0xFFFF, 0xFFFE}));
+}
+
+TEST(TransportHid, OpeningAMissingDeviceSaysWhichOne) {
+  const HidId id{0xFFFF, 0xFFFE};  // reserved-looking id no real device uses
+  try {
+    HidTransport::open(id);
+    FAIL() << "no exception";
+  } catch (const TransportError& e) {
+    EXPECT_STREQ(e.what(), "no HID device ffff:fffe found");
+  }
+  if (hmp::transport::enumerate_hid().empty()) {
+    try {
+      HidTransport::open();
+      FAIL() << "no exception";
+    } catch (const TransportError& e) {
+      EXPECT_STREQ(e.what(), "no HID device 1209:0001 found");
+    }
+  }
+  EXPECT_THROW(HidTransport::open_path("/nonexistent/hidraw9"), TransportError);
+}
+
+TEST(TransportHid, UnreadableNodeNamesTheUdevRule) {
+  if (::geteuid() == 0) GTEST_SKIP() << "root can open any node";
+  const auto path = std::filesystem::temp_directory_path() / ("hmp-hidraw-" + std::to_string(::getpid()));
+  std::ofstream(path).put('x');
+  std::filesystem::permissions(path, std::filesystem::perms::none);
+  try {
+    HidTransport::open_path(path.string());
+    ADD_FAILURE() << "no exception";
+  } catch (const TransportError& e) {
+    EXPECT_EQ(std::string(e.what()), "permission denied on " + path.string() + ": install the udev rule (docs/host.md)");
+  }
+  std::filesystem::remove(path);
+}
+
+TEST(TransportHid, IdsParseAndPrint) {
+  EXPECT_EQ(hmp::transport::parse_hid_id("1209:0001"), HidId{});
+  EXPECT_EQ(hmp::transport::parse_hid_id("0x1209:0xBEEF"), (HidId{0x1209, 0xBEEF}));
+  EXPECT_EQ(hmp::transport::parse_hid_id("ffff:0"), (HidId{0xFFFF, 0}));
+  EXPECT_EQ(hmp::transport::to_string(HidId{0xABCD, 0x0042}), "abcd:0042");
+  for (const char* bad : {"", "1209", "1209:", ":0001", "12345:0001", "1209:000g", "1209:0001:2", "-1:1"}) {
+    EXPECT_THROW(hmp::transport::parse_hid_id(bad), hmp::BadInput) << bad;
+  }
+}
+
+}  // namespace
