@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "host/audio/fluid_runtime.hpp"
+#include "host/audio/soundfont.hpp"
 
 namespace hmp::audio {
 
@@ -14,9 +15,6 @@ namespace {
 constexpr int kCalibrationVelocity = 100;
 constexpr float kOnsetThreshold = 1e-3f;  // −60 dB of the test note's peak
 constexpr double kCalibrationWindowMs = 40.0;
-// Blocks rendered after the test note is cut, effects still off: the voices' fade-out and the effects'
-// input buffers must be empty before reverb and chorus come back, or the test note leaks into the song.
-constexpr std::uint64_t kSettleBlocks = 8;
 }  // namespace
 
 SongSynth::SongSynth(const SynthSettings& settings, const std::string& soundfont) : settings_(settings) {
@@ -38,6 +36,10 @@ SongSynth::SongSynth(const SynthSettings& settings, const std::string& soundfont
 }
 
 bool SongSynth::load_soundfont(const std::string& path) {
+  if (const std::string problem = soundfont_format_problem(path); !problem.empty()) {
+    load_error_ = "cannot load SoundFont " + path + " (" + problem + ")";
+    return false;
+  }
   take_fluid_messages();  // only this load's complaints go into load_error_
   const int id = fluid_synth_sfload(synth_, path.c_str(), 1);
   if (id == FLUID_FAILED) {
@@ -113,10 +115,6 @@ void SongSynth::measure_onsets(const std::vector<AudioEvent>& events) {
   }
   max_lead_ = 0;
   for (const auto& [key, lead] : onset_lead_) max_lead_ = std::max(max_lead_, lead);
-  // Switching the effects off does not keep the test notes out of their buffers: a reset clears
-  // reverb and chorus (and sets every channel back to program 0).
-  fluid_synth_system_reset(synth_);
-  channel_program_.fill(0);
 }
 
 void SongSynth::render_scratch(std::size_t frames, float* keep) {
@@ -141,7 +139,7 @@ std::int64_t SongSynth::measure_onset(std::uint8_t channel, std::uint8_t program
   std::vector<float> level(window);
   render_scratch(window, level.data());
   fluid_synth_all_sounds_off(synth_, -1);
-  render_scratch(static_cast<std::size_t>(kSettleBlocks * block));
+  render_scratch(static_cast<std::size_t>(block));
   fluid_synth_reverb_on(synth_, -1, settings_.reverb ? 1 : 0);
   fluid_synth_chorus_on(synth_, -1, settings_.chorus ? 1 : 0);
 

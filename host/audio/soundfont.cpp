@@ -2,7 +2,9 @@
 
 #include <unistd.h>
 
+#include <cstring>
 #include <filesystem>
+#include <fstream>
 
 namespace hmp::audio {
 
@@ -33,6 +35,18 @@ std::optional<std::string> find_soundfont(const std::string& explicit_path) {
     if (readable_file(p)) return p;
   }
   return std::nullopt;
+}
+
+std::string soundfont_format_problem(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return "cannot read it";
+  char head[12] = {};
+  in.read(head, sizeof(head));
+  if (in.gcount() != static_cast<std::streamsize>(sizeof(head)) || std::memcmp(head, "RIFF", 4) != 0 ||
+      std::memcmp(head + 8, "sfbk", 4) != 0) {
+    return "not a SoundFont 2 file";
+  }
+  return "";
 }
 
 }  // namespace hmp::audio

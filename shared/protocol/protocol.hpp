@@ -7,7 +7,7 @@
 // Common header of every report:
 //   byte 0     type   (0x01–0x3F host→device, 0x81–0xBF device→host)
 //   bytes 1–2  seq    u16: host reports number themselves 1, 2, …; the device echoes the last one it
-//                     accepted in its status. Device reports carry their own counter.
+//                     processed (carried out or refused) in its status. Device reports carry their own counter.
 //   bytes 3–63 payload, layout per type; unused bytes must be zero (checked: catches misframed data).
 //
 // Error codes decode() returns: unknown_type (byte 0), bad_length_field (count fields), bad_slot (preset
@@ -191,7 +191,7 @@ enum Fault : std::uint32_t {
 inline constexpr std::uint32_t kKnownFaults = 0xFFu;  // a status with any other bit set is rejected
 
 
-// bytes 3–10 tick u64 | 11–12 queue free u16 | 13–14 last seq accepted u16 | 15–18 late u32
+// bytes 3–10 tick u64 | 11–12 queue free u16 | 13–14 last seq processed u16 | 15–18 late u32
 // | 19–22 stolen u32 | 23–26 rejected u32 | 27–30 started u32 | 31–34 faults u32 (kKnownFaults) | 35 state
 // | 36 active voices | 37–40 output f32 [-1,1] | 41–44 achieved force f32 (N, along the direction, finite)
 // queue_free counts note reports (Notes or LongNote, each up to a full batch) the device will still accept

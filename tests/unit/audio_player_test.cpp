@@ -1,0 +1,132 @@
+// AudioPlayer without sound: `--no-audio` creates no driver (counted), a machine without a sound card
+// (CI) falls back to silence with exactly one warning and nothing on stderr, a missing SoundFont does
+// not even try a driver, and the player's clock runs, pauses, resumes and seeks on the host clock.
+// On a machine that does have audio, the fallback test checks the latency estimate instead.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "host/audio/audio_player.hpp"
+#include "host/audio/fluid_runtime.hpp"
+#include "host/audio/soundfont.hpp"
+
+namespace {
+
+using namespace std::chrono_literals;
+using hmp::audio::AudioOptions;
+using hmp::audio::AudioPlayer;
+
+struct Warnings {
+  std::vector<std::string> list;
+  hmp::audio::WarningSink sink() {
+    return [this](const std::string& w) { list.push_back(w); };
+  }
+};
+
+TEST(AudioPlayer, NoAudioNeverTouchesAnAudioDevice) {
+  const std::uint64_t attempts = hmp::audio::audio_driver_attempts();
+  AudioOptions options;
+  options.enabled = false;
+  Warnings w;
+  testing::internal::CaptureStderr();
+  AudioPlayer player(options, w.sink());
+  player.set_events({});
+  player.start(0);
+  player.pause();
+  EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
+  EXPECT_EQ(hmp::audio::audio_driver_attempts(), attempts);
+  EXPECT_TRUE(w.list.empty());  // the user asked for it: nothing to warn about
+  EXPECT_FALSE(player.audible());
+  EXPECT_EQ(player.driver_name(), "none");
+  EXPECT_EQ(player.output_latency_s(), 0.0);
+  EXPECT_EQ(player.callbacks(), 0u);
+}
+
+TEST(AudioPlayer, WithoutASoundDeviceFallsBackToSilenceWithOneWarning) {
+  if (!hmp::audio::find_soundfont()) GTEST_SKIP() << "no GM SoundFont installed";
+  const std::uint64_t attempts = hmp::audio::audio_driver_attempts();
+  AudioOptions options;
+  Warnings w;
+  testing::internal::CaptureStderr();
+  {
+    AudioPlayer player(options, w.sink());
+    if (player.audible()) {
+      // A machine with sound: the estimate follows the settings (256 × 4 / 48000 = 21.3 ms) or the
+      // period the driver chose; either way a plausible buffer.
+      EXPECT_GT(player.output_latency_s(), 0.0);
+      EXPECT_LT(player.output_latency_s(), 0.5);
+      EXPECT_TRUE(w.list.empty());
+    } else {
+      ASSERT_EQ(w.list.size(), 1u);
+      EXPECT_NE(w.list[0].find("no audio output could be opened"), std::string::npos) << w.list[0];
+      EXPECT_NE(w.list[0].find("pulseaudio"), std::string::npos) << w.list[0];
+      EXPECT_EQ(player.driver_name(), "none");
+      EXPECT_EQ(player.output_latency_s(), 0.0);
+      EXPECT_EQ(hmp::audio::audio_driver_attempts(), attempts + options.drivers.size());
+    }
+    player.start(0);
+    std::this_thread::sleep_for(20ms);
+    player.stop();
+  }
+  // FluidSynth's and ALSA's own messages are captured, not printed.
+  EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
+}
+
+TEST(AudioPlayer, MissingSoundFontWarnsOnceAndTriesNoDriver) {
+  const std::uint64_t attempts = hmp::audio::audio_driver_attempts();
+  AudioOptions options;
+  options.soundfont = "/nonexistent/FluidR3_GM.sf2";
+  Warnings w;
+  AudioPlayer player(options, w.sink());
+  ASSERT_EQ(w.list.size(), 1u);
+  EXPECT_NE(w.list[0].find("/nonexistent/FluidR3_GM.sf2"), std::string::npos) << w.list[0];
+  EXPECT_FALSE(player.audible());
+  EXPECT_EQ(hmp::audio::audio_driver_attempts(), attempts);
+  EXPECT_FALSE(player.silence_reason().empty());
+}
+
+TEST(AudioPlayer, SilentClockRunsPausesResumesAndSeeks) {
+  AudioOptions options;
+  options.enabled = false;
+  AudioPlayer player(options, [](const std::string&) {});
+  EXPECT_EQ(player.song_time_us(), 0);
+  EXPECT_FALSE(player.playing());
+
+  const auto t0 = std::chrono::steady_clock::now();
+  player.start(2'000'000);
+  std::this_thread::sleep_for(100ms);
+  const auto t1 = std::chrono::steady_clock::now();
+  const std::int64_t at = player.song_time_us(t1);
+  // Exactly the host time elapsed since start (within the start call's own duration).
+  const auto elapsed = std::chrono::duration_cast<std::chrono::microseconds>(t1 - t0).count();
+  EXPECT_LE(at, 2'000'000 + elapsed);
+  EXPECT_GE(at, 2'000'000 + elapsed - 5'000);
+  EXPECT_NEAR(static_cast<double>((player.heard_at(at) - t1).count()), 0.0, 2e3);  // inverse, ns
+
+  player.pause();
+  const std::int64_t paused = player.song_time_us();
+  std::this_thread::sleep_for(30ms);
+  EXPECT_EQ(player.song_time_us(), paused);
+  EXPECT_FALSE(player.playing());
+
+  player.resume();
+  std::this_thread::sleep_for(30ms);
+  EXPECT_GE(player.song_time_us(), paused + 25'000);
+
+  player.seek(10'000'000);  // while playing: keeps playing from there
+  EXPECT_TRUE(player.playing());
+  EXPECT_GE(player.song_time_us(), 10'000'000);
+  EXPECT_LT(player.song_time_us(), 10'500'000);
+
+  player.stop();
+  const std::int64_t stopped = player.song_time_us();
+  player.seek(1'000'000);  // while stopped: only moves the position
+  EXPECT_FALSE(player.playing());
+  EXPECT_EQ(player.song_time_us(), 1'000'000);
+  EXPECT_GE(stopped, 10'000'000);
+}
+
+}  // namespace
