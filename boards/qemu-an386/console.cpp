@@ -39,6 +39,14 @@ Line& Line::hex(std::uint32_t v) {
   return *this;
 }
 
+Line& Line::hex_bytes(const std::uint8_t* bytes, std::size_t count) {
+  for (std::size_t i = 0; i < count; ++i) {
+    put("0123456789abcdef"[bytes[i] >> 4]);
+    put("0123456789abcdef"[bytes[i] & 0xFu]);
+  }
+  return *this;
+}
+
 Line& Line::fixed(float v, unsigned decimals) {
   if (v != v) return text("nan");
   if (v < 0.0f) {

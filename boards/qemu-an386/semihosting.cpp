@@ -6,6 +6,7 @@ namespace {
 // Operation numbers and the exit reason from the ARM semihosting specification.
 constexpr std::uint32_t kSysWriteC = 0x03;
 constexpr std::uint32_t kSysWrite0 = 0x04;
+constexpr std::uint32_t kSysGetCmdline = 0x15;
 constexpr std::uint32_t kSysExit = 0x18;
 constexpr std::uint32_t kSysExitExtended = 0x20;
 constexpr std::uint32_t kAdpStoppedApplicationExit = 0x20026;
@@ -24,6 +25,15 @@ std::uint32_t call(std::uint32_t op, const void* arg) {
 void write0(const char* text) { call(kSysWrite0, text); }
 
 void writec(char c) { call(kSysWriteC, &c); }
+
+bool get_cmdline(char* buffer, std::uint32_t size) {
+  if (size == 0) return false;
+  // Parameter block: buffer address and its size; the host writes the length back into the second word.
+  std::uint32_t block[2] = {static_cast<std::uint32_t>(reinterpret_cast<std::uintptr_t>(buffer)), size};
+  const bool ok = call(kSysGetCmdline, block) == 0;
+  if (!ok) buffer[0] = '\0';
+  return ok;
+}
 
 void exit(int code) {
   const std::uint32_t block[2] = {kAdpStoppedApplicationExit, static_cast<std::uint32_t>(code)};

@@ -9,6 +9,11 @@ namespace hmp::board::semihost {
 void write0(const char* text);
 void writec(char c);
 
+// The command line the debugger passes (QEMU: the -kernel path followed by the -append text, unless
+// -semihosting-config arg=… is given), NUL-terminated in `buffer`. false if there is none or it does
+// not fit.
+bool get_cmdline(char* buffer, std::uint32_t size);
+
 // Ends the emulation with this process exit code (SYS_EXIT_EXTENDED keeps the code; plain SYS_EXIT
 // on 32-bit ARM can only report success or failure, so it is the fallback).
 [[noreturn]] void exit(int code);

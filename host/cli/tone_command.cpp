@@ -33,8 +33,8 @@ int run_tone(const ToneOptions& o) {
   if (!std::isfinite(o.freq_hz) || o.freq_hz <= 0) throw BadInput("--freq: must be a positive number of Hz");
   const double alias_limit = 0.45 * o.tick_hz;
   if (o.freq_hz >= alias_limit) {
-    throw BadInput("--freq " + std::to_string(o.freq_hz) + ": must be below 0.45 × tick rate = " +
-                   std::to_string(alias_limit) + " Hz (aliasing)");
+    throw BadInput(fmt::format("--freq {:g}: must be below 0.45 × tick rate = {:g} Hz (aliasing)", o.freq_hz,
+                               alias_limit));
   }
   if (o.freq_hz > synth::kFreqMaxHz) throw BadInput("--freq: above the device's top frequency 4096 Hz");
   if (!std::isfinite(o.amp) || o.amp <= 0 || o.amp > 1) throw BadInput("--amp: must be in (0, 1]");

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <fmt/format.h>
+
 #include "host/common/error.hpp"
 #include "host/midi/gm.hpp"
 #include "shared/synth/frequency.hpp"
@@ -76,13 +78,12 @@ void apply_config(const config::Config& cfg, HapticOptions& opts) {
 void validate(const HapticOptions& o) {
   const auto& r = o.ranges;
   if (!(r.f_min_hz > 0) || !(r.f_max_hz >= r.f_min_hz) || !std::isfinite(r.f_max_hz)) {
-    throw BadInput("--freq-range: need 0 < min ≤ max (got " + std::to_string(r.f_min_hz) + ":" +
-                   std::to_string(r.f_max_hz) + ")");
+    throw BadInput(fmt::format("--freq-range: need 0 < min ≤ max (got {:g}:{:g})", r.f_min_hz, r.f_max_hz));
   }
   const double alias = 0.45 * o.tick_hz;
   if (r.f_max_hz >= alias) {
-    throw BadInput("--freq-range: top " + std::to_string(r.f_max_hz) + " Hz must be below 0.45 × tick rate = " +
-                   std::to_string(alias) + " Hz (aliasing)");
+    throw BadInput(fmt::format("--freq-range: top {:g} Hz must be below 0.45 × tick rate = {:g} Hz (aliasing)",
+                               r.f_max_hz, alias));
   }
   if (r.f_max_hz > synth::kFreqMaxHz) throw BadInput("--freq-range: above the device's top frequency 4096 Hz");
   if (!std::isfinite(r.a_min_db) || !std::isfinite(r.a_max_db) || r.a_min_db > r.a_max_db) {

@@ -235,7 +235,12 @@ ReadResult load_song(const std::filesystem::path& path) {
   std::vector<std::uint8_t> bytes(static_cast<std::size_t>(size));
   const std::size_t got = bytes.empty() ? 0 : std::fread(bytes.data(), 1, bytes.size(), f.get());
   if (got != bytes.size()) throw BadInput("cannot read '" + path.string() + "': short read");
-  return read_smf(bytes);
+  try {
+    return read_smf(bytes);
+  } catch (const BadInput& e) {
+    // Name the file: the reader's own message only knows the track and byte offset.
+    throw BadInput(path.string() + ": " + e.what());
+  }
 }
 
 }  // namespace hmp::midi

@@ -1,0 +1,30 @@
+#include "tick_timer.hpp"
+
+#include "registers.hpp"
+
+namespace hmp::board {
+
+bool TickTimer::valid_rate(std::uint32_t tick_hz) {
+  return tick_hz != 0 && kCoreHz % tick_hz == 0 && kCoreHz / tick_hz >= 2 &&
+         kCoreHz / tick_hz - 1 <= systick::kMaxReload;
+}
+
+void TickTimer::start(std::uint32_t tick_hz) {
+  reload_ = kCoreHz / tick_hz - 1;
+  reg(systick::kCsr) = 0;
+  reg(systick::kRvr) = reload_;
+  reg(systick::kCvr) = 0;  // any write clears the counter: the first period is a full one
+  reg(systick::kCsr) = systick::kEnable | systick::kTickInt | systick::kCoreClock;
+}
+
+void TickTimer::stop() { reg(systick::kCsr) = 0; }
+
+std::uint32_t TickTimer::subtick() const {
+  // Counter first, then the pending bit: if the wrap happens in between, the pending bit catches it.
+  const std::uint32_t value = reg(systick::kCvr);
+  if ((reg(scb::kIcsr) & scb::kIcsrPendStSet) != 0) return 0xFFFFFFFFu;
+  const std::uint32_t elapsed = reload_ - value;  // the counter runs down from reload_ to 0
+  return static_cast<std::uint32_t>((static_cast<std::uint64_t>(elapsed) << 32) / (reload_ + 1u));
+}
+
+}  // namespace hmp::board

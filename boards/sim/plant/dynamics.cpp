@@ -1,0 +1,135 @@
+#include "boards/sim/plant/dynamics.hpp"
+
+#include <cmath>
+
+namespace hmp::sim::plant {
+
+using spidar::kStrings;
+
+namespace {
+
+spidar::Quat<double> unit_quaternion(const double* q) {
+  const double n2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
+  const double inv = n2 > 0 ? 1.0 / std::sqrt(n2) : 0.0;
+  if (!(inv > 0)) return {};  // zero or NaN: fall back to the rest orientation (the check flags NaN states)
+  return {q[0] * inv, q[1] * inv, q[2] * inv, q[3] * inv};
+}
+
+Vec3d load3(const double* p) { return {p[0], p[1], p[2]}; }
+void store3(double* p, const Vec3d& v) { p[0] = v.x; p[1] = v.y; p[2] = v.z; }
+
+// q' = ½ (0, w) ⊗ q for an angular velocity w in the device frame.
+void quaternion_rate(const double* q, const double* w, double* dq) {
+  dq[0] = -0.5 * (w[0] * q[1] + w[1] * q[2] + w[2] * q[3]);
+  dq[1] = 0.5 * (w[0] * q[0] + w[1] * q[3] - w[2] * q[2]);
+  dq[2] = 0.5 * (-w[0] * q[3] + w[1] * q[0] + w[2] * q[1]);
+  dq[3] = 0.5 * (w[0] * q[2] - w[1] * q[1] + w[2] * q[0]);
+}
+
+}  // namespace
+
+PlantDynamics::PlantDynamics(const PlantParams& params)
+    : params_(params),
+      size_(params.scene.translation_only ? state::translation_size : state::full_size),
+      anchor_(params.finger.anchor),
+      inv_inductance_(1.0 / params.motor.inductance),
+      inv_inertia_(1.0 / params.motor.inertia),
+      inv_mass_(1.0 / params.grip.mass),
+      inv_grip_inertia_(1.0 / params.grip.inertia()) {}
+
+void PlantDynamics::evaluate(const double* y, PlantForces& out) const {
+  const bool full = !params_.scene.translation_only;
+  const Vec3d x = load3(y + state::position);
+  const Vec3d v = load3(y + state::velocity);
+  const spidar::Quat<double> q = full ? unit_quaternion(y + state::orientation) : spidar::Quat<double>{};
+  const Vec3d w = full ? load3(y + state::angular_velocity) : Vec3d{};
+  spidar::StringGeometry<double> g;
+  spidar::compute_strings(params_.frame, x, spidar::to_matrix(q), g);
+
+  const double r = params_.motor.drive.pulley_radius;
+  const double k = params_.string.stiffness, c = params_.string.damping;
+  out.string_force = {};
+  out.string_torque = {};
+  out.taut = 0;
+  for (int i = 0; i < kStrings; ++i) {
+    const double s = g.length[i] - (free_length_[i] - r * y[state::angle + i]);
+    out.stretch[i] = s;
+    double t = 0;
+    if (s > 0) {
+      const double rate = r * y[state::speed + i] - dot(g.u[i], v) - dot(g.m[i], w);
+      t = std::fmax(0.0, k * s + c * rate);  // damping cannot make a string push
+      out.taut |= 1u << i;
+    }
+    out.tension[i] = t;
+    out.string_force += t * g.u[i];
+    out.string_torque += t * g.m[i];
+  }
+  out.geometry_flags = g.flags;
+
+  if (params_.scene.finger) {
+    const FingerParams& f = params_.finger;
+    out.finger_force = f.stiffness * (x - anchor_) + f.damping * v;
+    // Rotation vector of q for small angles: 2·(x, y, z), the sign chosen so that w ≥ 0 (q and −q agree).
+    const double sign = q.w < 0 ? -2.0 : 2.0;
+    const Vec3d phi{sign * q.x, sign * q.y, sign * q.z};
+    out.finger_torque = full ? f.torsional_stiffness * phi + f.torsional_damping * w : Vec3d{};
+  } else {
+    out.finger_force = {};
+    out.finger_torque = {};
+  }
+}
+
+void PlantDynamics::derivative(const double* y, double* dydt) {
+  PlantForces f;
+  evaluate(y, f);
+  last_taut_ = f.taut;
+  const MotorDynamics& m = params_.motor;
+  const double kt = m.drive.torque_constant, b = m.drive.viscous_friction, r = m.drive.pulley_radius;
+  const double resistance = m.drive.resistance;
+  for (int i = 0; i < kStrings; ++i) {
+    const double omega = y[state::speed + i], current = y[state::current + i];
+    dydt[state::angle + i] = omega;
+    dydt[state::speed + i] = (kt * current - r * f.tension[i] - b * omega) * inv_inertia_;
+    dydt[state::current + i] = (voltage_[i] - resistance * current - kt * omega) * inv_inductance_;
+  }
+  store3(dydt + state::position, load3(y + state::velocity));
+  const Vec3d accel = inv_mass_ * (f.string_force - f.finger_force) + params_.scene.gravity;
+  store3(dydt + state::velocity, accel);
+  if (!params_.scene.translation_only) {
+    quaternion_rate(y + state::orientation, y + state::angular_velocity, dydt + state::orientation);
+    store3(dydt + state::angular_velocity, inv_grip_inertia_ * (f.string_torque - f.finger_torque));
+  }
+}
+
+void PlantDynamics::position_rates(const double* y, double* dydt) const {
+  for (int i = 0; i < kStrings; ++i) dydt[state::angle + i] = y[state::speed + i];
+  store3(dydt + state::position, load3(y + state::velocity));
+  if (!params_.scene.translation_only)
+    quaternion_rate(y + state::orientation, y + state::angular_velocity, dydt + state::orientation);
+}
+
+bool PlantDynamics::is_position(int index) const {
+  return index < state::speed || (index >= state::position && index < state::velocity) ||
+         (index >= state::orientation && index < state::angular_velocity);
+}
+
+double PlantDynamics::scale(int index) const {
+  if (index < state::speed) return 1.0;        // rad
+  if (index < state::current) return 1.0;      // rad/s
+  if (index < state::position) return 0.01;    // A
+  if (index < state::orientation) return 0.01;  // m, m/s
+  return 1.0;                                   // quaternion, rad/s
+}
+
+void PlantDynamics::project(double* y) const {
+  if (params_.scene.translation_only) return;
+  for (int i = 0; i < 4; ++i)
+    if (!std::isfinite(y[state::orientation + i])) return;  // leave NaN visible to the stability check
+  const spidar::Quat<double> q = unit_quaternion(y + state::orientation);
+  y[state::orientation + 0] = q.w;
+  y[state::orientation + 1] = q.x;
+  y[state::orientation + 2] = q.y;
+  y[state::orientation + 3] = q.z;
+}
+
+}  // namespace hmp::sim::plant

@@ -1,0 +1,82 @@
+#pragma once
+// The plant's equations of motion (SPEC §12) as a first-order system for the integrators.
+//
+//   motor i:   θ_i' = ω_i                                    θ: pulley angle, positive winds string in
+//              J ω_i' = Kt·I_i − r·T_i − b·ω_i
+//              L I_i' = V_i − R·I_i − Ke·ω_i                 V_i = duty_i · V_supply
+//   string i:  s_i = |p_i − a_i| − (ℓ_i − r·θ_i)             stretch: geometric length minus free length
+//              ṡ_i = −u_i·v − m_i·w + r·ω_i
+//              T_i = max(0, k·s_i + c·ṡ_i) if s_i > 0, else 0 (a slack string carries nothing)
+//   grip:      x' = v,   M v' = Σ T_i u_i + F_finger + M g
+//              q' = ½ (0, w) ⊗ q,   I w' = Σ T_i m_i + N_finger     (a ball: isotropic, no gyroscopic term)
+//   finger:    F_finger = −k_f (x − anchor) − c_f v,   N_finger = −k_r φ − c_r w   (φ: rotation vector of q)
+//
+// u_i, m_i and lengths come from shared/spidar's compute_strings(), the same code the firmware uses.
+// A translation-only scene drops q and w (the grip keeps its rest orientation; torques are still reported).
+#include <cstdint>
+
+#include "boards/sim/plant/integrators.hpp"
+#include "boards/sim/plant/plant_params.hpp"
+
+namespace hmp::sim::plant {
+
+// Index of each block in the state vector.
+namespace state {
+inline constexpr int angle = 0;      // θ_i, 8
+inline constexpr int speed = 8;      // ω_i, 8
+inline constexpr int current = 16;   // I_i, 8
+inline constexpr int position = 24;  // x, 3
+inline constexpr int velocity = 27;  // v, 3
+inline constexpr int orientation = 30;  // q (w, x, y, z), 4 — full 6-DOF only
+inline constexpr int angular_velocity = 34;  // w, 3 — full 6-DOF only
+inline constexpr int translation_size = 30;
+inline constexpr int full_size = 37;
+}  // namespace state
+
+// Everything the equations compute on the way to the derivative: what the board and the tests read.
+struct PlantForces {
+  double tension[spidar::kStrings]{};  // N
+  double stretch[spidar::kStrings]{};  // m (negative: slack)
+  Vec3d string_force{};                // Σ T_i u_i on the grip, N
+  Vec3d string_torque{};               // Σ T_i m_i about the grip centre, N·m
+  Vec3d finger_force{};                // force of the grip on the finger (zero without a finger), N
+  Vec3d finger_torque{};               // torque of the grip on the finger, N·m
+  std::uint32_t taut = 0;              // bit i: string i taut (s_i > 0)
+  spidar::Flags geometry_flags = 0;    // short_string / outside_workspace / invalid_input from the geometry
+};
+
+class PlantDynamics final : public OdeSystem {
+ public:
+  explicit PlantDynamics(const PlantParams& params);
+
+  // Free length ℓ_i of each string at θ_i = 0 (set by the plant's reset).
+  void set_free_length(int i, double metres) { free_length_[i] = metres; }
+  double free_length(int i) const { return free_length_[i]; }
+  void set_voltage(int i, double volts) { voltage_[i] = volts; }
+  void set_finger_anchor(const Vec3d& anchor) { anchor_ = anchor; }
+  const Vec3d& finger_anchor() const { return anchor_; }
+  const PlantParams& params() const { return params_; }
+
+  // Forces at state y (any state of size(); a quaternion need not be unit, it is normalised here).
+  void evaluate(const double* y, PlantForces& out) const;
+
+  int size() const override { return size_; }
+  void derivative(const double* y, double* dydt) override;
+  void position_rates(const double* y, double* dydt) const override;
+  bool is_position(int index) const override;
+  double scale(int index) const override;
+  std::uint32_t structure_key() const override { return last_taut_; }
+  void project(double* y) const override;
+
+ private:
+  PlantParams params_;
+  int size_;
+  double free_length_[spidar::kStrings]{};
+  double voltage_[spidar::kStrings]{};
+  Vec3d anchor_{};
+  std::uint32_t last_taut_ = 0;
+  // Constants of the motor equations, divided once.
+  double inv_inductance_, inv_inertia_, inv_mass_, inv_grip_inertia_;
+};
+
+}  // namespace hmp::sim::plant

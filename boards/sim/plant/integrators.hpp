@@ -1,0 +1,74 @@
+#pragma once
+// Time integrators for the plant simulator (SPEC §12: at least four, one interface). The plant is stiff
+// (string stiffness ~10⁴ N/m against grams of moving mass, electrical time constant ~0.1 ms): explicit
+// methods need sub-steps of ~0.1 ms or less, the linearly implicit ones stay stable at the 1 ms tick.
+//
+//   explicit_euler         y += h·f(y)                                            order 1, explicit
+//   semi_implicit_euler    velocities (and currents) first, then positions from     order 1, symplectic
+//                          the new velocities                                      for the mechanics
+//   rk4                    classical Runge–Kutta                                   order 4, explicit
+//   linear_implicit_euler  (I − hJ)·k = f(y), y += h·k                              order 1, L-stable
+//   rosenbrock2            ROS2 (Verwer et al. 1999), γ = 1 + 1/√2: two stages,     order 2, L-stable
+//                          one LU; order 2 for any J, so a frozen Jacobian
+//                          (a W-method) costs accuracy in no order
+//
+// Memory is allocated once, at construction; step() does not allocate or throw.
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string_view>
+
+namespace hmp::sim::plant {
+
+// 8 motors × (angle, speed, current) + grip position, orientation quaternion, velocity, angular velocity.
+inline constexpr int kMaxState = 37;
+
+enum class Method : std::uint8_t { explicit_euler, semi_implicit_euler, rk4, linear_implicit_euler, rosenbrock2 };
+inline constexpr Method kAllMethods[] = {Method::explicit_euler, Method::semi_implicit_euler, Method::rk4,
+                                         Method::linear_implicit_euler, Method::rosenbrock2};
+std::string_view method_name(Method m);
+bool parse_method(std::string_view name, Method& out);
+
+// A first-order system y' = f(y) whose states split into positions (angles, positions, orientation) and
+// their rates (speeds, currents, velocities): the split is what semi-implicit Euler needs.
+class OdeSystem {
+ public:
+  virtual ~OdeSystem() = default;
+  virtual int size() const = 0;
+  virtual void derivative(const double* y, double* dydt) = 0;
+  // Rates of the position-like states only (from the velocity-like ones in y); other entries untouched.
+  virtual void position_rates(const double* y, double* dydt) const = 0;
+  virtual bool is_position(int index) const = 0;
+  // Typical magnitude of state `index`: sets the finite-difference step of the numerical Jacobian.
+  virtual double scale(int index) const = 0;
+  // Changes whenever the model's structure switches (a string going slack or taut): a Jacobian taken
+  // before is stale. Read after derivative() of the current state.
+  virtual std::uint32_t structure_key() const = 0;
+  // Brings a state back onto its manifold after a step (unit quaternion).
+  virtual void project(double* y) const = 0;
+};
+
+class Integrator {
+ public:
+  virtual ~Integrator() = default;
+  virtual Method method() const = 0;
+  // Advances y by h in place.
+  virtual void step(OdeSystem& system, double* y, double h) = 0;
+  // Forget any cached Jacobian (after a reset or a parameter change).
+  virtual void invalidate() {}
+  // Derivative evaluations so far (Jacobian columns included): the work measure of the benchmark.
+  std::uint64_t evaluations() const { return evaluations_; }
+  std::uint64_t factorisations() const { return factorisations_; }
+
+ protected:
+  std::uint64_t evaluations_ = 0;
+  std::uint64_t factorisations_ = 0;
+};
+
+struct IntegratorOptions {
+  int jacobian_interval = 8;  // steps a Jacobian is reused (linearly implicit methods)
+};
+
+std::unique_ptr<Integrator> make_integrator(Method method, const IntegratorOptions& options = {});
+
+}  // namespace hmp::sim::plant

@@ -1,0 +1,108 @@
+#!/usr/bin/env bash
+# hmp info / render / --config on the command line: bad input exits 2 with one line naming the problem;
+# good input produces the promised outputs; nothing existing is overwritten without --force.
+set -u
+hmp="$1"; repo="$2"
+demo="$repo/examples/bach-bwv1050-brandenburg5-mvt3-allegro.mid"
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+fail=0
+
+expect_bad() {  # expect_bad WORD ARGS...
+  local word="$1"; shift
+  "$hmp" "$@" >"$tmp/out" 2>"$tmp/err"; local rc=$?
+  local lines; lines=$(wc -l <"$tmp/err")
+  if [ $rc -ne 2 ] || [ "$lines" -ne 1 ] || ! grep -qi -- "$word" "$tmp/err"; then
+    echo "FAIL: hmp $* -> rc=$rc, $lines stderr line(s), wanted '$word':"; cat "$tmp/err"; fail=1
+  fi
+}
+expect_ok() {
+  "$hmp" "$@" >"$tmp/out" 2>"$tmp/err" || { echo "FAIL: hmp $* -> rc=$?"; cat "$tmp/err"; fail=1; }
+}
+
+# --- info
+expect_bad "no such" info "$tmp/missing.mid"
+printf 'hello, not midi' >"$tmp/junk.mid"
+expect_bad "MThd" info "$tmp/junk.mid"
+: >"$tmp/empty.mid"
+expect_bad "byte" info "$tmp/empty.mid"
+expect_ok info "$demo"
+grep -q "Flute (73)" "$tmp/out" || { echo "FAIL: info table lacks the flute"; fail=1; }
+expect_ok info "$demo" --json
+/usr/bin/python3 - "$tmp/out" <<'PY' || fail=1
+import json, sys
+j = json.load(open(sys.argv[1]))
+t = j["tracks"]
+assert len(t) == 9, len(t)
+assert t[1]["program"] == 73 and t[1]["envelope"] == "flute", t[1]
+assert t[6]["envelope"] == "contrabass" and t[7]["envelope"] == "harpsichord"
+assert all(k in t[1] for k in ("index", "name", "channels", "instrument", "note_count", "key_min", "key_max", "distinct_keys"))
+assert "notes" not in j and j["duration_s"] > 300 and j["tempo_changes"][0]["bpm"] == 120
+PY
+expect_ok info "$demo" --json --notes
+/usr/bin/python3 - "$tmp/out" <<'PY' || fail=1
+import json, sys
+j = json.load(open(sys.argv[1]))
+n = j["notes"]
+assert len(n) == sum(t["note_count"] for t in j["tracks"])
+assert set(n[0]) == {"track", "channel", "key", "velocity", "start_s", "end_s"}, n[0]
+assert all(x["end_s"] >= x["start_s"] for x in n)
+PY
+
+# --- render: track selection and options
+expect_bad "ambiguous" render "$demo" --track violin --out "$tmp/a.csv"
+expect_bad "no track matches" render "$demo" --track kazoo --out "$tmp/a.csv"
+expect_bad "no such track" render "$demo" --track 42 --out "$tmp/a.csv"
+expect_bad "alias" render "$demo" --track flute --freq-range 50:500 --out "$tmp/a.csv"
+expect_bad "freq-range" render "$demo" --track flute --freq-range 300:50 --out "$tmp/a.csv"
+expect_bad "freq-range" render "$demo" --track flute --freq-range abc --out "$tmp/a.csv"
+expect_bad "amp-range" render "$demo" --track flute --amp-range-db 30:7.5 --out "$tmp/a.csv"
+expect_bad "mapping" render "$demo" --track flute --mapping loud --out "$tmp/a.csv"
+expect_bad "envelope" render "$demo" --track flute --envelope kazoo --out "$tmp/a.csv"
+expect_bad "polyphony" render "$demo" --track flute --polyphony all --out "$tmp/a.csv"
+expect_bad ".csv, .wav or .png" render "$demo" --track flute --out "$tmp/a.mp3"
+expect_bad "audible" render "$demo" --track flute --audible --out "$tmp/a.csv"
+expect_bad "empty window" render "$demo" --track flute --from 5 --to 4 --out "$tmp/a.csv"
+expect_bad "from" render "$demo" --track flute --from -1 --out "$tmp/a.csv"
+expect_ok render "$demo" --track flute --from 2 --to 3 --out "$tmp/w.csv"
+[ "$(head -1 "$tmp/w.csv")" = "t_s,value" ] && [ "$(($(wc -l <"$tmp/w.csv") - 1))" = 1000 ] \
+  || { echo "FAIL: window CSV has $(wc -l <"$tmp/w.csv") lines"; fail=1; }
+[ "$(sed -n 2p "$tmp/w.csv" | cut -d, -f1)" = 2 ] || { echo "FAIL: window starts at $(sed -n 2p "$tmp/w.csv")"; fail=1; }
+# A window equals the same ticks of the whole render (notes sounding into the window included).
+expect_ok render "$demo" --track flute --from 0 --to 3 --out "$tmp/full.csv"
+diff <(tail -n 1000 "$tmp/full.csv") <(tail -n +2 "$tmp/w.csv") >/dev/null || { echo "FAIL: window differs from full render"; fail=1; }
+expect_ok render "$demo" --track 1 --to 2 --out "$tmp/w.wav"
+expect_ok render "$demo" --track flute --to 2 --audible --out "$tmp/aud.wav"
+expect_ok render "$demo" --track contrabass --to 4 --out "$tmp/p.png"
+[ "$(head -c 8 "$tmp/p.png" | od -An -tx1 | tr -d ' ')" = 89504e470d0a1a0a ] || { echo "FAIL: not a PNG"; fail=1; }
+/usr/bin/python3 - "$tmp/w.wav" "$tmp/aud.wav" <<'PY' || fail=1
+import struct, sys
+def rate(p):
+    b = open(p, "rb").read(64)
+    assert b[:4] == b"RIFF" and b[8:12] == b"WAVE"
+    return struct.unpack("<I", b[24:28])[0]
+assert rate(sys.argv[1]) == 1000, rate(sys.argv[1])
+assert rate(sys.argv[2]) == 44100, rate(sys.argv[2])
+PY
+before=$(md5sum <"$tmp/w.csv")
+expect_bad "exists" render "$demo" --track flute --from 2 --to 3 --out "$tmp/w.csv"
+[ "$(md5sum <"$tmp/w.csv")" = "$before" ] || { echo "FAIL: existing output modified"; fail=1; }
+
+# --- config
+printf '[mapping]\nfrq_range = [50, 250]\n' >"$tmp/typo.toml"
+expect_bad "mapping.frq_range" render "$demo" --track flute --config "$tmp/typo.toml" --out "$tmp/c.csv"
+printf '[mapping\nmode = "paper"\n' >"$tmp/broken.toml"
+expect_bad "broken.toml:" render "$demo" --track flute --config "$tmp/broken.toml" --out "$tmp/c.csv"
+printf '[presets.soft]\nattack_ms = 10\nsustain_pct = 150\n' >"$tmp/range.toml"
+expect_bad "sustain_pct" render "$demo" --track flute --config "$tmp/range.toml" --out "$tmp/c.csv"
+printf '[gm]\n"73" = "nothing"\n' >"$tmp/gm.toml"
+expect_bad "nothing" render "$demo" --track flute --config "$tmp/gm.toml" --out "$tmp/c.csv"
+# A user preset mapped to the flute's program changes the render; square via the config equals --envelope square.
+printf '[presets.plain]\nsustain_pct = 100\nfinal_pct = 100\n[gm]\n"73" = "plain"\n' >"$tmp/plain.toml"
+expect_ok render "$demo" --track flute --to 4 --config "$tmp/plain.toml" --out "$tmp/plain.csv"
+expect_ok render "$demo" --track flute --to 4 --envelope square --out "$tmp/square.csv"
+expect_ok render "$demo" --track flute --to 4 --out "$tmp/auto.csv"
+cmp -s "$tmp/plain.csv" "$tmp/square.csv" || { echo "FAIL: user preset 'plain' should equal square"; fail=1; }
+cmp -s "$tmp/plain.csv" "$tmp/auto.csv" && { echo "FAIL: config preset had no effect"; fail=1; }
+
+[ $fail -eq 0 ] && echo "song_commands: all passed"
+exit $fail
