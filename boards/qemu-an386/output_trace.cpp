@@ -5,7 +5,6 @@
 namespace hmp::board {
 
 void OutputTrace::record_output(float value) {
-  ++produced_;
   float* slot = outputs_.prepare();
   if (slot == nullptr) {
     ++dropped_outputs_;

@@ -1,0 +1,96 @@
+#include "an386_board.hpp"
+
+#include "console.hpp"
+#include "registers.hpp"
+
+namespace hmp::board {
+
+An386Board::An386Board(std::uint32_t tick_hz, bool trace)
+    : tick_hz_(tick_hz), tracing_(trace), core_(make_seam(this), tick_hz) {}
+
+fw::BoardSeam An386Board::make_seam(An386Board* self) {
+  fw::BoardSeam seam;
+  seam.ctx = self;
+  seam.output = &An386Board::on_output;
+  seam.send = &An386Board::on_send;
+  seam.log = &An386Board::on_log;
+  seam.subtick = &An386Board::on_subtick;
+  seam.id = protocol::Board::qemu_an386;
+  return seam;
+}
+
+void An386Board::start_link() {
+  SerialLink::Sink sink;
+  sink.ctx = this;
+  sink.has_room = &An386Board::inbox_has_room;
+  sink.deliver = &An386Board::deliver;
+  link_.start(sink);
+}
+
+void An386Board::start_tick() {
+  // SysTick above everything else (0 = highest); its reset priority is 0 already, set for clarity.
+  reg(scb::kShpr3) = reg(scb::kShpr3) & 0x00FFFFFFu;
+  timer_.start(tick_hz_);
+}
+
+void An386Board::stop() {
+  timer_.stop();
+  nvic::disable(kUart0.rx_irq());
+  nvic::disable(kUart0.tx_irq());
+}
+
+void An386Board::on_tick() {
+  core_.on_tick();
+  ticks_ = ticks_ + 1;
+  link_.resume_rx();
+}
+
+void An386Board::on_output(void* ctx, float value) {
+  auto* self = static_cast<An386Board*>(ctx);
+  // No motors on this board: the value is only observable through the trace (and Status.output).
+  if (self->tracing_) self->trace_.record_output(value);
+}
+
+bool An386Board::on_send(void* ctx, const protocol::Report& report) {
+  return static_cast<An386Board*>(ctx)->link_.queue_report(report);
+}
+
+void An386Board::on_log(void*, const char* line) { Line().text("log: ").text(line).print(); }
+
+std::uint32_t An386Board::on_subtick(void* ctx) { return static_cast<An386Board*>(ctx)->timer_.subtick(); }
+
+bool An386Board::inbox_has_room(void* ctx) { return static_cast<An386Board*>(ctx)->core_.inbox_has_room(); }
+
+void An386Board::deliver(void* ctx, const protocol::Report& report) {
+  auto* self = static_cast<An386Board*>(ctx);
+  // The core stamps the report with its tick counter; the trace must name the same tick, so no tick may
+  // run between the two reads (a few dozen instructions with interrupts masked).
+  const std::uint32_t primask = irq_save();
+  const bool taken = self->core_.on_packet(report);
+  const std::uint32_t tick = self->ticks_;
+  irq_restore(primask);
+  if (!taken) {
+    ++self->inbox_refused_;
+    return;
+  }
+  if (self->tracing_) self->trace_.record_report(tick, report);
+}
+
+void An386Board::print_summary() const {
+  const framing::DecoderCounters& f = link_.frame_counters();
+  const SerialLink::Counters& l = link_.counters();
+  const fw::Stats& s = core_.stats();
+  Line().text("link: frames=").u32(f.packets).text(" crc_errors=").u32(f.crc_errors)
+      .text(" malformed=").u32(f.malformed).text(" oversized=").u32(f.oversized)
+      .text(" wrong_size=").u32(f.wrong_size).text(" rx_bytes=").u32(l.rx_bytes)
+      .text(" rx_overruns=").u32(l.rx_overruns).text(" rx_held=").u32(l.rx_held)
+      .text(" tx_frames=").u32(l.tx_frames).text(" tx_dropped=").u32(l.tx_dropped)
+      .text(" inbox_refused=").u32(inbox_refused_).print();
+  Line().text("core: ticks=").u32(ticks_).text(" packets=").u32(s.packets).text(" rejected=").u32(s.rejected)
+      .text(" started=").u32(s.started).text(" late=").u32(s.late)
+      .text(" stolen=").u32(core_.engine().counters().stolen).text(" inbox_full=").u32(s.inbox_full)
+      .text(" tx_dropped=").u32(s.tx_dropped).text(" faults=").hex(core_.faults()).print();
+  if (tracing_) Line().text("trace: dropped=").u32(trace_.dropped()).print();
+}
+
+}  // namespace hmp::board

@@ -1,0 +1,61 @@
+#pragma once
+// The qemu-an386 board: the firmware core (firmware/core.hpp) on SysTick and UART0, logging over
+// semihosting. Fills in the BoardSeam; the images' main() and interrupt handlers call in here.
+//
+// Priorities: SysTick (the tick) is the highest; the UART interrupts sit below it, so a report's
+// arrival never interrupts a tick half-way and the tick is never delayed by the line. The main loop
+// (thread mode) sleeps in `wfi` and writes the optional trace.
+#include <cstdint>
+
+#include "firmware/core.hpp"
+#include "output_trace.hpp"
+#include "serial_link.hpp"
+#include "tick_timer.hpp"
+
+namespace hmp::board {
+
+class An386Board {
+ public:
+  An386Board(std::uint32_t tick_hz, bool trace);
+  An386Board(const An386Board&) = delete;
+  An386Board& operator=(const An386Board&) = delete;
+
+  void start_link();  // UART0 and its interrupts
+  void start_tick();  // SysTick interrupt at the tick rate
+  void stop();        // no more ticks or UART interrupts
+
+  // Interrupt handlers.
+  void on_tick();  // one device tick: core.on_tick(), then lets the UART take the next report
+  void on_uart_rx() { link_.on_rx_interrupt(); }
+  void on_uart_tx() { link_.on_tx_interrupt(); }
+
+  // Main loop.
+  void drain_trace(bool all) {
+    if (tracing_) trace_.drain(all);
+  }
+  std::uint32_t ticks() const { return ticks_; }  // ticks run so far (= core.tick() from first tick 0)
+  void print_summary() const;
+
+  fw::Core& core() { return core_; }
+  const SerialLink& link() const { return link_; }
+
+ private:
+  static fw::BoardSeam make_seam(An386Board* self);
+  static void on_output(void* ctx, float value);
+  static bool on_send(void* ctx, const protocol::Report& report);
+  static void on_log(void* ctx, const char* line);
+  static std::uint32_t on_subtick(void* ctx);
+  static bool inbox_has_room(void* ctx);
+  static void deliver(void* ctx, const protocol::Report& report);
+
+  TickTimer timer_;
+  SerialLink link_{kUart0};
+  OutputTrace trace_;
+  std::uint32_t tick_hz_;
+  bool tracing_;
+  std::uint32_t inbox_refused_ = 0;  // on_packet said no although the link checked for room (a bug)
+  volatile std::uint32_t ticks_ = 0;
+  fw::Core core_;  // last: its seam points at the members above
+};
+
+}  // namespace hmp::board

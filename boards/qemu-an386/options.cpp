@@ -1,0 +1,65 @@
+#include "options.hpp"
+
+#include "tick_timer.hpp"
+
+namespace hmp::board {
+namespace {
+
+bool starts_with(const char* s, const char* prefix) {
+  while (*prefix != '\0') {
+    if (*s++ != *prefix++) return false;
+  }
+  return true;
+}
+
+// Decimal without sign, at most 9 digits (no overflow); false on anything else.
+bool parse_u32(const char* s, std::uint32_t& out) {
+  std::uint32_t v = 0;
+  int digits = 0;
+  for (; *s != '\0'; ++s, ++digits) {
+    if (*s < '0' || *s > '9' || digits == 9) return false;
+    v = v * 10 + static_cast<std::uint32_t>(*s - '0');
+  }
+  out = v;
+  return digits > 0;
+}
+
+bool equals(const char* a, const char* b) {
+  while (*a != '\0' && *a == *b) ++a, ++b;
+  return *a == *b;
+}
+
+bool apply(const char* word, Options& o) {
+  if (equals(word, "trace")) {
+    o.trace = true;
+    return true;
+  }
+  if (starts_with(word, "hz=")) return parse_u32(word + 3, o.tick_hz) && TickTimer::valid_rate(o.tick_hz);
+  if (starts_with(word, "exit-idle-ms=")) return parse_u32(word + 13, o.exit_idle_ms);
+  return false;
+}
+
+}  // namespace
+
+Options parse_options(char* cmdline) {
+  Options o;
+  bool first = true;
+  for (char* p = cmdline; *p != '\0';) {
+    while (*p == ' ') ++p;
+    if (*p == '\0') break;
+    char* word = p;
+    while (*p != '\0' && *p != ' ') ++p;
+    if (*p == ' ') *p++ = '\0';
+    if (first) {  // the image path
+      first = false;
+      continue;
+    }
+    if (!apply(word, o)) {
+      o.error = word;
+      break;
+    }
+  }
+  return o;
+}
+
+}  // namespace hmp::board

@@ -1,0 +1,22 @@
+#pragma once
+// Run-time options of the qemu-an386 images, read from the semihosting command line (QEMU: the words of
+// `-append "…"`; the first word QEMU passes is the image path and is skipped). README.md lists them.
+#include <cstdint>
+
+#ifndef HMP_TICK_HZ
+#define HMP_TICK_HZ 1000
+#endif
+
+namespace hmp::board {
+
+struct Options {
+  std::uint32_t tick_hz = HMP_TICK_HZ;  // hz=N: tick rate (must divide 25 MHz; see TickTimer)
+  bool trace = false;                   // trace: per-tick outputs and received reports on semihosting
+  std::uint32_t exit_idle_ms = 0;       // exit-idle-ms=N: exit 0 after N ms without a received byte (0: never)
+  const char* error = nullptr;          // the first word that could not be used (then the rest is unread)
+};
+
+// Parses a command line (modified in place: words are cut out with NULs).
+Options parse_options(char* cmdline);
+
+}  // namespace hmp::board
