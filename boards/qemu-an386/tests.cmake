@@ -1,4 +1,4 @@
 # qemu-an386 tests, included from cmake/cross_tests.cmake.
 add_test(NAME qemu_boot_one_note
-  COMMAND ${CMAKE_CURRENT_LIST_DIR}/check_one_note.sh $<TARGET_FILE:hmp_fw_qemu_an386>)
+  COMMAND ${CMAKE_CURRENT_LIST_DIR}/check_one_note.sh $<TARGET_FILE:hmp_fw_qemu_an386_demo>)
 set_tests_properties(qemu_boot_one_note PROPERTIES LABELS "firmware;qemu" TIMEOUT 60)

@@ -27,6 +27,7 @@ void register_all(CLI::App& app, Registry& registry) {
   register_render(app, registry);
   register_tone(app, registry);
   register_devices(app, registry);
+  register_play(app, registry);
 }
 
 }  // namespace hmp::cli

@@ -37,7 +37,7 @@ PlantDynamics::PlantDynamics(const PlantParams& params)
       inv_mass_(1.0 / params.grip.mass),
       inv_grip_inertia_(1.0 / params.grip.inertia()) {}
 
-void PlantDynamics::evaluate(const double* y, PlantForces& out) const {
+void PlantDynamics::evaluate(const double* y, PlantForces& out, bool bilateral) const {
   const bool full = !params_.scene.translation_only;
   const Vec3d x = load3(y + state::position);
   const Vec3d v = load3(y + state::velocity);
@@ -51,15 +51,19 @@ void PlantDynamics::evaluate(const double* y, PlantForces& out) const {
   out.string_force = {};
   out.string_torque = {};
   out.taut = 0;
+  out.near_taut = 0;
   for (int i = 0; i < kStrings; ++i) {
     const double s = g.length[i] - (free_length_[i] - r * y[state::angle + i]);
     out.stretch[i] = s;
+    const bool near = s > -kJacobianSlackMargin;
     double t = 0;
-    if (s > 0) {
+    if (s > 0 || (bilateral && near)) {
       const double rate = r * y[state::speed + i] - dot(g.u[i], v) - dot(g.m[i], w);
-      t = std::fmax(0.0, k * s + c * rate);  // damping cannot make a string push
-      out.taut |= 1u << i;
+      t = k * s + c * rate;
+      if (!bilateral && t < 0) t = 0;  // damping cannot make a string push
     }
+    if (s > 0) out.taut |= 1u << i;
+    if (near) out.near_taut |= 1u << i;
     out.tension[i] = t;
     out.string_force += t * g.u[i];
     out.string_torque += t * g.m[i];
@@ -79,10 +83,14 @@ void PlantDynamics::evaluate(const double* y, PlantForces& out) const {
   }
 }
 
-void PlantDynamics::derivative(const double* y, double* dydt) {
+void PlantDynamics::derivative(const double* y, double* dydt) { rates(y, dydt, false, &near_taut_); }
+
+void PlantDynamics::smooth_derivative(const double* y, double* dydt) { rates(y, dydt, true, nullptr); }
+
+void PlantDynamics::rates(const double* y, double* dydt, bool bilateral, std::uint32_t* near_taut) const {
   PlantForces f;
-  evaluate(y, f);
-  last_taut_ = f.taut;
+  evaluate(y, f, bilateral);
+  if (near_taut) *near_taut = f.near_taut;
   const MotorDynamics& m = params_.motor;
   const double kt = m.drive.torque_constant, b = m.drive.viscous_friction, r = m.drive.pulley_radius;
   const double resistance = m.drive.resistance;

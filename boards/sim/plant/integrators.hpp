@@ -8,9 +8,9 @@
 //                          the new velocities                                      for the mechanics
 //   rk4                    classical Runge–Kutta                                   order 4, explicit
 //   linear_implicit_euler  (I − hJ)·k = f(y), y += h·k                              order 1, L-stable
-//   rosenbrock2            ROS2 (Verwer et al. 1999), γ = 1 + 1/√2: two stages,     order 2, L-stable
-//                          one LU; order 2 for any J, so a frozen Jacobian
-//                          (a W-method) costs accuracy in no order
+//   rosenbrock2            ROS2 (Verwer et al. 1999) with γ = 1 − 1/√2: two        order 2, L-stable
+//                          stages, one LU; order 2 for any J, so a Jacobian kept
+//                          for several steps (a W-method) costs no order
 //
 // Memory is allocated once, at construction; step() does not allocate or throw.
 #include <array>
@@ -41,9 +41,13 @@ class OdeSystem {
   virtual bool is_position(int index) const = 0;
   // Typical magnitude of state `index`: sets the finite-difference step of the numerical Jacobian.
   virtual double scale(int index) const = 0;
-  // Changes whenever the model's structure switches (a string going slack or taut): a Jacobian taken
-  // before is stale. Read after derivative() of the current state.
-  virtual std::uint32_t structure_key() const = 0;
+  // The function whose Jacobian the linearly implicit methods use. A model with switches (a string going
+  // slack) may smooth them out here: those methods need only an approximation of ∂f/∂y, and one that
+  // does not jump when a switch flips can be kept for many steps.
+  virtual void smooth_derivative(const double* y, double* dydt) { derivative(y, dydt); }
+  // Identifies which smoothing smooth_derivative() applies around the state of the last derivative()
+  // call; a Jacobian taken under another key is stale.
+  virtual std::uint32_t structure_key() const { return 0; }
   // Brings a state back onto its manifold after a step (unit quaternion).
   virtual void project(double* y) const = 0;
 };
@@ -66,7 +70,8 @@ class Integrator {
 };
 
 struct IntegratorOptions {
-  int jacobian_interval = 8;  // steps a Jacobian is reused (linearly implicit methods)
+  // Simulated time a Jacobian is reused by the linearly implicit methods (at least one step).
+  double jacobian_max_age = 8e-3;  // s
 };
 
 std::unique_ptr<Integrator> make_integrator(Method method, const IntegratorOptions& options = {});

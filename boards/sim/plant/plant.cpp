@@ -16,7 +16,7 @@ constexpr double kMaxAngularVelocity = 1e4;   // rad/s
 
 Plant::Plant(const PlantParams& params)
     : dynamics_(params),
-      integrator_(make_integrator(params.stepper.method, IntegratorOptions{params.stepper.jacobian_interval})) {
+      integrator_(make_integrator(params.stepper.method, IntegratorOptions{params.stepper.jacobian_max_age})) {
   const spidar::MotorParams<double>& d = params.motor.drive;
   radians_per_count_ = kTwoPi / static_cast<double>(d.counts_per_rev);
   // A reversing motor sees at most 2·V_supply across its resistance; at no load it spins at V_supply/Ke.

@@ -57,10 +57,11 @@ struct StepperParams {
   Method method = Method::rosenbrock2;
   // Largest internal step: step(duties, dt) takes ceil(dt / max_step) equal sub-steps. The default keeps
   // the force error of a 250 Hz vibration under 1% (docs/performance.md, sim-work-precision).
-  double max_step = 2.5e-4;  // s
-  // Linearly implicit methods re-evaluate their Jacobian after this many steps, and whenever a string
-  // goes slack or taut (the only switch in the model); in between they are W-methods with a frozen one.
-  int jacobian_interval = 8;
+  double max_step = 1.25e-4;  // s
+  // Linearly implicit methods re-evaluate their Jacobian after this much simulated time (and when a
+  // string comes within kJacobianSlackMargin of taut or leaves it); in between they are W-methods with a
+  // frozen one. It changes only as the grip moves, a few mm in 8 ms at hand speeds.
+  double jacobian_max_age = 8e-3;  // s
 };
 
 struct PlantParams {

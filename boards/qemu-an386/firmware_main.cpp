@@ -1,0 +1,69 @@
+// The qemu-an386 firmware image: the firmware core on SysTick (the tick) and UART0 (the host link,
+// framed reports), logging over semihosting. Options come from the semihosting command line (QEMU
+// -append "…", README.md): tick rate, the output trace for tests, and an exit when the host has gone
+// quiet. Without exit-idle-ms it runs until QEMU is stopped.
+#include <new>
+
+#include "an386_board.hpp"
+#include "console.hpp"
+#include "options.hpp"
+#include "semihosting.hpp"
+
+namespace {
+
+using hmp::board::An386Board;
+using hmp::board::Line;
+
+// The board (and the core in it, ~12 KiB) is built in main() once the options are known; static
+// storage, no heap. The handlers run only after main() has started the interrupts.
+alignas(An386Board) unsigned char g_board_storage[sizeof(An386Board)];
+An386Board* g_board = nullptr;
+
+constexpr int kExitBadOption = 4;
+
+}  // namespace
+
+extern "C" void SysTick_Handler() { g_board->on_tick(); }
+extern "C" void UART0_RX_Handler() { g_board->on_uart_rx(); }
+extern "C" void UART0_TX_Handler() { g_board->on_uart_tx(); }
+
+int main() {
+  char cmdline[256];
+  hmp::board::semihost::get_cmdline(cmdline, sizeof cmdline);
+  const hmp::board::Options opt = hmp::board::parse_options(cmdline);
+  if (opt.error != nullptr) {
+    Line().text("bad option: ").text(opt.error).text(" (hz=N trace exit-idle-ms=N)").print();
+    return kExitBadOption;
+  }
+  Line().text("HMP qemu-an386 firmware ").u32(hmp::fw::kFirmwareMajor).text(".").u32(hmp::fw::kFirmwareMinor)
+      .text(".").u32(hmp::fw::kFirmwarePatch).text(" tick_hz=").u32(opt.tick_hz)
+      .text(" trace=").text(opt.trace ? "on" : "off").text(" exit_idle_ms=").u32(opt.exit_idle_ms).print();
+
+  g_board = new (g_board_storage) An386Board(opt.tick_hz, opt.trace);
+  g_board->start_link();
+  g_board->start_tick();
+
+  const auto idle_ticks = static_cast<std::uint32_t>(static_cast<std::uint64_t>(opt.exit_idle_ms) * opt.tick_hz / 1000);
+  std::uint32_t seen_rx = g_board->link().rx_bytes();
+  std::uint32_t last_rx_tick = 0;
+  for (;;) {
+    g_board->drain_trace(false);
+    if (idle_ticks != 0) {
+      const std::uint32_t now = g_board->ticks();
+      const std::uint32_t rx = g_board->link().rx_bytes();
+      if (rx != seen_rx) {
+        seen_rx = rx;
+        last_rx_tick = now;
+      } else if (now - last_rx_tick >= idle_ticks) {
+        break;
+      }
+    }
+    // An interrupt that lands between the checks above and the wfi is seen one tick later at most.
+    asm volatile("wfi" ::: "memory");
+  }
+  g_board->stop();
+  g_board->drain_trace(true);
+  Line().text("exit: no byte from the host for ").u32(opt.exit_idle_ms).text(" ms").print();
+  g_board->print_summary();
+  return hmp::board::semihost::kExitOk;
+}

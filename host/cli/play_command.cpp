@@ -1,0 +1,213 @@
+// hmp play SONG [--track T] [--device …] [--no-audio] [--no-view] [--from S] [--to S] [--log FILE]
+// — the main job (SPEC §3): the song's audio with one track felt on the device. The player itself is
+// host/player/; this file is the command line, the terminal and the messages.
+#include <unistd.h>
+
+
+#include <cmath>
+#include <cstdio>
+
+#include <fmt/format.h>
+
+#include "host/audio/audio_events.hpp"
+#include "host/audio/audio_player.hpp"
+#include "host/cli/commands.hpp"
+#include "host/cli/song_options.hpp"
+#include "host/common/error.hpp"
+#include "host/midi/gm.hpp"
+#include "host/player/device_link.hpp"
+#include "host/player/live_terminal.hpp"
+#include "host/player/play_log.hpp"
+#include "host/player/player.hpp"
+#include "host/player/qemu_device.hpp"
+#include "host/transport/device_spec.hpp"
+#include "host/transport/handshake.hpp"
+#include "host/transport/sim_transport.hpp"
+
+namespace hmp::cli {
+
+namespace {
+
+struct PlayOptions {
+  std::string song;
+  std::optional<std::string> track;
+  std::string device = "auto";
+  bool no_audio = false;
+  bool no_view = false;
+  std::optional<double> from_s, to_s;
+  std::optional<std::string> log;
+  bool force = false;
+  HapticCliOptions haptic;
+};
+
+std::string describe_track(const midi::Song& song, std::uint32_t index) {
+  const midi::Track& t = song.tracks[index];
+  return fmt::format("{} \"{}\" ({})", t.index, t.name, midi::gm_instrument_name(t.program(), t.channel()));
+}
+
+// No --track: the first track with notes whose instrument has its own envelope in Table 1 (SPEC §6:
+// organ … contrabass), else the first track with notes.
+std::uint32_t default_track(const midi::Song& song) {
+  std::optional<std::uint32_t> first;
+  for (const midi::Track& t : song.tracks) {
+    if (t.note_count == 0) continue;
+    if (!first) first = t.index;
+    const auto preset = static_cast<std::uint8_t>(midi::auto_preset(t.program(), t.channel()));
+    if (preset <= static_cast<std::uint8_t>(envelope::Preset::contrabass)) return t.index;
+  }
+  if (!first) throw BadInput("the song has no notes to play");
+  return *first;
+}
+
+struct OpenedLink {
+  std::unique_ptr<player::QemuDevice> qemu;  // the emulator behind a `--device qemu` link (outlives the link)
+  std::unique_ptr<transport::Transport> transport;
+  std::string note;
+};
+
+OpenedLink open_link(const std::string& text, std::uint32_t tick_hz) {
+  const transport::DeviceSpec spec = transport::parse_device_spec(text);
+  OpenedLink out;
+  transport::SimTransport::Options sim;
+  sim.tick_hz = tick_hz;
+  switch (spec.kind) {
+    case transport::DeviceSpec::Kind::sim:
+      out.transport = std::make_unique<transport::SimTransport>(sim);
+      return out;
+    case transport::DeviceSpec::Kind::qemu:
+      out.qemu = std::make_unique<player::QemuDevice>(player::QemuDevice::Options{tick_hz});
+      out.transport = out.qemu->connect();
+      return out;
+    case transport::DeviceSpec::Kind::automatic: {
+      transport::OpenedDevice opened = transport::open_device(spec);
+      out.note = opened.note;
+      // The fallback simulated device runs at the tick rate asked for.
+      if (!opened.note.empty()) opened.transport = std::make_unique<transport::SimTransport>(sim);
+      out.transport = std::move(opened.transport);
+      return out;
+    }
+    default:
+      out.transport = transport::open_device(spec).transport;
+      return out;
+  }
+}
+
+void check_window(const PlayOptions& o, const midi::Song& song) {
+  for (const auto& t : {o.from_s, o.to_s}) {
+    if (t && !(std::isfinite(*t) && *t >= 0)) throw BadInput("--from/--to: must be seconds ≥ 0");
+  }
+  if (o.from_s && *o.from_s >= song.duration_s()) {
+    throw BadInput(fmt::format("--from {}: the song ends at {:.3f} s", *o.from_s, song.duration_s()));
+  }
+  if (o.to_s && *o.to_s <= o.from_s.value_or(0.0)) throw BadInput("--from/--to: empty window");
+}
+
+void print_summary(const player::Counters& c, const player::Snapshot& s, std::size_t window_notes, const std::string& device) {
+  std::printf("%s\n",
+              fmt::format("played {} of {} notes sent ({} in the window) of track {} \"{}\" on {}: late {}, stolen {}, "
+                          "rejected {}{}{}; stopped at {}",
+                          c.notes_played, c.notes_sent, window_notes, s.track, s.track_name, device, c.late, c.stolen,
+                          c.rejected, c.skipped ? fmt::format(", skipped {}", c.skipped) : "",
+                          c.recoveries ? fmt::format(", recovered {} time(s)", c.recoveries) : "",
+                          player::format_time(s.song_us))
+                  .c_str());
+  std::fflush(stdout);
+}
+
+int run_play(const PlayOptions& o) {
+  haptics::HapticOptions haptic = resolve(o.haptic);
+  // Refuse an existing log before any work (SPEC §3: never overwrite without --force).
+  player::PlayLog log;
+  if (o.log) output::check_writable(*o.log, o.force);
+
+  const midi::ReadResult r = midi::load_song(o.song);
+  for (const midi::Warning& w : r.warnings) std::fprintf(stderr, "warning: %s\n", w.message.c_str());
+  const midi::Song& song = r.song;
+  check_window(o, song);
+  const std::uint32_t track = o.track ? select_track(song, *o.track) : default_track(song);
+  if (!o.track) {
+    std::fprintf(stderr, "haptic track %s (the first with a Table 1 instrument; choose with --track or the t key)\n",
+                 describe_track(song, track).c_str());
+  }
+
+  OpenedLink opened = open_link(o.device, haptic.tick_hz);
+  if (!opened.note.empty()) std::fprintf(stderr, "%s\n", opened.note.c_str());
+  player::DeviceLink link(*opened.transport);
+  const protocol::HelloReply hello = link.connect();
+  std::fprintf(stderr, "device %s: board %s, firmware %s, %u Hz, %u voices\n", opened.transport->name().c_str(),
+               transport::board_name(hello.board), transport::firmware_version(hello).c_str(), hello.tick_hz,
+               static_cast<unsigned>(hello.voices));
+  if (o.haptic.tick_hz && *o.haptic.tick_hz != hello.tick_hz) {
+    std::fprintf(stderr, "warning: the device ticks at %u Hz, not %u: notes are placed at %u Hz\n", hello.tick_hz,
+                 *o.haptic.tick_hz, hello.tick_hz);
+  }
+
+  audio::AudioOptions audio_options;
+  audio_options.enabled = !o.no_audio;
+  audio::AudioPlayer audio(audio_options);
+  audio.set_events(audio::audio_events(song));
+  if (o.log) log = player::PlayLog(*o.log, true);  // checked above; it did not exist or --force was given
+
+  const bool tty = isatty(STDERR_FILENO) && isatty(STDOUT_FILENO);
+  player::RawKeys keys;
+  player::StatusLine status(tty);
+  player::install_stop_signals();
+
+  player::PlayerOptions po;
+  po.track = track;
+  po.haptic = haptic;
+  po.from_us = o.from_s ? std::llround(*o.from_s * 1e6) : 0;
+  if (o.to_s) po.to_us = std::llround(*o.to_s * 1e6);
+  po.on_started = [&](const player::StartedNote& n) { log.started(n); };
+  po.on_message = [&](const std::string& text) { status.message(text); };
+  player::Player* running = nullptr;
+  po.on_idle = [&] {
+    if (player::stop_signal() != 0) running->post(player::Command::interrupt);
+    while (auto key = keys.poll()) running->post(player::command_for(*key));
+    status.show(running->snapshot());
+    log.flush();
+  };
+  player::Player player(link, audio, song, po);
+  running = &player;
+  if (keys.active()) status.message("keys: space pause/resume, ←/→ seek 5 s, t/T track, e envelope, m mapping, q quit");
+
+  player::Outcome outcome = player::Outcome::finished;
+  try {
+    outcome = player.run();
+  } catch (const player::LinkError&) {
+    status.close();
+    keys.restore();
+    log.summary(player.counters());
+    throw;
+  }
+  status.show(player.snapshot(), true);
+  status.close();
+  keys.restore();
+  const player::Counters counters = player.counters();
+  log.summary(counters);
+  print_summary(counters, player.snapshot(), player.window_notes(), opened.transport->name());
+  if (outcome == player::Outcome::interrupted) return 128 + player::stop_signal();  // as shells report a signal
+  return kExitOk;
+}
+
+}  // namespace
+
+void register_play(CLI::App& app, Registry& registry) {
+  auto o = std::make_shared<PlayOptions>();
+  CLI::App* cmd = app.add_subcommand("play", "Play a song with one track felt on the haptic device (the main job)");
+  cmd->add_option("SONG", o->song, "MIDI file")->required();
+  cmd->add_option("--track", o->track,
+                  "Haptic track: index, or part of its name or instrument (default: the first with a Table 1 instrument)");
+  cmd->add_option("--device", o->device, "auto (HID, else the simulated device), sim, qemu, hid[:VID:PID], serial:PATH")
+      ->capture_default_str();
+  cmd->add_flag("--no-audio", o->no_audio, "No sound: no audio device is opened");
+  cmd->add_flag("--no-view", o->no_view, "No animation window");
+  cmd->add_option("--from", o->from_s, "Start of the passage in seconds of the song");
+  cmd->add_option("--to", o->to_s, "End of the passage in seconds of the song");
+  cmd->add_option("--log", o->log, "JSON lines: every note the device started, then a summary");
+  cmd->add_flag("-f,--force", o->force, "Overwrite an existing log file");
+  add_haptic_options(cmd, o->haptic);
+  cmd->callback([o, &registry] { registry.set([o] { return run_play(*o); }); });
+}
+
+}  // namespace hmp::cli

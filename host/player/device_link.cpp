@@ -1,0 +1,239 @@
+#include "host/player/device_link.hpp"
+
+#include <fmt/format.h>
+
+#include "host/transport/handshake.hpp"
+
+namespace hmp::player {
+
+namespace {
+
+// Wrap-aware "a is not after b" for 16-bit sequence numbers (numbers in flight are close together).
+bool seq_not_after(std::uint16_t a, std::uint16_t b) { return static_cast<std::int16_t>(static_cast<std::uint16_t>(a - b)) <= 0; }
+
+bool is_note_report(protocol::Type t) { return t == protocol::Type::notes || t == protocol::Type::long_note; }
+
+}  // namespace
+
+std::int64_t steady_us() {
+  return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+DeviceLink::DeviceLink(transport::Transport& link, const Options& options)
+    : link_(link), options_(options), clock_(ClockSync::Options{}) {}
+
+DeviceLink::~DeviceLink() { stop_receiver(); }
+
+std::uint16_t DeviceLink::next_seq() {
+  seq_ = static_cast<std::uint16_t>(seq_ == 0xFFFF ? 1 : seq_ + 1);  // 0 never names a report
+  return seq_;
+}
+
+protocol::HelloReply DeviceLink::greet() {
+  const auto id = transport::say_hello(link_, next_seq(), options_.hello_timeout);
+  if (!id) {
+    if (!link_.is_open()) throw LinkError(fmt::format("device {}: link closed ({})", link_.name(), link_.closed_reason()));
+    throw LinkError(fmt::format("device {}: no answer to Hello within {} ms", link_.name(), options_.hello_timeout.count()));
+  }
+  if (!id->compatible()) {
+    throw LinkError(fmt::format("device {} speaks protocol version {}, this hmp speaks version {}: "
+                                "update the firmware or hmp so that both match",
+                                link_.name(), id->hello.protocol_version, protocol::kProtocolVersion));
+  }
+  std::lock_guard lock(mutex_);
+  ClockSync::Options c;
+  c.tick_hz = id->hello.tick_hz;
+  clock_ = ClockSync(c);
+  status_ = id->status;
+  in_flight_.clear();
+  events_ = Events{};
+  last_report_us_ = steady_us();
+  return id->hello;
+}
+
+protocol::HelloReply DeviceLink::connect() {
+  hello_ = greet();
+  start_receiver();
+  return hello_;
+}
+
+protocol::HelloReply DeviceLink::reconnect() {
+  stop_receiver();
+  hello_ = greet();
+  start_receiver();
+  return hello_;
+}
+
+void DeviceLink::start_receiver() {
+  {
+    std::lock_guard lock(mutex_);
+    stop_ = false;
+  }
+  receiver_ = std::thread([this] { receive_loop(); });
+}
+
+void DeviceLink::stop_receiver() {
+  {
+    std::lock_guard lock(mutex_);
+    stop_ = true;
+  }
+  if (receiver_.joinable()) receiver_.join();
+}
+
+void DeviceLink::receive_loop() {
+  protocol::Report report;
+  for (;;) {
+    {
+      std::lock_guard lock(mutex_);
+      if (stop_) return;
+    }
+    const transport::Received got = link_.receive(report, options_.receive_poll);
+    const std::int64_t now = steady_us();
+    if (got == transport::Received::closed) {
+      std::lock_guard lock(mutex_);
+      dead_reason_ = link_.closed_reason().empty() ? "link closed" : link_.closed_reason();
+      woken_ = true;
+      wake_.notify_all();
+      return;
+    }
+    if (got != transport::Received::report) continue;
+    protocol::Message m;
+    const bool ok = protocol::decode(report, m) == protocol::ErrorCode::none;
+    std::lock_guard lock(mutex_);
+    last_report_us_ = now;  // even an undecodable report shows the device is alive
+    if (ok) on_report(m, now);
+    woken_ = true;
+    wake_.notify_all();
+  }
+}
+
+// mutex_ held.
+void DeviceLink::on_report(const protocol::Message& m, std::int64_t now) {
+  switch (m.type) {
+    case protocol::Type::sync_reply: {
+      const SyncSample s{static_cast<std::int64_t>(m.sync_reply.host_time_us), now, m.sync_reply.tick, m.sync_reply.subtick};
+      if (s.sent_us > now) return;  // not one of ours
+      if (clock_.add(s) == ClockSync::Verdict::reset) events_.restarted = true;
+      return;
+    }
+    case protocol::Type::status:
+      if (status_ && m.status.tick < status_->tick) events_.restarted = true;
+      status_ = m.status;
+      ++statuses_;
+      while (!in_flight_.empty() && seq_not_after(in_flight_.front(), m.status.last_seq)) in_flight_.pop_front();
+      return;
+    case protocol::Type::started:
+      for (std::uint8_t i = 0; i < m.started.count; ++i) events_.started.push_back(m.started.entries[i]);
+      return;
+    case protocol::Type::error:
+      if (m.error.code == protocol::ErrorCode::queue_full) {
+        events_.refused_full.push_back(m.error.seq);
+      } else {
+        events_.errors.push_back(m.error);
+      }
+      return;
+    default:
+      return;  // HelloReply outside a greeting, host types: nothing to do
+  }
+}
+
+std::optional<std::uint16_t> DeviceLink::send(protocol::Message m) {
+  m.seq = next_seq();
+  protocol::Report report;
+  if (!protocol::encode(m, report)) {
+    throw std::logic_error(fmt::format("player built an invalid {} report", protocol::name(m.type)));
+  }
+  if (is_note_report(m.type)) {
+    std::lock_guard lock(mutex_);
+    in_flight_.push_back(m.seq);  // before sending: a quick Status must already see it
+  }
+  if (!link_.send(report)) return std::nullopt;
+  return m.seq;
+}
+
+std::optional<std::uint16_t> DeviceLink::send_sync() {
+  protocol::Message m = protocol::make(protocol::Type::sync, 0);
+  m.sync.host_time_us = static_cast<std::uint64_t>(steady_us());
+  return send(m);
+}
+
+int DeviceLink::credit() const {
+  std::lock_guard lock(mutex_);
+  if (!status_) return 0;
+  return static_cast<int>(status_->queue_free) - static_cast<int>(in_flight_.size());
+}
+
+bool DeviceLink::processed(std::uint16_t seq) const {
+  std::lock_guard lock(mutex_);
+  return status_ && seq_not_after(seq, status_->last_seq);
+}
+
+std::optional<protocol::Status> DeviceLink::status() const {
+  std::lock_guard lock(mutex_);
+  return status_;
+}
+
+std::uint64_t DeviceLink::statuses() const {
+  std::lock_guard lock(mutex_);
+  return statuses_;
+}
+
+DeviceLink::Events DeviceLink::take_events() {
+  std::lock_guard lock(mutex_);
+  Events out = std::move(events_);
+  events_ = Events{};
+  return out;
+}
+
+void DeviceLink::check() const {
+  std::lock_guard lock(mutex_);
+  if (!dead_reason_.empty()) throw LinkError(fmt::format("device {}: link lost ({})", link_.name(), dead_reason_));
+  const std::int64_t silent = steady_us() - last_report_us_;
+  if (silent > std::chrono::duration_cast<std::chrono::microseconds>(options_.silence_limit).count()) {
+    throw LinkError(fmt::format("device {}: no report for {} ms: the device stopped answering", link_.name(), silent / 1000));
+  }
+}
+
+std::optional<double> DeviceLink::position(std::int64_t host_us) const {
+  std::lock_guard lock(mutex_);
+  return clock_.position(host_us);
+}
+
+std::optional<std::uint64_t> DeviceLink::tick_at(std::int64_t host_us) const {
+  std::lock_guard lock(mutex_);
+  return clock_.tick_at(host_us);
+}
+
+std::size_t DeviceLink::sync_samples() const {
+  std::lock_guard lock(mutex_);
+  return clock_.samples();
+}
+
+double DeviceLink::max_sync_residual_ticks() const {
+  std::lock_guard lock(mutex_);
+  return clock_.max_residual_ticks();
+}
+
+double DeviceLink::best_transit_us() const {
+  std::lock_guard lock(mutex_);
+  return clock_.best_transit_us();
+}
+
+double DeviceLink::drift() const {
+  std::lock_guard lock(mutex_);
+  return clock_.drift();
+}
+
+void DeviceLink::wait(std::chrono::microseconds timeout) {
+  std::unique_lock lock(mutex_);
+  wake_.wait_for(lock, timeout, [this] { return woken_; });
+  woken_ = false;
+}
+
+void DeviceLink::notify() {
+  std::lock_guard lock(mutex_);
+  woken_ = true;
+  wake_.notify_all();
+}
+
+}  // namespace hmp::player

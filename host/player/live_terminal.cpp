@@ -1,0 +1,138 @@
+#include "host/player/live_terminal.hpp"
+
+#include <sys/ioctl.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+
+#include <fmt/format.h>
+
+#include "host/transport/handshake.hpp"
+
+namespace hmp::player {
+
+namespace {
+std::atomic<int> g_stop_signal{0};
+extern "C" void on_stop_signal(int sig) { g_stop_signal.store(sig); }
+}  // namespace
+
+void install_stop_signals() {
+  struct sigaction sa {};
+  sa.sa_handler = on_stop_signal;
+  sigemptyset(&sa.sa_mask);
+  for (const int sig : {SIGINT, SIGTERM, SIGHUP}) sigaction(sig, &sa, nullptr);
+}
+
+int stop_signal() { return g_stop_signal.load(); }
+
+Command command_for(Key k) {
+  switch (k) {
+    case Key::space: return Command::toggle_pause;
+    case Key::left: return Command::seek_back;
+    case Key::right: return Command::seek_forward;
+    case Key::next_track: return Command::next_track;
+    case Key::previous_track: return Command::previous_track;
+    case Key::envelope: return Command::cycle_envelope;
+    case Key::mapping: return Command::cycle_mapping;
+    case Key::quit: return Command::quit;
+  }
+  return Command::quit;
+}
+
+std::optional<Key> KeyDecoder::feed(unsigned char byte) {
+  if (escape_ == 1) {
+    escape_ = (byte == '[' || byte == 'O') ? 2 : 0;
+    return std::nullopt;
+  }
+  if (escape_ == 2) {
+    escape_ = 0;
+    if (byte == 'C') return Key::right;
+    if (byte == 'D') return Key::left;
+    return std::nullopt;  // another sequence (up/down, function keys): ignored
+  }
+  switch (byte) {
+    case 0x1B: escape_ = 1; return std::nullopt;
+    case ' ': return Key::space;
+    case 't': return Key::next_track;
+    case 'T': return Key::previous_track;
+    case 'e': return Key::envelope;
+    case 'm': return Key::mapping;
+    case 'q': return Key::quit;
+    default: return std::nullopt;
+  }
+}
+
+RawKeys::RawKeys() {
+  if (!isatty(STDIN_FILENO) || tcgetattr(STDIN_FILENO, &saved_) != 0) return;
+  termios raw = saved_;
+  raw.c_lflag &= ~static_cast<tcflag_t>(ICANON | ECHO);  // ISIG stays: Ctrl-C is still SIGINT
+  raw.c_cc[VMIN] = 0;
+  raw.c_cc[VTIME] = 0;
+  active_ = tcsetattr(STDIN_FILENO, TCSANOW, &raw) == 0;
+}
+
+RawKeys::~RawKeys() { restore(); }
+
+void RawKeys::restore() {
+  if (active_) tcsetattr(STDIN_FILENO, TCSANOW, &saved_);
+  active_ = false;
+}
+
+std::optional<Key> RawKeys::poll() {
+  if (!active_) return std::nullopt;
+  unsigned char byte = 0;
+  while (read(STDIN_FILENO, &byte, 1) == 1) {
+    if (auto key = decoder_.feed(byte)) return key;
+  }
+  return std::nullopt;
+}
+
+std::string format_time(std::int64_t us) {
+  if (us < 0) us = 0;
+  const std::int64_t tenths = us / 100'000;
+  return fmt::format("{}:{:02}.{}", tenths / 600, tenths / 10 % 60, tenths % 10);
+}
+
+std::string format_status(const Snapshot& s) {
+  const Counters& c = s.counters;
+  return fmt::format("{} {} / {}  track {} \"{}\"  env {}  map {}  sent {} played {}  queue {}/{}  late {} stolen {}",
+                     s.paused ? "paused " : "playing", format_time(s.song_us), format_time(s.end_us), s.track,
+                     s.track_name, s.envelope, s.mapping, c.notes_sent, c.notes_played,
+                     s.queue_capacity - s.queue_free, s.queue_capacity, c.late, c.stolen);
+}
+
+void StatusLine::draw() {
+  winsize ws{};
+  std::size_t width = 80;
+  if (ioctl(STDERR_FILENO, TIOCGWINSZ, &ws) == 0 && ws.ws_col > 1) width = ws.ws_col;
+  std::string shown = line_.size() >= width ? line_.substr(0, width - 1) : line_;
+  std::fprintf(stderr, "\r\x1b[K%s", shown.c_str());
+  std::fflush(stderr);
+  drawn_ = true;
+}
+
+void StatusLine::show(const Snapshot& s, bool force) {
+  if (!enabled_) return;
+  const auto now = std::chrono::steady_clock::now();
+  if (!force && now - last_ < std::chrono::milliseconds(100)) return;
+  last_ = now;
+  line_ = format_status(s);
+  draw();
+}
+
+void StatusLine::message(const std::string& text) {
+  if (enabled_ && drawn_) std::fprintf(stderr, "\r\x1b[K");
+  std::fprintf(stderr, "%s\n", text.c_str());
+  if (enabled_ && drawn_) draw();
+  std::fflush(stderr);
+}
+
+void StatusLine::close() {
+  if (enabled_ && drawn_) std::fprintf(stderr, "\n");
+  drawn_ = false;
+  std::fflush(stderr);
+}
+
+}  // namespace hmp::player

@@ -1,0 +1,73 @@
+#pragma once
+// The terminal side of `hmp play` (SPEC §3, §14): live keys in raw mode and a one-line status that
+// redraws itself. Only on a terminal: without one, nothing here touches stdin or prints a status.
+//
+// Raw mode keeps ISIG, so Ctrl-C still raises SIGINT (the player stops cleanly on it); the previous
+// terminal settings come back when the RawKeys object goes away, also when an exception unwinds.
+#include <chrono>
+#include <optional>
+#include <string>
+
+#include <termios.h>
+
+#include "host/player/player.hpp"
+
+namespace hmp::player {
+
+enum class Key { space, left, right, next_track, previous_track, envelope, mapping, quit };
+
+// The command a key stands for (SPEC §14 keys: pause, seek, switch track/envelope/mapping, quit).
+Command command_for(Key k);
+
+// Decodes key bytes: printable keys, and the arrow escape sequences ESC [ C / ESC [ D (ESC O C / D in
+// application mode). Feed bytes one at a time; a key comes out when complete.
+class KeyDecoder {
+ public:
+  std::optional<Key> feed(unsigned char byte);
+
+ private:
+  int escape_ = 0;  // bytes of an escape sequence seen so far
+};
+
+class RawKeys {
+ public:
+  RawKeys();  // raw mode when stdin is a terminal, otherwise inactive
+  ~RawKeys();
+  RawKeys(const RawKeys&) = delete;
+  RawKeys& operator=(const RawKeys&) = delete;
+  bool active() const { return active_; }
+  std::optional<Key> poll();  // never blocks
+  void restore();
+
+ private:
+  bool active_ = false;
+  termios saved_{};
+  KeyDecoder decoder_;
+};
+
+// The status line on stderr: redrawn at most 10 times a second, cut to the terminal's width so that it
+// never wraps. Messages printed through it go above the line.
+class StatusLine {
+ public:
+  explicit StatusLine(bool enabled) : enabled_(enabled) {}
+  bool enabled() const { return enabled_; }
+  void show(const Snapshot& s, bool force = false);
+  void message(const std::string& text);  // a line of its own (works without a terminal too)
+  void close();                            // ends the line (the last status stays visible)
+
+ private:
+  void draw();
+  bool enabled_;
+  bool drawn_ = false;
+  std::string line_;
+  std::chrono::steady_clock::time_point last_{};
+};
+
+std::string format_status(const Snapshot& s);
+std::string format_time(std::int64_t us);  // "1:05.3"
+
+// SIGINT, SIGTERM and SIGHUP set a flag instead of killing the process; the player polls it.
+void install_stop_signals();
+int stop_signal();  // 0, or the signal that arrived
+
+}  // namespace hmp::player

@@ -1,0 +1,437 @@
+#include "host/player/player.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <fmt/format.h>
+
+#include "host/common/error.hpp"
+#include "host/midi/gm.hpp"
+#include "host/transport/handshake.hpp"
+
+namespace hmp::player {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+std::int64_t to_us(Clock::time_point t) {
+  return std::chrono::duration_cast<std::chrono::microseconds>(t.time_since_epoch()).count();
+}
+
+std::int64_t seconds(double s) { return std::llround(s * 1e6); }
+
+std::uint32_t since(std::uint32_t now, std::uint32_t base) { return now - base; }  // wrapping counters
+
+const char* const kEnvelopeCycle[] = {"auto", "square", "triangle"};
+const mapping::Mode kMappingCycle[] = {mapping::Mode::paper, mapping::Mode::rank, mapping::Mode::constant,
+                                       mapping::Mode::legacy2013};
+
+}  // namespace
+
+Player::Player(DeviceLink& link, audio::AudioPlayer& audio, const midi::Song& song, PlayerOptions options)
+    : link_(link),
+      audio_(audio),
+      song_(song),
+      options_(std::move(options)),
+      scheduler_(options_.from_us, options_.to_us ? *options_.to_us : std::numeric_limits<std::int64_t>::max()) {
+  tick_hz_ = link_.hello().tick_hz;
+  options_.haptic.tick_hz = tick_hz_;
+  base_ranges_ = options_.haptic.ranges;
+  for (const midi::Track& t : song_.tracks) {
+    if (t.note_count > 0) playable_tracks_.push_back(t.index);
+  }
+  static constexpr protocol::PolicyCode kPolicy[] = {protocol::PolicyCode::sum, protocol::PolicyCode::highest,
+                                                     protocol::PolicyCode::latest};
+  options_.settings.policy = kPolicy[static_cast<int>(options_.haptic.polyphony)];
+  options_.settings.end_fade_ms = static_cast<float>(options_.haptic.end_fade_ms);
+  protocol::Message m = protocol::make(protocol::Type::settings, 0);
+  m.settings = options_.settings;
+  if (protocol::validate(m) != protocol::ErrorCode::none) throw BadInput("device settings out of range (check the config's [device])");
+  track_ = haptics::build_haptic_track(song_, options_.track, options_.haptic);
+  update_snapshot();
+}
+
+void Player::message(const std::string& text) const {
+  if (options_.on_message) options_.on_message(text);
+}
+
+std::optional<std::uint16_t> Player::send(const protocol::Message& m) { return link_.send(m); }
+
+void Player::send_transport(protocol::TransportOp op, std::uint64_t tick) {
+  protocol::Message m = protocol::make(protocol::Type::transport, 0);
+  m.transport.op = op;
+  m.transport.tick = op == protocol::TransportOp::seek ? tick : 0;
+  send(m);
+}
+
+std::int64_t Player::song_now() const { return paused_ ? paused_at_us_ : audio_.song_time_us(); }
+
+std::uint64_t Player::tick_of_song(std::int64_t song_us) const {
+  return link_.tick_at(to_us(audio_.heard_at(song_us))).value_or(0);
+}
+
+std::uint64_t Player::extend(std::uint32_t low) const {
+  // The 64-bit tick nearest the device's present one with these low 32 bits (docs/protocol.md).
+  const std::uint64_t now = link_.tick_at(steady_us()).value_or(0);
+  const auto delta = static_cast<std::int32_t>(low - static_cast<std::uint32_t>(now));
+  const std::int64_t t = static_cast<std::int64_t>(now) + delta;
+  return t < 0 ? low : static_cast<std::uint64_t>(t);
+}
+
+std::int64_t Player::window_end_us() const {
+  const std::int64_t end = options_.to_us ? std::min(*options_.to_us, song_.duration_us) : song_.duration_us;
+  return std::max(end, scheduler_.last_end_us());
+}
+
+void Player::send_presets() {
+  for (const haptics::UserPreset& u : track_.uploads) {
+    protocol::Message m = protocol::make(protocol::Type::preset, 0);
+    m.preset.slot = u.slot;
+    m.preset.adsr = u.adsr;
+    send(m);
+  }
+}
+
+void Player::sync_burst() {
+  // A dozen quick exchanges before playing: enough for the offset (the drift comes with the periodic
+  // syncs while playing, over seconds).
+  constexpr std::size_t kWanted = 8, kMaxSent = 24;
+  const auto deadline = Clock::now() + std::chrono::seconds(1);
+  std::size_t sent = 0;
+  auto next = Clock::now();
+  while (link_.sync_samples() < kWanted) {
+    link_.check();
+    if (Clock::now() > deadline) {
+      if (link_.sync_samples() > 0) break;
+      throw LinkError(fmt::format("device {}: no answer to Sync within 1 s", link_.transport().name()));
+    }
+    if (sent < kMaxSent && Clock::now() >= next) {
+      link_.send_sync();
+      ++sent;
+      next = Clock::now() + std::chrono::milliseconds(3);
+    }
+    link_.wait(std::chrono::milliseconds(2));
+  }
+  next_sync_us_ = steady_us() + std::chrono::duration_cast<std::chrono::microseconds>(options_.sync_period).count();
+}
+
+void Player::set_up_device() {
+  protocol::Message m = protocol::make(protocol::Type::settings, 0);
+  m.settings = options_.settings;
+  send(m);
+  send_presets();
+  sync_burst();
+  baseline_ = link_.status();
+}
+
+void Player::start_at(std::int64_t song_us, double preroll_s) {
+  ++epoch_;
+  resend_.clear();
+  scheduler_.seek(song_us);
+  const bool resume = paused_ || !audio_.playing();
+  paused_ = false;
+  // The sound starts a little before the position, so that the first notes can reach the device in time.
+  audio_.start(song_us - seconds(preroll_s));
+  if (resume) send_transport(protocol::TransportOp::play);
+}
+
+void Player::flush_device(protocol::TransportOp op, std::int64_t song_us) {
+  send_transport(op, haptics::seconds_to_tick(song_us, tick_hz_));
+  ++epoch_;
+  resend_.clear();
+  last_note_end_tick_ = 0;
+}
+
+void Player::rebuild_track(std::int64_t song_us) {
+  haptics::HapticTrack rebuilt;
+  try {
+    rebuilt = haptics::build_haptic_track(song_, options_.track, options_.haptic);
+  } catch (const BadInput& e) {
+    message(fmt::format("cannot switch: {}", e.what()));
+    return;
+  }
+  track_ = std::move(rebuilt);
+  send_presets();
+  if (!paused_) flush_device(protocol::TransportOp::seek, song_us);
+  ++epoch_;
+  resend_.clear();
+  scheduler_.load(track_, song_us);
+  const midi::Track& t = song_.tracks[options_.track];
+  message(fmt::format("haptic track {} \"{}\" ({}), envelope {}, mapping {}", t.index, t.name,
+                      midi::gm_instrument_name(t.program(), t.channel()), options_.haptic.envelope,
+                      mapping::name(options_.haptic.mapping)));
+}
+
+void Player::schedule() {
+  const std::int64_t now = steady_us();
+  const std::optional<double> position = link_.position(now);
+  if (!position) return;
+  const auto device_now = static_cast<std::uint64_t>(std::max(0.0, std::floor(*position)));
+  const auto lookahead = static_cast<std::uint64_t>(std::llround(options_.lookahead_s * tick_hz_));
+  const auto stale = static_cast<std::uint64_t>(std::llround(options_.stale_s * tick_hz_));
+  const std::uint64_t horizon = device_now + lookahead;
+  const std::uint64_t stale_tick = device_now > stale ? device_now - stale : 0;
+  const auto tick_of = [this](std::int64_t song_us) { return tick_of_song(song_us); };
+
+  while (link_.credit() >= 1) {
+    PendingReport report;
+    bool resend = false;
+    if (!resend_.empty()) {
+      report = std::move(resend_.front());
+      resend_.pop_front();
+      resend = true;
+    } else if (auto next = scheduler_.next(horizon, stale_tick, tick_of)) {
+      report = std::move(*next);
+    } else {
+      break;
+    }
+    const std::optional<std::uint16_t> seq = send(report.message);
+    if (!seq) return;  // the link died: check() says so on the next turn
+    if (!resend) counters_.notes_sent += report.notes.size();
+    for (const NoteOrigin& n : report.notes) last_note_end_tick_ = std::max(last_note_end_tick_, n.tick + n.duration_ticks);
+    sent_[*seq] = SentReport{epoch_, std::move(report), 0};
+  }
+}
+
+void Player::handle_events() {
+  DeviceLink::Events events = link_.take_events();
+  if (events.restarted) {
+    recover("its clock went back");
+    return;
+  }
+  for (const std::uint16_t seq : events.refused_full) {
+    // Only a report of the present position is worth sending again; a flush made the others moot.
+    auto it = sent_.find(seq);
+    if (it == sent_.end()) continue;
+    if (it->second.epoch == epoch_) resend_.push_back(std::move(it->second.report));
+    sent_.erase(it);
+  }
+  for (const protocol::Error& e : events.errors) {
+    if (e.code == protocol::ErrorCode::version_mismatch) {
+      throw LinkError(fmt::format("device {} refused a report: protocol version mismatch", link_.transport().name()));
+    }
+    // Once per kind: a device refusing every note must not flood the terminal.
+    if (!refusals_seen_.insert(static_cast<unsigned>(e.code) << 8 | e.type).second) continue;
+    message(fmt::format("device refused a {} report (seq {}): {}",
+                        protocol::name(static_cast<protocol::Type>(e.type)), e.seq, protocol::name(e.code)));
+  }
+  for (const protocol::StartedEntry& entry : events.started) {
+    auto it = sent_.find(entry.seq);
+    if (it == sent_.end() || entry.index >= it->second.report.notes.size()) continue;
+    StartedNote s{it->second.report.notes[entry.index], extend(entry.scheduled_tick), extend(entry.actual_tick)};
+    if (options_.on_started) options_.on_started(s);
+    if (++it->second.started == it->second.report.notes.size()) sent_.erase(it);
+  }
+}
+
+void Player::recover(const std::string& why) {
+  message(fmt::format("device restarted ({}): greeting it again", why));
+  carried_ = counters_;  // what the old session counted (update_counters ignores the new one's reports)
+  const protocol::HelloReply hello = link_.reconnect();
+  sent_.clear();
+  resend_.clear();
+  last_note_end_tick_ = 0;
+  if (hello.tick_hz != tick_hz_) {
+    tick_hz_ = hello.tick_hz;
+    options_.haptic.tick_hz = tick_hz_;
+    track_ = haptics::build_haptic_track(song_, options_.track, options_.haptic);
+    scheduler_.load(track_, song_now());
+  }
+  set_up_device();
+  ++counters_.recoveries;
+  if (!paused_) {
+    paused_ = true;  // the new session is idle: start_at sends play
+    paused_at_us_ = audio_.song_time_us();
+    start_at(paused_at_us_, options_.seek_preroll_s);
+  }
+}
+
+void Player::check_device_state() {
+  const std::optional<protocol::Status> s = link_.status();
+  if (!s) return;
+  if (s->faults & protocol::fault_estop) {
+    throw LinkError(fmt::format("device {}: emergency stop latched: playback stopped", link_.transport().name()));
+  }
+  // The device's host watchdog fired (we were silent too long: a stalled host). Acknowledge with a stop,
+  // then play on from where the song is; at most once a second (the Status may predate the stop).
+  const std::int64_t now = steady_us();
+  if (!paused_ && s->state == protocol::State::fault && now - last_fault_recovery_us_ > 1'000'000) {
+    last_fault_recovery_us_ = now;
+    message(fmt::format("device fault ({}): playing on", transport::fault_names(s->faults)));
+    const std::int64_t at = song_now();
+    flush_device(protocol::TransportOp::stop, at);
+    paused_ = true;
+    paused_at_us_ = at;
+    start_at(at, options_.seek_preroll_s);
+    ++counters_.recoveries;
+  }
+}
+
+bool Player::handle_commands(Outcome& outcome) {
+  std::deque<Command> commands;
+  {
+    std::lock_guard lock(mutex_);
+    commands.swap(commands_);
+  }
+  for (const Command c : commands) {
+    switch (c) {
+      case Command::toggle_pause:
+        if (paused_) {
+          start_at(paused_at_us_, options_.seek_preroll_s);
+        } else {
+          paused_at_us_ = audio_.song_time_us();
+          audio_.pause();
+          flush_device(protocol::TransportOp::pause, paused_at_us_);
+          paused_ = true;
+        }
+        break;
+      case Command::seek_back:
+      case Command::seek_forward: {
+        const double step = c == Command::seek_back ? -options_.seek_step_s : options_.seek_step_s;
+        const std::int64_t target = std::clamp(song_now() + seconds(step), options_.from_us, window_end_us());
+        if (paused_) {
+          paused_at_us_ = target;
+        } else {
+          flush_device(protocol::TransportOp::seek, target);
+          start_at(target, options_.seek_preroll_s);
+        }
+        break;
+      }
+      case Command::next_track:
+      case Command::previous_track: {
+        if (playable_tracks_.empty()) break;
+        auto it = std::find(playable_tracks_.begin(), playable_tracks_.end(), options_.track);
+        std::size_t i = it == playable_tracks_.end() ? 0 : static_cast<std::size_t>(it - playable_tracks_.begin());
+        const std::size_t n = playable_tracks_.size();
+        i = c == Command::next_track ? (i + 1) % n : (i + n - 1) % n;
+        options_.track = playable_tracks_[i];
+        rebuild_track(song_now());
+        break;
+      }
+      case Command::cycle_envelope: {
+        std::size_t i = 0;
+        while (i < 3 && options_.haptic.envelope != kEnvelopeCycle[i]) ++i;
+        options_.haptic.envelope = kEnvelopeCycle[i < 3 ? (i + 1) % 3 : 0];
+        rebuild_track(song_now());
+        break;
+      }
+      case Command::cycle_mapping: {
+        std::size_t i = 0;
+        while (i < 4 && options_.haptic.mapping != kMappingCycle[i]) ++i;
+        options_.haptic.mapping = kMappingCycle[(i + 1) % 4];
+        // legacy2013 has its own frequency range (SPEC §5); the others use the user's.
+        options_.haptic.ranges = base_ranges_;
+        if (options_.haptic.mapping == mapping::Mode::legacy2013) {
+          options_.haptic.ranges.f_min_hz = mapping::kLegacyFminHz;
+          options_.haptic.ranges.f_max_hz = mapping::kLegacyFmaxHz;
+        }
+        rebuild_track(song_now());
+        break;
+      }
+      case Command::quit:
+        outcome = Outcome::quit;
+        return true;
+      case Command::interrupt:
+        outcome = Outcome::interrupted;
+        return true;
+    }
+  }
+  return false;
+}
+
+bool Player::ended() {
+  if (paused_ || !scheduler_.finished() || !resend_.empty()) return false;
+  if (song_now() < window_end_us()) return false;
+  const std::optional<double> position = link_.position(steady_us());
+  return position && *position >= static_cast<double>(last_note_end_tick_) + 2.0;
+}
+
+void Player::finish() {
+  protocol::Message m = protocol::make(protocol::Type::transport, 0);
+  m.transport.op = protocol::TransportOp::stop;
+  const std::optional<std::uint16_t> seq = send(m);
+  audio_.stop();
+  // The Status that follows the stop comes after every Started entry of the notes played before it.
+  const auto deadline = Clock::now() + std::chrono::seconds(1);
+  while (seq && !link_.processed(*seq) && Clock::now() < deadline) {
+    link_.check();
+    link_.wait(std::chrono::milliseconds(10));
+  }
+  handle_events();
+  update_counters();
+  update_snapshot();
+}
+
+void Player::update_counters() {
+  const std::optional<protocol::Status> s = link_.status();
+  // A Status older than the baseline's tick comes from a device that restarted: recover() takes over.
+  if (!s || !baseline_ || s->tick < baseline_->tick) return;
+  counters_.notes_played = carried_.notes_played + since(s->started, baseline_->started);
+  counters_.late = carried_.late + since(s->late, baseline_->late);
+  counters_.stolen = carried_.stolen + since(s->stolen, baseline_->stolen);
+  counters_.rejected = carried_.rejected + since(s->rejected, baseline_->rejected);
+  counters_.skipped = scheduler_.skipped();
+}
+
+void Player::update_snapshot() {
+  Snapshot s;
+  s.song_us = song_now();
+  s.end_us = window_end_us();
+  s.paused = paused_;
+  s.track = options_.track;
+  s.track_name = song_.tracks[options_.track].name;
+  s.envelope = options_.haptic.envelope;
+  s.mapping = mapping::name(options_.haptic.mapping);
+  s.counters = counters_;
+  s.queue_capacity = link_.hello().queue_capacity;
+  if (const auto st = link_.status()) {
+    s.queue_free = st->queue_free;
+    s.device_state = st->state;
+    s.active_voices = st->active_voices;
+  }
+  std::lock_guard lock(mutex_);
+  snapshot_ = std::move(s);
+}
+
+void Player::post(Command c) {
+  {
+    std::lock_guard lock(mutex_);
+    commands_.push_back(c);
+  }
+  link_.notify();
+}
+
+Snapshot Player::snapshot() const {
+  std::lock_guard lock(mutex_);
+  return snapshot_;
+}
+
+Outcome Player::run() {
+  set_up_device();
+  scheduler_.load(track_, options_.from_us);
+  paused_ = true;  // the device is idle: start_at sends play
+  start_at(options_.from_us, options_.start_preroll_s);
+  Outcome outcome = Outcome::finished;
+  for (;;) {
+    link_.wait(options_.loop_period);
+    link_.check();
+    handle_events();
+    check_device_state();
+    if (handle_commands(outcome)) break;
+    if (steady_us() >= next_sync_us_) {
+      link_.send_sync();
+      next_sync_us_ = steady_us() + std::chrono::duration_cast<std::chrono::microseconds>(options_.sync_period).count();
+    }
+    if (!paused_) schedule();
+    update_counters();
+    if (ended()) break;
+    update_snapshot();
+    if (options_.on_idle) options_.on_idle();
+  }
+  finish();
+  return outcome;
+}
+
+}  // namespace hmp::player

@@ -1,0 +1,164 @@
+#pragma once
+// `hmp play` without the terminal (SPEC §3, §10, §14, §16): plays one track of a song on a device in
+// step with the song's audio. The audio player's clock says when each song time is heard; the clock
+// sync says which device tick that is; the scheduler streams the haptic track's notes ahead by the
+// lookahead within the device's flow-control credit. Pause, seek, stop and live switching of track,
+// envelope and mapping flush the device and resend from the new position. docs/player.md has the
+// whole picture.
+//
+// Threads: run() and everything it calls happen on the caller's thread (the receiver thread lives in
+// DeviceLink); post() and snapshot() may be called from any thread.
+#include <chrono>
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "host/audio/audio_player.hpp"
+#include "host/haptics/haptic_track.hpp"
+#include "host/midi/song.hpp"
+#include "host/player/device_link.hpp"
+#include "host/player/scheduler.hpp"
+
+namespace hmp::player {
+
+// A note the device started, as its Started report says (64-bit ticks).
+struct StartedNote {
+  NoteOrigin origin;
+  std::uint64_t scheduled_tick = 0;
+  std::uint64_t actual_tick = 0;
+};
+
+// The closing line of --log (SPEC §3): device counters since the session began.
+struct Counters {
+  std::uint64_t notes_sent = 0;    // notes handed to the device (a resend after queue_full counts once)
+  std::uint64_t notes_played = 0;  // Status.started
+  std::uint64_t late = 0, stolen = 0, rejected = 0;
+  std::uint64_t skipped = 0;     // notes not sent because they ended long before they could be (stalls)
+  std::uint64_t recoveries = 0;  // device restarts or watchdog faults the player recovered from
+};
+
+enum class Command {
+  toggle_pause,
+  seek_back,      // −5 s
+  seek_forward,   // +5 s
+  next_track,
+  previous_track,
+  cycle_envelope,  // auto → square → triangle → auto
+  cycle_mapping,   // paper → rank → constant → legacy2013 → paper
+  quit,
+  interrupt,  // Ctrl-C: like quit, reported as interrupted
+};
+
+enum class Outcome { finished, quit, interrupted };
+
+// What the status line shows.
+struct Snapshot {
+  std::int64_t song_us = 0, end_us = 0;
+  bool paused = false;
+  std::uint32_t track = 0;
+  std::string track_name, envelope, mapping;
+  Counters counters;
+  int queue_free = 0, queue_capacity = 0;
+  protocol::State device_state = protocol::State::idle;
+  std::uint8_t active_voices = 0;
+};
+
+struct PlayerOptions {
+  std::uint32_t track = 0;
+  haptics::HapticOptions haptic;   // tick_hz is replaced by the device's
+  std::int64_t from_us = 0;
+  std::optional<std::int64_t> to_us;  // default: the song's end
+  protocol::Settings settings;     // policy and end fade are taken from `haptic`
+  double lookahead_s = 0.2;        // notes are sent this long before they are heard (SPEC §10)
+  double start_preroll_s = 0.6;    // play starts this long before the first note: the device's ramp-in
+  double seek_preroll_s = 0.05;    // after a seek or resume: time to get the first notes across
+  double seek_step_s = 5.0;
+  double stale_s = 1.0;            // notes that ended this long ago are not sent any more
+  std::chrono::milliseconds sync_period{100};  // also feeds the device's host watchdog (250 ms)
+  std::chrono::microseconds loop_period{5000};
+  std::function<void()> on_idle;   // every loop turn, on the player's thread (keys, status line)
+  std::function<void(const StartedNote&)> on_started;
+  std::function<void(const std::string&)> on_message;  // one-line notices (track switched, recovery)
+};
+
+class Player {
+ public:
+  // The link must be connected (DeviceLink::connect()); the audio player is owned by the caller.
+  Player(DeviceLink& link, audio::AudioPlayer& audio, const midi::Song& song, PlayerOptions options);
+
+  // Plays to the end of the window, a quit or an interrupt; stops the device (nothing keeps
+  // vibrating) and returns. Throws LinkError when the device is lost.
+  Outcome run();
+
+  void post(Command c);  // any thread
+  Snapshot snapshot() const;  // any thread
+  Counters counters() const { return snapshot().counters; }
+  const haptics::HapticTrack& haptic_track() const { return track_; }
+  std::int64_t window_end_us() const;
+  std::size_t window_notes() const { return scheduler_.size(); }  // notes of the present track in the window
+
+ private:
+  struct SentReport {
+    std::uint64_t epoch = 0;
+    PendingReport report;
+    std::uint8_t started = 0;
+  };
+
+  void set_up_device();
+  void send_presets();
+  void sync_burst();
+  void start_at(std::int64_t song_us, double preroll_s);
+  void flush_device(protocol::TransportOp op, std::int64_t song_us);
+  void rebuild_track(std::int64_t song_us);
+  void schedule();
+  void handle_events();
+  bool handle_commands(Outcome& outcome);  // true: leave run()
+  void check_device_state();
+  void recover(const std::string& why);
+  bool ended();
+  void finish();
+  void update_counters();
+  void update_snapshot();
+  void message(const std::string& text) const;
+  std::int64_t song_now() const;
+  std::uint64_t tick_of_song(std::int64_t song_us) const;
+  std::uint64_t extend(std::uint32_t low) const;
+  std::optional<std::uint16_t> send(const protocol::Message& m);
+  void send_transport(protocol::TransportOp op, std::uint64_t tick = 0);
+
+  DeviceLink& link_;
+  audio::AudioPlayer& audio_;
+  const midi::Song& song_;
+  PlayerOptions options_;
+  std::uint32_t tick_hz_ = 1000;
+  mapping::Ranges base_ranges_{};
+  std::vector<std::uint32_t> playable_tracks_;
+
+  haptics::HapticTrack track_;
+  Scheduler scheduler_;
+  std::uint64_t epoch_ = 0;  // bumped by every flush: reports of an older epoch are not resent
+  std::map<std::uint16_t, SentReport> sent_;
+  std::set<unsigned> refusals_seen_;  // (error code, report type) already reported
+  std::deque<PendingReport> resend_;
+  std::uint64_t last_note_end_tick_ = 0;
+  bool paused_ = false;
+  std::int64_t paused_at_us_ = 0;
+  std::int64_t next_sync_us_ = 0;
+  std::int64_t last_fault_recovery_us_ = 0;
+
+  std::optional<protocol::Status> baseline_;  // device counters when the session (or a restart) began
+  Counters carried_{};                        // counters of device sessions before a restart
+  Counters counters_{};
+
+  mutable std::mutex mutex_;  // commands_, snapshot_
+  std::deque<Command> commands_;
+  Snapshot snapshot_;
+};
+
+}  // namespace hmp::player

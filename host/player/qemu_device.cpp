@@ -1,0 +1,148 @@
+#include "host/player/qemu_device.hpp"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <thread>
+#include <vector>
+
+#include "host/transport/serial_transport.hpp"
+
+extern char** environ;
+
+namespace hmp::player {
+
+namespace fs = std::filesystem;
+using transport::TransportError;
+
+namespace {
+
+constexpr const char* kImageName = "hmp_fw_qemu_an386.elf";
+
+std::string env(const char* name) {
+  const char* v = std::getenv(name);
+  return v != nullptr ? v : "";
+}
+
+}  // namespace
+
+std::string find_qemu_image() {
+  if (const std::string e = env("HMP_QEMU_ELF"); !e.empty()) return e;
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (ec) return {};
+  // hmp is <build>/<tree>/bin/hmp; the cross tree is <build>/qemu-an386.
+  const fs::path candidate = exe.parent_path().parent_path().parent_path() / "qemu-an386" / "boards" / "qemu-an386" / kImageName;
+  return fs::exists(candidate, ec) ? candidate.string() : std::string{};
+}
+
+QemuDevice::QemuDevice(const Options& options) : options_(options) {}
+
+QemuDevice::~QemuDevice() { stop(); }
+
+std::string QemuDevice::log() const {
+  std::ifstream in(dir_ + "/semihosting.log");
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::unique_ptr<transport::Transport> QemuDevice::connect() {
+  image_ = find_qemu_image();
+  if (image_.empty()) {
+    throw TransportError("--device qemu: no firmware image (build it with `cmake --preset qemu-an386 && cmake --build "
+                         "--preset qemu-an386`, or set HMP_QEMU_ELF)");
+  }
+  if (!fs::exists(image_)) throw TransportError("--device qemu: " + image_ + " does not exist");
+  const std::string emulator = env("QEMU_SYSTEM_ARM").empty() ? "qemu-system-arm" : env("QEMU_SYSTEM_ARM");
+
+  char dir_template[] = "/tmp/hmp-qemu-XXXXXX";
+  if (::mkdtemp(dir_template) == nullptr) throw TransportError(std::string("--device qemu: mkdtemp: ") + std::strerror(errno));
+  dir_ = dir_template;
+  const std::string socket_path = dir_ + "/uart0.sock";
+  listen_fd_ = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  sockaddr_un addr{};
+  addr.sun_family = AF_UNIX;
+  std::strncpy(addr.sun_path, socket_path.c_str(), sizeof addr.sun_path - 1);
+  if (listen_fd_ < 0 || ::bind(listen_fd_, reinterpret_cast<const sockaddr*>(&addr), sizeof addr) != 0 ||
+      ::listen(listen_fd_, 1) != 0) {
+    throw TransportError("--device qemu: cannot listen on " + socket_path + ": " + std::strerror(errno));
+  }
+
+  // -icount shift=0: one instruction is 1 ns of virtual time; while the firmware waits for its next
+  // tick (wfi) the virtual clock catches up with real time, so the device ticks at its real rate.
+  const std::vector<std::string> args = {emulator, "-M", "mps2-an386", "-nographic", "-monitor", "none",
+                                         "-semihosting-config", "enable=on,target=native", "-icount", "shift=0",
+                                         "-chardev", "socket,id=uart0,path=" + socket_path, "-serial", "chardev:uart0",
+                                         "-kernel", image_, "-append", "hz=" + std::to_string(options_.tick_hz)};
+  std::vector<char*> argv;
+  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  const std::string log_path = dir_ + "/semihosting.log";
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, 2, log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawnattr_t attr;
+  posix_spawnattr_init(&attr);
+  posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETPGROUP);  // own process group: the terminal's Ctrl-C is ours
+  posix_spawnattr_setpgroup(&attr, 0);
+  const int err = ::posix_spawnp(&pid_, argv[0], &actions, &attr, argv.data(), environ);
+  posix_spawnattr_destroy(&attr);
+  posix_spawn_file_actions_destroy(&actions);
+  if (err != 0) {
+    pid_ = -1;
+    throw TransportError("--device qemu: cannot start " + emulator + ": " + std::strerror(err));
+  }
+
+  pollfd p{listen_fd_, POLLIN, 0};
+  if (::poll(&p, 1, 10'000) != 1) {
+    const std::string why = log();
+    stop();
+    throw TransportError("--device qemu: the emulator did not connect to its UART within 10 s" +
+                         (why.empty() ? std::string() : ": " + why.substr(0, why.find('\n'))));
+  }
+  const int fd = ::accept4(listen_fd_, nullptr, nullptr, SOCK_CLOEXEC);
+  if (fd < 0) throw TransportError(std::string("--device qemu: accept: ") + std::strerror(errno));
+  return transport::SerialTransport::adopt(fd, "qemu");
+}
+
+void QemuDevice::stop() {
+  if (pid_ > 0) {
+    ::kill(pid_, SIGTERM);  // the emulator this object started, by its id
+    int status = 0;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(2);
+    while (::waitpid(pid_, &status, WNOHANG) == 0) {
+      if (std::chrono::steady_clock::now() > deadline) {
+        ::kill(pid_, SIGKILL);
+        ::waitpid(pid_, &status, 0);
+        break;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    pid_ = -1;
+  }
+  if (listen_fd_ >= 0) ::close(listen_fd_);
+  listen_fd_ = -1;
+  if (!dir_.empty()) {
+    std::error_code ec;
+    fs::remove_all(dir_, ec);
+    dir_.clear();
+  }
+}
+
+}  // namespace hmp::player

@@ -1,0 +1,50 @@
+#pragma once
+// `--device qemu` (SPEC §3, §13): boots the qemu-an386 firmware image in qemu-system-arm and talks to
+// it over its UART0 as a serial link (boards/qemu-an386/README.md). The emulator connects to a
+// unix-domain socket this object listens on in a private temporary folder, so the link exists before
+// the firmware runs its first instruction. The emulator runs in its own process group (a Ctrl-C on
+// the terminal reaches only hmp, which stops the device cleanly) and is stopped when this object goes.
+//
+// The image: $HMP_QEMU_ELF, else the qemu-an386 build tree next to the one hmp was built in
+// (<build>/qemu-an386/boards/qemu-an386/hmp_fw_qemu_an386.elf, <build> being the parent of hmp's tree).
+// The emulator: $QEMU_SYSTEM_ARM, else qemu-system-arm on the PATH.
+#include <sys/types.h>
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "host/transport/transport.hpp"
+
+namespace hmp::player {
+
+class QemuDevice {
+ public:
+  struct Options {
+    std::uint32_t tick_hz = 1000;
+  };
+  explicit QemuDevice(const Options& options);
+  ~QemuDevice();
+  QemuDevice(const QemuDevice&) = delete;
+  QemuDevice& operator=(const QemuDevice&) = delete;
+
+  // Starts the emulator and returns the connected link. Throws transport::TransportError (no image, no
+  // emulator, no connection within 10 s) with a one-line message.
+  std::unique_ptr<transport::Transport> connect();
+  // The firmware's semihosting output so far (its log): for messages and tests.
+  std::string log() const;
+  const std::string& image() const { return image_; }
+
+ private:
+  void stop();
+  Options options_;
+  std::string image_;
+  std::string dir_;
+  int listen_fd_ = -1;
+  pid_t pid_ = -1;
+};
+
+// Where the image is looked for (see above); empty when neither place has one.
+std::string find_qemu_image();
+
+}  // namespace hmp::player

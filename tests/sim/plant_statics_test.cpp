@@ -1,0 +1,274 @@
+// Plant simulator (boards/sim/plant) at rest and at its limits: with constant duties it must settle where
+// the motor stall equation and the geometry say (checked with the independent reference geometry of
+// tests/sim/spidar_reference.hpp), slack strings must carry nothing, duties saturate at ±1, the encoders
+// count like the real ones, and the grip near the frame edge still balances.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "boards/sim/plant/plant.hpp"
+#include "tests/sim/plant_reference.hpp"
+
+namespace {
+
+using namespace hmp::sim::plant;
+using plant_ref::V3;
+namespace flag = hmp::spidar::flag;
+
+constexpr double kTwoPi = 6.283185307179586476925;
+
+V3 v3(const Vec3d& v) { return {v.x, v.y, v.z}; }
+
+void run(Plant& plant, const double (&duty)[8], double seconds, double tick = 1e-3) {
+  const int ticks = static_cast<int>(std::lround(seconds / tick));
+  for (int k = 0; k < ticks; ++k) plant.step(duty, tick);
+}
+
+TEST(PlantStatics, ResetHoldsTheBiasTensionAtTheCentre) {
+  PlantParams p;
+  p.scene.gravity = {};
+  Plant plant(p);
+  plant.reset(0.7);
+  for (int i = 0; i < 8; ++i) {
+    EXPECT_NEAR(plant.output().tension[i], 0.7, 1e-12) << i;
+    EXPECT_EQ(plant.output().counts[i], 0) << i;
+    // The current that holds 0.7 N at standstill, and the duty that drives it (stall equation).
+    EXPECT_NEAR(plant.motor_current(i), 0.7 * plant_ref::kRadius / plant_ref::kKt, 1e-15);
+  }
+  EXPECT_NEAR(plant.holding_duty(0.7) * plant_ref::kSupply / plant_ref::kR, 0.7 * plant_ref::kRadius / plant_ref::kKt, 1e-12);
+  EXPECT_EQ(plant.output().taut, 0xFFu);
+  EXPECT_EQ(plant.output().status, Status::ok);
+}
+
+// Translation-only grip, finger and gravity on, a different duty on every motor: after the transients the
+// tensions are the stall tensions and the grip sits where they, the finger and gravity balance.
+TEST(PlantStatics, SettlesToTheStallEquilibriumTranslationOnly) {
+  PlantParams p;
+  p.scene.translation_only = true;
+  p.finger.anchor = {0.004, -0.003, 0.002};
+  Plant plant(p);
+  plant.reset(0.3);
+  const double duty[8] = {0.05, 0.08, 0.11, 0.06, 0.09, 0.04, 0.10, 0.07};
+  run(plant, duty, 2.0);
+  double expected[8];
+  for (int i = 0; i < 8; ++i) {
+    expected[i] = plant_ref::stall_tension(duty[i]);
+    EXPECT_NEAR(plant.output().tension[i], expected[i], 1e-9) << i;
+    EXPECT_NEAR(plant.motor_speed(i), 0.0, 1e-9) << i;
+  }
+  const V3 x = plant_ref::balance_position(spidar_ref::x3_device(), expected, p.finger.stiffness, v3(p.finger.anchor),
+                                           p.grip.mass, v3(p.scene.gravity));
+  const V3 got = v3(plant.position());
+  std::printf("  settled at (%.6f, %.6f, %.6f) mm, reference (%.6f, %.6f, %.6f) mm\n", got[0] * 1e3, got[1] * 1e3,
+              got[2] * 1e3, x[0] * 1e3, x[1] * 1e3, x[2] * 1e3);
+  EXPECT_LT(spidar_ref::len3(spidar_ref::sub(got, x)), 1e-10);
+  // The finger carries what the strings and gravity leave over.
+  const V3 finger = v3(plant.output().finger_force);
+  const V3 expected_finger = spidar_ref::scale(p.finger.stiffness, spidar_ref::sub(x, v3(p.finger.anchor)));
+  EXPECT_LT(spidar_ref::len3(spidar_ref::sub(finger, expected_finger)), 1e-7);
+}
+
+// Full 6-DOF: the grip turns until the string torques balance the finger's torsional spring.
+TEST(PlantStatics, SettlesToForceAndTorqueBalanceSixDof) {
+  PlantParams p;  // defaults: 6-DOF, finger, gravity
+  Plant plant(p);
+  plant.reset(0.3);
+  const double duty[8] = {0.12, 0.05, 0.07, 0.10, 0.06, 0.11, 0.04, 0.09};
+  run(plant, duty, 2.0);
+  double tension[8];
+  for (int i = 0; i < 8; ++i) {
+    tension[i] = plant_ref::stall_tension(duty[i]);
+    EXPECT_NEAR(plant.output().tension[i], tension[i], 1e-9) << i;
+  }
+  const auto q = plant.orientation();
+  const spidar_ref::M3 rot = plant_ref::rotation_of(q.w, q.x, q.y, q.z);
+  const V3 pos = v3(plant.position());
+  const V3 force = plant_ref::static_force(spidar_ref::x3_device(), pos, rot, tension, p.finger.stiffness, v3(p.finger.anchor),
+                                           p.grip.mass, v3(p.scene.gravity));
+  const spidar_ref::Strings s = spidar_ref::strings_at(spidar_ref::x3_device(), pos, rot);
+  V3 torque{};
+  for (int i = 0; i < 8; ++i) torque = spidar_ref::add(torque, spidar_ref::scale(tension[i], s.m[i]));
+  // Finger torque: torsional spring on the rotation vector, 2·(x, y, z) of the quaternion (small angles).
+  const double sign = q.w < 0 ? -2.0 : 2.0;
+  torque = spidar_ref::sub(torque, spidar_ref::scale(p.finger.torsional_stiffness * sign, V3{q.x, q.y, q.z}));
+  const double angle = spidar_ref::angle_of(rot);
+  std::printf("  turned %.3f deg; residual force %.2e N, torque %.2e N·m\n", angle * 360 / kTwoPi,
+              spidar_ref::len3(force), spidar_ref::len3(torque));
+  EXPECT_GT(angle, 1e-3);  // the unequal tensions do twist the grip: the torque balance is not trivial
+  EXPECT_LT(spidar_ref::len3(force), 1e-8);
+  EXPECT_LT(spidar_ref::len3(torque), 1e-10);
+}
+
+// Without a finger (SPEC §16: no finger model unless asked for) and without gravity the grip floats to
+// where the eight stall tensions alone balance.
+TEST(PlantStatics, FloatsOnItsStringsWithoutAFinger) {
+  PlantParams p;
+  p.scene.translation_only = true;
+  p.scene.finger = false;
+  p.scene.gravity = {};
+  Plant plant(p);
+  plant.reset(0.3);
+  const double duty[8] = {0.07, 0.07, 0.09, 0.09, 0.07, 0.07, 0.05, 0.05};
+  run(plant, duty, 6.0);
+  double tension[8];
+  for (int i = 0; i < 8; ++i) tension[i] = plant_ref::stall_tension(duty[i]);
+  const V3 x = plant_ref::balance_position(spidar_ref::x3_device(), tension, 0.0, V3{}, 0.0, V3{});
+  std::printf("  floats at (%.4f, %.4f, %.4f) mm\n", x[0] * 1e3, x[1] * 1e3, x[2] * 1e3);
+  EXPECT_GT(spidar_ref::len3(x), 1e-3);  // the unequal pulls do move it off the centre
+  EXPECT_LT(spidar_ref::len3(spidar_ref::sub(v3(plant.position()), x)), 1e-10);
+  EXPECT_EQ(plant.output().finger_force.x, 0.0);
+  EXPECT_LT(hmp::spidar::norm(plant.output().string_force), 1e-9);
+}
+
+// Top strings paid out (negative duty): they go slack and must carry exactly nothing, while their motors
+// run up to the no-load speed; the bottom strings, finger and gravity balance the grip on their own.
+TEST(PlantStatics, SlackStringsCarryNoForce) {
+  PlantParams p;
+  p.scene.translation_only = true;
+  Plant plant(p);
+  plant.reset(0.3);
+  const double duty[8] = {0.1, 0.1, 0.1, 0.1, -0.05, -0.05, -0.05, -0.05};
+  int slack_ticks = 0;
+  for (int k = 0; k < 1500; ++k) {
+    const PlantOutput& out = plant.step(duty, 1e-3);
+    for (int i = 4; i < 8; ++i)
+      if (!(out.taut & (1u << i))) {
+        ++slack_ticks;
+        ASSERT_EQ(out.tension[i], 0.0) << "string " << i << " tick " << k;
+      }
+  }
+  EXPECT_GT(slack_ticks, 4 * 1400);  // slack within the first 100 ms and from then on
+  EXPECT_EQ(plant.output().taut, 0x0Fu);
+  double tension[8] = {};
+  for (int i = 0; i < 4; ++i) tension[i] = plant_ref::stall_tension(0.1);
+  const V3 x = plant_ref::balance_position(spidar_ref::x3_device(), tension, p.finger.stiffness, v3(p.finger.anchor),
+                                           p.grip.mass, v3(p.scene.gravity));
+  EXPECT_LT(spidar_ref::len3(spidar_ref::sub(v3(plant.position()), x)), 1e-10);
+  for (int i = 4; i < 8; ++i) EXPECT_NEAR(plant.motor_speed(i), plant_ref::no_load_speed(-0.05), 1e-6) << i;
+  // The net string force is the bottom strings' alone.
+  const spidar_ref::Strings s = spidar_ref::strings_at(spidar_ref::x3_device(), x, spidar_ref::M3{V3{1, 0, 0}, V3{0, 1, 0}, V3{0, 0, 1}});
+  V3 f{};
+  for (int i = 0; i < 4; ++i) f = spidar_ref::add(f, spidar_ref::scale(tension[i], s.u[i]));
+  EXPECT_LT(spidar_ref::len3(spidar_ref::sub(v3(plant.output().string_force), f)), 1e-8);
+}
+
+// The unilateral law at single states: slack with the motor reeling in fast, and barely taut while
+// the string is released fast (the damping term would push): both carry nothing.
+TEST(PlantStatics, DampingNeverMakesAStringPush) {
+  PlantParams p;
+  p.scene.translation_only = true;
+  Plant plant(p);
+  plant.reset(0.3);
+  double y[kMaxState];
+  for (int i = 0; i < plant.state_size(); ++i) y[i] = plant.state()[i];
+  const double k = p.string.stiffness, r = p.motor.drive.pulley_radius;
+  // String 0: 1 µm slack, reeling in at 100 rad/s (0.5 m/s of string).
+  y[state::angle + 0] = -(0.3 / k + 1e-6) / r;
+  y[state::speed + 0] = 100.0;
+  // String 1: 1 µm taut, paying out at 10 rad/s: k·s + c·ṡ = 0.01 − 0.1 < 0.
+  y[state::angle + 1] = -(0.3 / k - 1e-6) / r;
+  y[state::speed + 1] = -10.0;
+  plant.set_state(y);
+  EXPECT_EQ(plant.output().tension[0], 0.0);
+  EXPECT_EQ(plant.output().tension[1], 0.0);
+  EXPECT_FALSE(plant.output().taut & 1u);
+  EXPECT_TRUE(plant.output().taut & 2u);
+  EXPECT_NEAR(plant.output().tension[2], 0.3, 1e-12);
+}
+
+TEST(PlantStatics, DutiesSaturateAtPlusMinusOne) {
+  PlantParams p;
+  p.scene.translation_only = true;
+  Plant over(p), full(p), invalid(p), zero(p);
+  double d5[8], d1[8], dnan[8], d0[8] = {};
+  for (int i = 0; i < 8; ++i) {
+    d5[i] = 5.0;
+    d1[i] = 1.0;
+    dnan[i] = std::numeric_limits<double>::quiet_NaN();
+  }
+  for (int k = 0; k < 500; ++k) {
+    const PlantOutput& a = over.step(d5, 1e-3);
+    const PlantOutput& b = full.step(d1, 1e-3);
+    const PlantOutput& c = invalid.step(dnan, 1e-3);
+    const PlantOutput& z = zero.step(d0, 1e-3);
+    ASSERT_TRUE(a.flags & flag::saturated);
+    ASSERT_FALSE(b.flags & flag::saturated);
+    ASSERT_TRUE(c.flags & flag::invalid_input);
+    for (int i = 0; i < 8; ++i) {
+      ASSERT_EQ(a.tension[i], b.tension[i]);  // clamped to exactly the same input
+      ASSERT_EQ(c.tension[i], z.tension[i]);  // NaN is driven as 0
+    }
+  }
+  // Full duty on every motor: every string at the 12 V stall tension (7.86 N).
+  for (int i = 0; i < 8; ++i) EXPECT_NEAR(full.output().tension[i], plant_ref::stall_tension(1.0), 1e-8) << i;
+  EXPECT_NEAR(plant_ref::stall_tension(1.0), 7.86, 0.01);
+  // Full reverse: every string slack, every motor at its no-load speed (−563 rad/s).
+  Plant reverse(p);
+  double dm1[8];
+  for (double& d : dm1) d = -1.0;
+  run(reverse, dm1, 0.5);
+  EXPECT_EQ(reverse.output().taut, 0u);
+  for (int i = 0; i < 8; ++i) {
+    EXPECT_EQ(reverse.output().tension[i], 0.0);
+    EXPECT_NEAR(reverse.motor_speed(i), plant_ref::no_load_speed(-1.0), 1e-6);
+  }
+  EXPECT_FALSE(reverse.unstable());
+}
+
+// 512 lines × 4 = 2048 counts per pulley turn, counting up as string pays out, changing only on an
+// edge (floor), wrapping like a 32-bit hardware counter.
+TEST(PlantStatics, EncodersCountQuarterLinesAndWrap) {
+  PlantParams p;
+  p.scene.translation_only = true;
+  Plant plant(p);
+  double y[kMaxState];
+  for (int i = 0; i < plant.state_size(); ++i) y[i] = plant.state()[i];
+  const double per_count = kTwoPi / 2048.0;
+  const long long mid[8] = {0, 1, 2047, 2048, -1, -2049, 1000000, (1LL << 31) + 5};
+  for (int i = 0; i < 8; ++i) y[state::angle + i] = -(static_cast<double>(mid[i]) + 0.5) * per_count;
+  plant.set_state(y);
+  for (int i = 0; i < 8; ++i)
+    EXPECT_EQ(plant.output().counts[i], static_cast<std::int32_t>(static_cast<std::uint32_t>(mid[i] & 0xFFFFFFFFLL))) << i;
+  // One full turn of paying out is 2048 counts.
+  for (int i = 0; i < 8; ++i) y[state::angle + i] = -0.25 * per_count;
+  plant.set_state(y);
+  for (int i = 0; i < 8; ++i) y[state::angle + i] = -0.25 * per_count - kTwoPi;
+  const std::int32_t before = plant.output().counts[0];
+  plant.set_state(y);
+  EXPECT_EQ(plant.output().counts[0] - before, 2048);
+
+  // Running free at full reverse: the counts follow the angle the motor turned.
+  Plant running(p);
+  double dm1[8];
+  for (double& d : dm1) d = -1.0;
+  run(running, dm1, 0.3);
+  for (int i = 0; i < 8; ++i) {
+    const double expected = std::floor(-running.motor_angle(i) / per_count);
+    EXPECT_EQ(running.output().counts[i], static_cast<std::int32_t>(expected));
+    EXPECT_GT(expected, 0.2 * 500.0 / per_count);  // > 0.2 s at ≥ 500 rad/s
+  }
+}
+
+// Near the frame edge the strings are long on one side and short on the other; the grip must still
+// balance where the reference says, and the step stay stable.
+TEST(PlantStatics, BalancesNearTheFrameEdge) {
+  PlantParams p;
+  p.scene.translation_only = true;
+  const auto& f = p.frame;
+  p.finger.anchor = f.workspace_axes * Vec3d{0.95 * f.workspace_half.x, -0.95 * f.workspace_half.y, 0.5 * f.workspace_half.z};
+  p.finger.stiffness = 1000.0;
+  Plant plant(p);
+  plant.reset(0.3);
+  const double duty[8] = {0.06, 0.06, 0.06, 0.06, 0.06, 0.06, 0.06, 0.06};
+  run(plant, duty, 2.0);
+  ASSERT_FALSE(plant.unstable());
+  double tension[8];
+  for (double& t : tension) t = plant_ref::stall_tension(0.06);
+  const V3 x = plant_ref::balance_position(spidar_ref::x3_device(), tension, p.finger.stiffness, v3(p.finger.anchor),
+                                           p.grip.mass, v3(p.scene.gravity));
+  EXPECT_LT(spidar_ref::len3(spidar_ref::sub(v3(plant.position()), x)), 1e-10);
+  std::printf("  grip at %.1f mm from the centre\n", spidar_ref::len3(x) * 1e3);
+}
+
+}  // namespace
