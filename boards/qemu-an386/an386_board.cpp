@@ -52,9 +52,7 @@ void An386Board::on_output(void* ctx, float value) {
 }
 
 bool An386Board::on_send(void* ctx, const protocol::Report& report) {
-  const bool ok = static_cast<An386Board*>(ctx)->link_.queue_report(report);
-  if (!ok) Line().text("log: DBG tick ").u32(static_cast<An386Board*>(ctx)->ticks_).print();
-  return ok;
+  return static_cast<An386Board*>(ctx)->link_.queue_report(report);
 }
 
 void An386Board::on_log(void*, const char* line) { Line().text("log: ").text(line).print(); }

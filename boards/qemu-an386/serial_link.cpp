@@ -1,7 +1,6 @@
 #include "serial_link.hpp"
 
 #include "registers.hpp"
-#include "console.hpp"
 
 namespace hmp::board {
 namespace {
@@ -57,7 +56,6 @@ bool SerialLink::queue_report(const protocol::Report& report) {
   QueuedReport* slot = tx_queue_.prepare();
   if (slot == nullptr) {
     ++counters_.tx_dropped;
-    hmp::board::Line().text("log: DBG drop size=").u32(tx_queue_.size()).text(" pos=").u32(frame_pos_).text("/").u32(frame_len_).text(" txfull=").u32(uart_.tx_full()).text(" type=").u32(report[0]).print();
     return false;
   }
   for (std::uint32_t i = 0; i < protocol::kReportSize; ++i) slot->bytes[i] = report[i];

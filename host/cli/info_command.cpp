@@ -34,11 +34,7 @@ std::string key_name(int key) {
 
 // JND steps the track's keys span under the `rank` mapping with the default ranges (SPEC §5).
 double rank_jnd_steps(const midi::Track& t) {
-  mapping::KeySet keys;
-  for (int k = 0; k < 128; ++k) {
-    if ((t.keys[static_cast<std::size_t>(k / 64)] >> (k % 64)) & 1u) keys.add(static_cast<std::uint8_t>(k));
-  }
-  return mapping::Mapper(mapping::Mode::rank, mapping::Ranges{}, keys).jnd_steps();
+  return mapping::Mapper(mapping::Mode::rank, mapping::Ranges{}, t.keys).jnd_steps();
 }
 
 nlohmann::json track_json(const midi::Track& t, const haptics::HapticOptions& opts) {

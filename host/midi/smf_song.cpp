@@ -49,7 +49,7 @@ class TrackStats {
       ++generation_;
     }
     ++t.note_count;
-    t.keys[n.key >> 6] |= std::uint64_t{1} << (n.key & 63u);
+    t.keys.add(n.key);
     t.channels = static_cast<std::uint16_t>(t.channels | (1u << n.channel));
     const std::size_t pair = n.channel * 128u + n.program;
     if (generation_of_[pair] != generation_) {

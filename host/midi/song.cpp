@@ -1,27 +1,12 @@
 #include "host/midi/song.hpp"
 
 #include <algorithm>
-#include <bit>
 #include <cctype>
 #include <charconv>
 
 #include "host/midi/gm.hpp"
 
 namespace hmp::midi {
-
-int Track::distinct_keys() const { return std::popcount(keys[0]) + std::popcount(keys[1]); }
-
-int Track::key_min() const {
-  if (keys[0] != 0) return std::countr_zero(keys[0]);
-  if (keys[1] != 0) return 64 + std::countr_zero(keys[1]);
-  return -1;
-}
-
-int Track::key_max() const {
-  if (keys[1] != 0) return 127 - std::countl_zero(keys[1]);
-  if (keys[0] != 0) return 63 - std::countl_zero(keys[0]);
-  return -1;
-}
 
 std::vector<Note> Song::track_notes(std::uint32_t track) const {
   std::vector<Note> out;

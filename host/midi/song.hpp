@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "host/midi/tempo_map.hpp"
+#include "shared/mapping/mapping.hpp"
 
 namespace hmp::midi {
 
@@ -50,14 +51,14 @@ struct Track {
   std::uint16_t channels = 0;              // bit c set: the track has notes on channel c
   std::vector<ProgramUse> programs;        // in order of first use
   std::uint32_t note_count = 0;
-  std::array<std::uint64_t, 2> keys{};     // bit k set: key k is used
+  mapping::KeySet keys;                    // the keys the track uses
   std::uint64_t end_tick = 0;              // End-of-Track (or last event read), absolute
   std::int64_t end_us = 0;
 
   bool has_channel(std::uint8_t c) const { return c < 16 && ((channels >> c) & 1u) != 0; }
-  int distinct_keys() const;
-  int key_min() const;  // −1 when the track has no notes
-  int key_max() const;  // −1 when the track has no notes
+  int distinct_keys() const { return keys.count(); }
+  int key_min() const { return keys.min(); }  // −1 when the track has no notes
+  int key_max() const { return keys.max(); }  // −1 when the track has no notes
   // The program and channel of the track's first note (what `hmp info` shows; `programs` has the rest).
   std::uint8_t program() const { return programs.empty() ? 0 : programs.front().program; }
   std::uint8_t channel() const { return programs.empty() ? 0 : programs.front().channel; }

@@ -321,8 +321,10 @@ TEST(QemuEquivalence, SongAtTheBuildTickRateMatchesTheNativeBuild) {
   check_equivalence("trace exit-idle-ms=300", kFromS, 10.0);
 }
 
+// Shorter: at 10 kHz QEMU wakes from wfi 10 000 times a second and its virtual clock falls to about half
+// of real time (boards/qemu-an386/README.md).
 TEST(QemuEquivalence, SongAtTenKilohertzMatchesTheNativeBuild) {
-  check_equivalence("trace exit-idle-ms=300 hz=10000", kFromS, 3.0);
+  check_equivalence("trace exit-idle-ms=300 hz=10000", kFromS, 2.0);
 }
 
 }  // namespace

@@ -1,0 +1,143 @@
+// Benchmark image (tools/bench/firmware-tick.sh): instructions per device tick of the real board code
+// (An386Board::on_tick: the firmware core's tick, the board's output and report hand-off) with 0, 1, 4,
+// 8 and 16 sounding voices, counted under QEMU -icount (instruction_counter.hpp). The ticks are called
+// from thread mode with interrupts masked around each one instead of from SysTick, so that each can be
+// measured; in between, the UART TX interrupt sends the reports the tick queued (not counted: it runs
+// below the tick's priority on the real board).
+//
+// The notes are realistic, not the cheapest: every voice plays back-to-back 1-second notes with Table 1
+// envelopes (attack, decay, sustain and the exponential release all occur), different frequencies, and
+// amplitudes whose sum exceeds full scale, so the limiter works too. Notes arrive as Notes reports
+// through on_packet, ahead of their start, as from a host. Output: one line per voice count,
+//   result voices=V tick_hz=H ticks=N mean=M max=X min=Y
+// plus a calibration line (1000 nops should count 1000). Option hz=N sets the tick rate.
+#include <new>
+
+#include "an386_board.hpp"
+#include "console.hpp"
+#include "instruction_counter.hpp"
+#include "options.hpp"
+#include "registers.hpp"
+#include "semihosting.hpp"
+#include "shared/envelope/envelope.hpp"
+#include "shared/synth/frequency.hpp"
+
+namespace {
+
+namespace p = hmp::protocol;
+using hmp::board::An386Board;
+using hmp::board::Line;
+
+alignas(An386Board) unsigned char g_board_storage[sizeof(An386Board)];
+An386Board* g_board = nullptr;
+std::uint16_t g_seq = 0;
+
+void send(p::Message m) {
+  m.seq = ++g_seq;
+  p::Report r;
+  p::encode(m, r);
+  g_board->core().on_packet(r);
+}
+
+void tick(void*) { g_board->on_tick(); }
+
+// Envelopes with every phase (Table 1), cycled over the voices.
+constexpr hmp::envelope::Preset kPresets[] = {
+    hmp::envelope::Preset::violin, hmp::envelope::Preset::cello,  hmp::envelope::Preset::trumpet,
+    hmp::envelope::Preset::harpsichord, hmp::envelope::Preset::flute, hmp::envelope::Preset::organ,
+    hmp::envelope::Preset::guitar, hmp::envelope::Preset::contrabass};
+
+struct Result {
+  std::uint64_t sum = 0;
+  std::int32_t max = 0, min = 0x7FFFFFFF;
+  std::uint32_t ticks = 0;
+};
+
+Result run(const hmp::board::InstructionCounter& counter, std::uint32_t voices, std::uint32_t tick_hz) {
+  send(p::make(p::Type::hello, 0));  // a fresh session: queue flushed, voices silent
+  p::Message settings = p::make(p::Type::settings, 0);
+  settings.settings.ramp_in_ms = 0;
+  settings.settings.watchdog_ms = 60000;  // no host syncs here
+  send(settings);
+  p::Message play = p::make(p::Type::transport, 0);
+  play.transport.op = p::TransportOp::play;
+  send(play);
+
+  const std::uint32_t note_ticks = tick_hz;  // 1 s notes, back to back on every voice
+  const std::uint64_t t0 = g_board->core().tick() + 20;
+  const std::uint64_t measure_from = t0 + note_ticks;  // every voice is sounding from here on
+  const std::uint64_t measure_to = measure_from + 2 * note_ticks;
+  const std::uint32_t lead = note_ticks / 10;  // notes are sent this far ahead of their start
+  std::uint64_t next_start[16] = {};
+  for (std::uint32_t v = 0; v < voices; ++v) next_start[v] = t0 + v * note_ticks / voices;
+
+  Result r;
+  while (g_board->core().tick() < measure_to) {
+    const std::uint64_t now = g_board->core().tick();
+    std::uint32_t sent = 0;  // the core takes up to 4 reports per tick
+    for (std::uint32_t v = 0; v < voices && sent < 4; ++v) {
+      if (next_start[v] > now + lead) continue;
+      p::Message m = p::make(p::Type::notes, 0);
+      m.notes.count = 1;
+      m.notes.track = static_cast<std::uint8_t>(v);
+      m.notes.base_tick = static_cast<std::uint32_t>(next_start[v]);
+      p::CompactNote& n = m.notes.notes[0];
+      n.preset = static_cast<std::uint8_t>(kPresets[v % (sizeof kPresets / sizeof kPresets[0])]);
+      n.duration_ticks = note_ticks;
+      n.freq_q20 = hmp::synth::freq_to_q20(50.0 + 12.5 * v);
+      n.amp_q16 = hmp::synth::amp_to_q16(0.3);
+      send(m);
+      next_start[v] += note_ticks;
+      ++sent;
+    }
+    const std::uint32_t primask = hmp::board::irq_save();
+    if (now >= measure_from) {
+      const std::int32_t n = counter.measure(&tick, nullptr);
+      r.sum += static_cast<std::uint64_t>(n < 0 ? 0 : n);
+      r.max = n > r.max ? n : r.max;
+      r.min = n < r.min ? n : r.min;
+      ++r.ticks;
+    } else {
+      tick(nullptr);
+    }
+    hmp::board::irq_restore(primask);  // the TX interrupt sends what the tick queued
+  }
+  const std::uint8_t active = g_board->core().engine().active_voices();
+  if (active != voices) Line().text("WARNING: ").u32(active).text(" voices sounding, expected ").u32(voices).print();
+  return r;
+}
+
+}  // namespace
+
+extern "C" void UART0_RX_Handler() { g_board->on_uart_rx(); }
+extern "C" void UART0_TX_Handler() { g_board->on_uart_tx(); }
+
+int main() {
+  char cmdline[256];
+  hmp::board::semihost::get_cmdline(cmdline, sizeof cmdline);
+  const hmp::board::Options opt = hmp::board::parse_options(cmdline);
+  if (opt.error != nullptr) {
+    Line().text("bad option: ").text(opt.error).print();
+    return 4;
+  }
+  g_board = new (g_board_storage) An386Board(opt.tick_hz, false);
+  g_board->start_link();
+  hmp::board::InstructionCounter counter;
+  counter.start();
+  const std::uint32_t primask = hmp::board::irq_save();
+  const std::int32_t nops = counter.calibration_check();
+  hmp::board::irq_restore(primask);
+  Line().text("calibration: nops=1000 measured=").i32(nops).print();
+
+  constexpr std::uint32_t kVoiceCounts[] = {0, 1, 4, 8, 16};
+  for (const std::uint32_t voices : kVoiceCounts) {
+    const Result r = run(counter, voices, opt.tick_hz);
+    const float mean = static_cast<float>(r.sum) / static_cast<float>(r.ticks);
+    Line().text("result voices=").u32(voices).text(" tick_hz=").u32(opt.tick_hz).text(" ticks=").u32(r.ticks)
+        .text(" mean=").fixed(mean, 1).text(" max=").i32(r.max).text(" min=").i32(r.min).print();
+  }
+  const hmp::fw::Stats& s = g_board->core().stats();
+  Line().text("core: started=").u32(s.started).text(" late=").u32(s.late).text(" rejected=").u32(s.rejected)
+      .text(" tx_dropped=").u32(s.tx_dropped).print();
+  return hmp::board::semihost::kExitOk;
+}

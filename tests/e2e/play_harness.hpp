@@ -1,0 +1,180 @@
+#pragma once
+// Shared pieces of the end-to-end tests of `hmp play`: the demo song, running the hmp binary, an
+// independent count of a passage's notes from `hmp info --json --notes`, the --log parser, and a
+// library-level session (Player on any Transport, without audio) run on a thread.
+#include <sys/wait.h>
+
+#include <array>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "host/audio/audio_player.hpp"
+#include "host/midi/smf_reader.hpp"
+#include "host/player/device_link.hpp"
+#include "host/player/player.hpp"
+#include "host/transport/transport.hpp"
+
+namespace hmp::test {
+
+inline const std::string kDemo = std::string(HMP_REPO_DIR) + "/examples/bach-bwv1050-brandenburg5-mvt3-allegro.mid";
+inline const std::string kHmp = std::string(HMP_BIN_DIR) + "/hmp";
+
+struct CommandResult {
+  int status = -1;  // exit code, or -1 when it did not exit normally
+  std::string out;  // stdout (stderr goes to err)
+  std::string err;
+};
+
+// Runs a shell command line; stdout and stderr are captured separately.
+inline CommandResult run_command(const std::string& command) {
+  char err_path[] = "/tmp/hmp-e2e-err-XXXXXX";
+  const int fd = ::mkstemp(err_path);
+  ::close(fd);
+  CommandResult r;
+  FILE* p = ::popen((command + " 2>" + err_path).c_str(), "r");
+  if (p == nullptr) return r;
+  std::array<char, 4096> buf{};
+  std::size_t n = 0;
+  while ((n = std::fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
+  const int status = ::pclose(p);
+  r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  std::ifstream in(err_path);
+  std::stringstream s;
+  s << in.rdbuf();
+  r.err = s.str();
+  std::remove(err_path);
+  return r;
+}
+
+// (key, start_s) of every note of `track` starting in [from_s, to_s), from `hmp info --json --notes`:
+// the song as the MIDI reader sees it, without the player's code.
+inline std::vector<std::pair<int, double>> passage_notes(std::uint32_t track, double from_s, double to_s) {
+  const CommandResult info = run_command(kHmp + " info '" + kDemo + "' --json --notes");
+  std::vector<std::pair<int, double>> out;
+  if (info.status != 0) return out;
+  const nlohmann::json j = nlohmann::json::parse(info.out);
+  for (const auto& n : j.at("notes")) {
+    const double start = n.at("start_s").get<double>();
+    if (n.at("track").get<std::uint32_t>() == track && start >= from_s && start < to_s) {
+      out.emplace_back(n.at("key").get<int>(), start);
+    }
+  }
+  return out;
+}
+
+struct LogEntry {
+  std::uint32_t track = 0;
+  int key = 0;
+  double start_s = 0;
+  std::uint64_t scheduled = 0, actual = 0;
+};
+
+struct ParsedLog {
+  std::vector<LogEntry> notes;
+  std::optional<nlohmann::json> summary;
+  int lines_after_summary = 0;
+};
+
+inline ParsedLog parse_log(const std::string& path) {
+  ParsedLog log;
+  std::ifstream in(path);
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty()) continue;
+    const nlohmann::json j = nlohmann::json::parse(line);
+    if (log.summary) ++log.lines_after_summary;
+    if (j.contains("summary")) {
+      log.summary = j.at("summary");
+      continue;
+    }
+    log.notes.push_back({j.at("track").get<std::uint32_t>(), j.at("key").get<int>(), j.at("start_s").get<double>(),
+                         j.at("scheduled_tick").get<std::uint64_t>(), j.at("actual_tick").get<std::uint64_t>()});
+  }
+  return log;
+}
+
+inline const midi::Song& demo_song() {
+  static const midi::Song song = midi::load_song(kDemo).song;
+  return song;
+}
+
+// A Player on a given link, silent (no audio device), run on its own thread.
+class Session {
+ public:
+  Session(transport::Transport& link, player::PlayerOptions options) : link_(link), audio_(silent()) {
+    audio_.set_events({});
+    link_.connect();
+    options.on_started = [this](const player::StartedNote& n) {
+      std::lock_guard lock(mutex_);
+      started_.push_back(n);
+    };
+    player_ = std::make_unique<player::Player>(link_, audio_, demo_song(), std::move(options));
+  }
+  ~Session() { join(); }
+
+  void start() {
+    thread_ = std::thread([this] {
+      try {
+        outcome_ = player_->run();
+      } catch (const player::LinkError& e) {
+        std::lock_guard lock(mutex_);
+        error_ = e.what();
+        error_at_ = std::chrono::steady_clock::now();
+      }
+    });
+  }
+  void join() {
+    if (thread_.joinable()) thread_.join();
+  }
+  player::Player& player() { return *player_; }
+  player::DeviceLink& link() { return link_; }
+  std::optional<player::Outcome> outcome() const { return outcome_; }
+  std::string error() {
+    std::lock_guard lock(mutex_);
+    return error_;
+  }
+  std::chrono::steady_clock::time_point error_at() {
+    std::lock_guard lock(mutex_);
+    return error_at_;
+  }
+  std::vector<player::StartedNote> started() {
+    std::lock_guard lock(mutex_);
+    return started_;
+  }
+
+ private:
+  static audio::AudioOptions silent() {
+    audio::AudioOptions o;
+    o.enabled = false;
+    return o;
+  }
+  player::DeviceLink link_;
+  audio::AudioPlayer audio_;
+  std::unique_ptr<player::Player> player_;
+  std::thread thread_;
+  std::mutex mutex_;
+  std::optional<player::Outcome> outcome_;
+  std::string error_;
+  std::chrono::steady_clock::time_point error_at_{};
+  std::vector<player::StartedNote> started_;
+};
+
+inline player::PlayerOptions passage(std::uint32_t track, double from_s, double to_s) {
+  player::PlayerOptions o;
+  o.track = track;
+  o.from_us = static_cast<std::int64_t>(from_s * 1e6);
+  o.to_us = static_cast<std::int64_t>(to_s * 1e6);
+  return o;
+}
+
+}  // namespace hmp::test
