@@ -21,6 +21,7 @@
 #include "semihosting.hpp"
 #include "shared/envelope/envelope.hpp"
 #include "shared/synth/frequency.hpp"
+#include "shared/synth/voice.hpp"
 
 namespace {
 
@@ -107,6 +108,57 @@ Result run(const hmp::board::InstructionCounter& counter, std::uint32_t voices, 
   return r;
 }
 
+// Where a tick's instructions go: the pieces of the per-voice work and of a note start, measured alone
+// (printed as `detail` lines; docs/performance.md).
+struct Probe {
+  hmp::envelope::Envelope env;
+  hmp::synth::Voice voice;
+  hmp::synth::Note note;
+  hmp::synth::SynthConfig cfg;
+  std::uint32_t n = 0;
+  std::uint32_t phase = 0;
+  volatile float sink = 0.0f;
+};
+Probe g_probe;
+
+void envelope_start(void*) {
+  g_probe.env.start(hmp::envelope::builtin(hmp::envelope::Preset::violin), 0.5f, g_probe.note.duration_ticks,
+                    static_cast<float>(g_probe.cfg.tick_hz), g_probe.cfg.end_fade_ms);
+}
+void voice_start(void*) {
+  g_probe.voice.start(g_probe.note, hmp::envelope::builtin(hmp::envelope::Preset::violin), g_probe.cfg, 0);
+}
+void envelope_at(void*) { g_probe.sink = g_probe.env.at(g_probe.n); }
+void sine(void*) { g_probe.sink = hmp::synth::sine(g_probe.cfg.sine, g_probe.phase); }
+
+void details(const hmp::board::InstructionCounter& counter, std::uint32_t tick_hz) {
+  g_probe.cfg.tick_hz = tick_hz;
+  g_probe.note.duration_ticks = tick_hz;  // 1 s, violin: attack 66 ms, decay 376 ms, release 225 ms
+  g_probe.note.freq_q20 = hmp::synth::freq_to_q20(123.4);
+  g_probe.note.amp_q16 = hmp::synth::amp_to_q16(0.5);
+  g_probe.note.preset = static_cast<std::uint8_t>(hmp::envelope::Preset::violin);
+  const std::uint32_t primask = hmp::board::irq_save();
+  const std::int32_t env_start = counter.measure(&envelope_start, nullptr);
+  const std::int32_t voice_start_n = counter.measure(&voice_start, nullptr);
+  const std::uint32_t ms = tick_hz / 1000;
+  const std::uint32_t at_tick[] = {30 * ms, 200 * ms, 600 * ms, 900 * ms, tick_hz - 1};
+  const char* at_name[] = {"attack", "decay", "sustain", "release", "last_tick"};
+  std::int32_t at_cost[5];
+  for (int i = 0; i < 5; ++i) {
+    g_probe.n = at_tick[i];
+    at_cost[i] = counter.measure(&envelope_at, nullptr);
+  }
+  g_probe.phase = 0x12345678u;
+  const std::int32_t sine_cost = counter.measure(&sine, nullptr);
+  hmp::board::irq_restore(primask);
+  Line().text("detail: envelope_start=").i32(env_start).text(" voice_start=").i32(voice_start_n)
+      .text(" sine=").i32(sine_cost).print();
+  Line line;
+  line.text("detail: envelope_at");
+  for (int i = 0; i < 5; ++i) line.text(" ").text(at_name[i]).text("=").i32(at_cost[i]);
+  line.print();
+}
+
 }  // namespace
 
 extern "C" void UART0_RX_Handler() { g_board->on_uart_rx(); }
@@ -128,6 +180,8 @@ int main() {
   const std::int32_t nops = counter.calibration_check();
   hmp::board::irq_restore(primask);
   Line().text("calibration: nops=1000 measured=").i32(nops).print();
+
+  details(counter, opt.tick_hz);
 
   constexpr std::uint32_t kVoiceCounts[] = {0, 1, 4, 8, 16};
   for (const std::uint32_t voices : kVoiceCounts) {

@@ -21,7 +21,7 @@ void OutputTrace::record_report(std::uint32_t tick, const protocol::Report& repo
     return;
   }
   slot->tick = tick;
-  for (std::uint32_t i = 0; i < protocol::kReportSize; ++i) slot->bytes[i] = report[i];
+  __builtin_memcpy(slot->bytes, report, protocol::kReportSize);
   reports_.commit();
 }
 

@@ -15,8 +15,8 @@ ClockSync::ClockSync(const Options& options) : options_(options) {
 }
 
 void ClockSync::clear() {
+  // The rate stays: it belongs to the device's oscillator, which a step or a restart does not change.
   samples_.clear();
-  drift_fitted_ = false;
   max_residual_ = 0.0;
 }
 
@@ -37,20 +37,21 @@ ClockSync::Point ClockSync::to_point(const SyncSample& s) const {
 ClockSync::Verdict ClockSync::add(const SyncSample& s) {
   Verdict verdict = Verdict::used;
   if (!samples_.empty()) {
-    bool restarted = s.tick < last_tick_;  // a tick counter only goes back when the device restarted
-    if (!restarted && ready()) {
+    if (s.tick < last_tick_) {
+      verdict = Verdict::reset;  // a tick counter only goes back when the device restarted
+      ++resets_;
+    } else if (ready()) {
       const Point p = to_point(s);
       const double predicted = offset_ + rate_ * p.host_us;
       // The arrival time is known to ± half the transit: only a jump beyond that (and the threshold)
-      // says the device's clock is not the one we fitted.
-      const double slack = options_.reset_ticks + rate_ * p.transit_us / 2.0;
-      restarted = std::fabs(p.position - predicted) > slack;
+      // says the clock is not the one fitted.
+      const double slack = options_.step_ticks + rate_ * p.transit_us / 2.0;
+      if (std::fabs(p.position - predicted) > slack) {
+        verdict = Verdict::step;
+        ++steps_;
+      }
     }
-    if (restarted) {
-      clear();
-      ++resets_;
-      verdict = Verdict::reset;
-    }
+    if (verdict != Verdict::used) clear();
   }
   if (samples_.empty()) {
     ref_host_us_ = s.sent_us;
@@ -64,12 +65,18 @@ ClockSync::Verdict ClockSync::add(const SyncSample& s) {
 }
 
 void ClockSync::fit() {
-  // The samples that crossed the link fastest carry the least timing noise: the quicker half.
+  // The samples that crossed the link fastest carry the least timing noise: those within a small margin
+  // of the quickest transit (at least min_samples of them). Ties all count, so that the chosen samples
+  // spread over the window rather than depend on the sorting.
   std::vector<const Point*> best;
   best.reserve(samples_.size());
   for (const Point& p : samples_) best.push_back(&p);
   std::sort(best.begin(), best.end(), [](const Point* a, const Point* b) { return a->transit_us < b->transit_us; });
-  const std::size_t keep = std::min(best.size(), std::max(options_.min_samples, (best.size() + 1) / 2));
+  const double quickest = best.front()->transit_us;
+  const std::size_t at_least = std::min(best.size(), options_.min_samples);
+  const double limit = std::max(quickest + std::max(options_.transit_margin_us, 0.25 * quickest), best[at_least - 1]->transit_us);
+  std::size_t keep = 0;
+  while (keep < best.size() && best[keep]->transit_us <= limit) ++keep;
   best.resize(keep);
 
   double x_min = best.front()->host_us, x_max = x_min;

@@ -28,23 +28,29 @@ class ClockSync {
     std::uint32_t tick_hz = 1000;
     std::size_t window = 64;          // most recent samples kept for the fit
     std::size_t min_samples = 4;      // before this many, ready() is false
+    // The fit uses the samples whose transit is within max(this, 25 %) of the quickest one: their
+    // arrival time is known best (a delay on one leg of the trip shifts the estimate by half of it).
+    double transit_margin_us = 50.0;
     double min_drift_span_s = 2.0;    // the slope is fitted only over at least this much host time
-    double max_drift = 1e-3;          // |fitted rate / nominal − 1| beyond this: keep the nominal rate
-    double reset_ticks = 50.0;        // a quick sample this far off the line means the device restarted
+    // |fitted rate / nominal − 1| beyond this: keep the nominal rate. Crystals are within 10⁻⁴, but an
+    // emulated board (QEMU on a busy host) loses ticks and runs a few % slow.
+    double max_drift = 0.05;
+    double step_ticks = 8.0;          // a sample this far off the line (beyond its own uncertainty): the clock stepped
     // The device answers a Sync when it handles it, at the start of the next tick: the reply waited
     // (1 − sub-tick) ticks on the device, which is not transit time (true of every board of docs/firmware.md).
     bool reply_at_next_tick = true;
   };
 
   enum class Verdict {
-    used,     // the sample is in the fit
-    reset,    // the device clock went backwards or jumped: samples cleared, this one starts a new fit
+    used,   // the sample is in the fit
+    step,   // the device clock jumped (an emulator that lost ticks): the fit starts again from this sample
+    reset,  // the device clock went backwards: the device restarted; the fit starts again from this sample
   };
 
   explicit ClockSync(const Options& options);
 
   Verdict add(const SyncSample& s);
-  void clear();
+  void clear();  // forgets the samples, keeps the fitted rate
 
   bool ready() const { return samples_.size() >= options_.min_samples; }
   std::size_t samples() const { return samples_.size(); }
@@ -64,6 +70,7 @@ class ClockSync {
   // Largest |residual| of the samples in the fit, in ticks (how well the line explains them).
   double max_residual_ticks() const { return max_residual_; }
   std::uint64_t resets() const { return resets_; }
+  std::uint64_t steps() const { return steps_; }
 
  private:
   struct Point {
@@ -86,6 +93,7 @@ class ClockSync {
   bool drift_fitted_ = false;
   double max_residual_ = 0.0;
   std::uint64_t resets_ = 0;
+  std::uint64_t steps_ = 0;
 };
 
 }  // namespace hmp::player

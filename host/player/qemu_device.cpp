@@ -85,7 +85,7 @@ std::unique_ptr<transport::Transport> QemuDevice::connect() {
   // -icount shift=0: one instruction is 1 ns of virtual time; while the firmware waits for its next
   // tick (wfi) the virtual clock catches up with real time, so the device ticks at its real rate.
   const std::vector<std::string> args = {emulator, "-M", "mps2-an386", "-nographic", "-monitor", "none",
-                                         "-semihosting-config", "enable=on,target=native", "-icount", "shift=0",
+                                         "-semihosting-config", "enable=on,target=native",
                                          "-chardev", "socket,id=uart0,path=" + socket_path, "-serial", "chardev:uart0",
                                          "-kernel", image_, "-append", "hz=" + std::to_string(options_.tick_hz)};
   std::vector<char*> argv;

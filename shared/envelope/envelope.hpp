@@ -46,8 +46,29 @@ bool find_builtin(const char* name, Preset& out);
 // sustain and final_ratio in [0, 1], shape known.
 bool valid(const Adsr& a);
 
+namespace detail {
+// 2^x for x ≤ 0 in float, for the release (every voice, every tick of a release: newlib's exp2f goes
+// through powf, ~150 instructions on the Cortex-M4F; this is ~25). x = i + f, i the nearest integer and
+// f in [−½, ½]; 2^f by a degree-6 polynomial whose constant term is exactly 1 (so 2^0 is exactly 1),
+// fitted for the least maximal relative error (tools/bench/firmware-tick-exp2-fit.py: 2.0e-9 exactly,
+// 1.5 ulp evaluated in float); 2^i goes straight into the exponent bits.
+inline float release_exp2(float x) {
+  if (!(x > -126.0f)) return 0.0f;  // below float's normal range (or NaN): the release has reached 0
+  if (x > 0.0f) x = 0.0f;           // not reached: log2(r) ≤ 0
+  const auto i = -static_cast<std::int32_t>(0.5f - x);  // round(x) for x ≤ 0
+  const float f = x - static_cast<float>(i);
+  constexpr float c1 = 6.931471825e-01f, c2 = 2.402264774e-01f, c3 = 5.550332367e-02f;
+  constexpr float c4 = 9.618436918e-03f, c5 = 1.339888084e-03f, c6 = 1.535337797e-04f;
+  const float p = 1.0f + f * (c1 + f * (c2 + f * (c3 + f * (c4 + f * (c5 + f * c6)))));
+  const auto scale_bits = static_cast<std::uint32_t>(i + 127) << 23;
+  float scale;
+  __builtin_memcpy(&scale, &scale_bits, sizeof scale);
+  return p * scale;
+}
+}  // namespace detail
+
 // The evaluator of one note's envelope. start() precomputes everything so that at() is cheap
-// (it runs for every voice on every tick).
+// (it runs for every voice on every tick, so it is defined inline below).
 class Envelope {
  public:
   // peak: a_h, linear in (0, 1] (clamped there; NaN → 0). duration_ticks: N (0 is treated as 1: a note is
@@ -74,7 +95,34 @@ class Envelope {
   float attack_slope_ = 0, decay_slope_ = 0;  // per tick
   float release_log2_per_tick_ = 0;           // log2(r)/R in ticks; r = 0 handled by release_zero_
   float fade_per_tick_ = 0;                   // 1/F in ticks; 0 = no end fade
+  std::uint32_t fade_first_ = 1;              // first tick whose end-fade factor is below 1 (N: none)
   bool release_zero_ = false;
 };
+
+inline float Envelope::at(std::uint32_t n) const {
+  if (n >= n_end_) return 0.0f;
+  // Later phases first: the sustain (the most common tick) returns after three comparisons, without
+  // the clamp (0 ≤ S ≤ peak by construction).
+  float v;
+  if (n >= release_first_) {
+    const float into = static_cast<float>(n - release_first_) + release_offset_;
+    if (release_zero_) {
+      v = into == 0.0f ? sustain_level_ : 0.0f;  // exp(log(0)·…) is a step to 0 right after t3
+    } else {
+      v = sustain_level_ * detail::release_exp2(into * release_log2_per_tick_);
+    }
+  } else if (n >= sustain_first_) {
+    if (n < fade_first_) return sustain_level_;
+    v = sustain_level_;
+  } else if (n >= decay_first_) {
+    const float into = static_cast<float>(n - decay_first_) + decay_offset_;
+    v = peak_ + into * decay_slope_;
+  } else {
+    v = static_cast<float>(n) * attack_slope_;
+  }
+  if (n >= fade_first_) v *= static_cast<float>(n_end_ - n) * fade_per_tick_;
+  // Rounding of the products above may overshoot by an ulp; the contract is [0, peak].
+  return v < 0.0f ? 0.0f : (v > peak_ ? peak_ : v);
+}
 
 }  // namespace hmp::envelope

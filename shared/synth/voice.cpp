@@ -16,13 +16,6 @@ void Voice::start(const Note& note, const envelope::Adsr& preset, const SynthCon
   n_end_ = env_.duration_ticks();  // N, with 0 already promoted to 1 by the envelope
 }
 
-float Voice::next() {
-  if (!active()) return 0.0f;
-  // The top 32 bits address the sine; the low 32 keep the sub-LSB phase so it never drifts.
-  const float y = env_.at(n_) * sine(sine_, static_cast<std::uint32_t>(phase_ >> 32));
-  phase_ += inc_;
-  ++n_;
-  return y;
-}
+// Voice::next() is inline in voice.hpp.
 
 }  // namespace hmp::synth

@@ -27,7 +27,8 @@ struct SynthConfig {
 class Voice {
  public:
   void start(const Note& note, const envelope::Adsr& preset, const SynthConfig& cfg, std::uint32_t order);
-  // The sample for the current tick, then advance one tick. Returns 0 once finished.
+  // The sample for the current tick, then advance one tick. Returns 0 once finished. Inline below: the
+  // engine calls it for every voice on every tick.
   float next();
   bool active() const { return n_ < n_end_; }
   std::uint32_t order() const { return order_; }      // start order: smaller = older (for stealing)
@@ -42,5 +43,14 @@ class Voice {
   SineImpl sine_ = kDefaultSine;
   Note note_{};
 };
+
+inline float Voice::next() {
+  if (!active()) return 0.0f;
+  // The top 32 bits address the sine; the low 32 keep the sub-LSB phase so it never drifts.
+  const float y = env_.at(n_) * sine(sine_, static_cast<std::uint32_t>(phase_ >> 32));
+  phase_ += inc_;
+  ++n_;
+  return y;
+}
 
 }  // namespace hmp::synth

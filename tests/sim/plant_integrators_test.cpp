@@ -208,4 +208,21 @@ TEST(PlantIntegrators, SubstepsAreEqualSlicesOfTheTick) {
   EXPECT_NEAR(b.time(), 1e-3, 1e-18);
 }
 
+// The board hands over the firmware's float duties: the same as their double values.
+TEST(PlantIntegrators, FloatDutiesAreTheirDoubleValues) {
+  Plant a, b;
+  float f[8];
+  double d[8];
+  for (int i = 0; i < 8; ++i) {
+    f[i] = 0.01f * static_cast<float>(i + 3);
+    d[i] = static_cast<double>(f[i]);
+  }
+  for (int k = 0; k < 10; ++k) {
+    a.step(f, 1e-3);
+    b.step(d, 1e-3);
+  }
+  for (int i = 0; i < 8; ++i) EXPECT_EQ(a.output().counts[i], b.output().counts[i]);
+  for (int i = 0; i < 8; ++i) EXPECT_EQ(a.output().tension[i], b.output().tension[i]);
+}
+
 }  // namespace

@@ -8,7 +8,7 @@ and re-struck keys make notes overlap on the same key (pairing is first in, firs
 use running status; notes end with note-on velocity 0 (running status) in most tracks and with explicit
 note-off (0x8n) in some. The same arguments always give the same bytes (fixed random seed).
 
-Usage: gen_big_midi.py OUTPUT [--notes N]   (default 600000 notes, about 6 MB)
+Usage: gen_big_midi.py OUTPUT [--notes N]   (default 560000 notes, about 5.3 MB)
 """
 import argparse
 import random
@@ -84,8 +84,10 @@ def instrument(rng, channel, program, name, notes, explicit_off):
             off = bytes([0x80 | channel, key, 64]) if explicit_off else bytes([0x90 | channel, key, 0])
             events.append((tick + length, 0, off))
         made += size
-        if rng.random() < 0.05:
-            events.append((tick, 1, bytes([0xB0 | channel, 11, rng.randint(40, 127)])))  # expression
+        if rng.random() < 0.25:  # an expression swell: a few steps of controller 11
+            level = rng.randint(40, 100)
+            for step in range(4):
+                events.append((tick + step * 30, 1, bytes([0xB0 | channel, 11, min(127, level + 8 * step)])))
         if rng.random() < 0.02:
             events.append((tick, 1, bytes([0xB0 | channel, 64, rng.choice([0, 127])])))  # sustain pedal
         if channel != 9 and rng.random() < 0.03:
@@ -99,12 +101,12 @@ def instrument(rng, channel, program, name, notes, explicit_off):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("output")
-    ap.add_argument("--notes", type=int, default=600000)
+    ap.add_argument("--notes", type=int, default=560000)
     args = ap.parse_args()
     rng = random.Random(20240611)
     parts = [(0, 73, "Flute", False), (1, 40, "Violin I", True), (2, 40, "Violin II", False),
-             (3, 41, "Viola", False), (4, 42, "Cello", True), (5, 43, "Contrabass", False),
-             (6, 6, "Harpsichord RH", False), (7, 6, "Harpsichord LH", False), (8, 0, "Piano", True),
+             (3, 41, "Viola", True), (4, 42, "Cello", True), (5, 43, "Contrabass", False),
+             (6, 6, "Harpsichord RH", True), (7, 6, "Harpsichord LH", False), (8, 0, "Piano", True),
              (9, 0, "Drums", False), (10, 48, "Strings", False)]
     per_track = args.notes // len(parts)
     tracks, end_tick = [], 0

@@ -117,6 +117,7 @@ class LinearlyImplicit : public Integrator {
     for (int i = n - 1; i >= 0; --i)
       x[i] = (x[i] - sparse_dot(row_middle_[i], row_start_[i + 1], x)) * inv_diagonal_[i];
   }
+
   Vector tmp_{}, col_{}, f0_{};
 
  private:

@@ -4,7 +4,7 @@
 // and reads the encoder counts back; the string tensions and the force on the finger are what a
 // measurement rig would see. Double precision, host only; no allocation after construction.
 //
-//   Plant plant;                  // X3 frame, RE-max 24 motors, k = 10⁴ N/m, ROS2 at 0.25 ms sub-steps
+//   Plant plant;                  // X3 frame, RE-max 24 motors, k = 10⁴ N/m, ROS2 at 125 µs sub-steps
 //   plant.reset(0.3);             // grip at the calibrated centre, every string at 0.3 N
 //   every tick: const PlantOutput& out = plant.step(duties, 1e-3);   // out.counts → firmware
 //
