@@ -6,12 +6,16 @@
 //   - calls core.on_packet(report) for every 64-byte report the transport receives (HID OUT report,
 //     a deframed UART packet, or an in-process call). on_packet may run in another interrupt than the
 //     tick: it only fills a lock-free single-producer/single-consumer queue.
-// Every pointer may be null (the call is then skipped; subtick reads as 0).
+// Every pointer may be null (the call is then skipped; subtick reads as 0). A board without motors leaves
+// motor_output and read_encoders null: the core then skips the SPIDAR drive and only computes the
+// vibration value (output).
 #include <cstdint>
 
 #include "shared/protocol/protocol.hpp"
 
 namespace hmp::fw {
+
+inline constexpr int kMotorCount = 8;  // SPIDAR-G6: eight strings, eight motors, eight encoders
 
 struct BoardSeam {
   void* ctx = nullptr;  // handed back to every call
@@ -32,6 +36,13 @@ struct BoardSeam {
   // tick period in 2^-32 units. If the timer has wrapped but the tick interrupt has not run yet (it is
   // pending), return 0xFFFFFFFF rather than a small value, so tick + subtick never steps back.
   std::uint32_t (*subtick)(void* ctx) = nullptr;
+
+  // Tick context, both or neither (the drive runs only when both are set). Encoder counters of the eight
+  // motors: 2048 counts per pulley turn, growing as string pays out, free to wrap (read at the start of
+  // the drive's step); then the eight PWM duties in [−1, 1] the drive computed from them (positive winds
+  // string in; per-motor wiring signs are the board's business).
+  void (*read_encoders)(void* ctx, std::int32_t (&counts)[kMotorCount]) = nullptr;
+  void (*motor_output)(void* ctx, const float (&duty)[kMotorCount]) = nullptr;
 
   protocol::Board id = protocol::Board::sim;  // reported in HelloReply
 };

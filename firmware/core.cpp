@@ -6,10 +6,15 @@ using protocol::State;
 
 // The RAM budget of docs/firmware.md (measured: 12.1 KiB on the Cortex-M4F build, 8 KiB of it the note
 // queue). A change that outgrows it must update the budget table too.
-static_assert(sizeof(Core) <= 13 * 1024, "Core outgrew its RAM budget (docs/firmware.md)");
+static_assert(sizeof(Core) <= 14 * 1024, "Core outgrew its RAM budget (docs/firmware.md)");
+static_assert(kMotorCount == Drive::kMotors, "the board seam and the drive disagree on the motor count");
 
-Core::Core(const BoardSeam& board, std::uint32_t tick_hz, std::uint64_t first_tick)
-    : board_(board), tick_hz_(tick_hz != 0 ? tick_hz : kDefaultTickHz), tick_(first_tick) {
+Core::Core(const BoardSeam& board, std::uint32_t tick_hz, std::uint64_t first_tick, const DriveParams& drive)
+    : board_(board),
+      tick_hz_(tick_hz != 0 ? tick_hz : kDefaultTickHz),
+      drive_(tick_hz_, drive),
+      has_drive_(board.read_encoders != nullptr && board.motor_output != nullptr),
+      tick_(first_tick) {
   tick_lo_.store(static_cast<std::uint32_t>(tick_), std::memory_order_relaxed);
   last_host_tick_ = tick_;
   synth_cfg_.tick_hz = tick_hz_;
@@ -74,8 +79,35 @@ void Core::on_tick() {
   last_output_ = output_.process(mixed, faults_);
   if (output_.silent() && engine_.active_voices() > 0) engine_.stop_all();  // a fade has ended
   if (board_.output != nullptr) board_.output(board_.ctx, last_output_);
-  // 6. Status and Started reports.
+  // 6. The SPIDAR drive: encoders in, motor duties out.
+  if (has_drive_) run_drive();
+  // 7. Status and Started reports.
   send_periodic_reports();
+}
+
+void Core::run_drive() {
+  std::int32_t counts[kMotorCount];
+  board_.read_encoders(board_.ctx, counts);
+  // Safe state (docs/spidar.md): a latched fault whose fade has ended, or an emergency stop.
+  const bool safe = state_ == State::fault && output_.silent();
+  const DriveTick t = drive_.tick(last_output_, safe, counts, duty_);
+  board_.motor_output(board_.ctx, duty_);
+  if (t.flags & spidar::flag::saturated) ++stats_.drive_saturated;
+  if (t.flags & spidar::flag::not_converged) ++stats_.drive_not_converged;
+  force_n_ = t.force_n;
+  if (t.faults != 0) drive_fault(t.faults);
+}
+
+// The drive cannot trust what it senses: no vibration from now on, the strings held at t_min (the drive
+// already holds them on the tick it noticed), until the host acknowledges with Hello or Stop.
+void Core::drive_fault(std::uint32_t faults) {
+  const std::uint32_t fresh = faults & ~faults_;
+  faults_ |= faults;
+  engine_.stop_all();
+  output_.silence();
+  queue_.clear();
+  if (fresh != 0) log_event("drive fault, bits ", fresh);
+  state_ = State::fault;
 }
 
 void Core::start_due_notes() {
@@ -137,7 +169,7 @@ protocol::Status Core::status() const {
   s.state = state_;
   s.active_voices = engine_.active_voices();
   s.output = last_output_;
-  s.force_n = last_output_ * settings_.peak_force_n;
+  s.force_n = has_drive_ ? force_n_ : last_output_ * settings_.peak_force_n;
   return s;
 }
 

@@ -11,6 +11,7 @@
 #include <cstdint>
 
 #include "firmware/board.hpp"
+#include "firmware/drive.hpp"
 #include "firmware/note_queue.hpp"
 #include "firmware/output_stage.hpp"
 #include "firmware/spsc_queue.hpp"
@@ -36,6 +37,8 @@ struct Stats {
   std::uint32_t started = 0;       // notes started
   std::uint32_t engine_refused = 0;  // notes the engine would not start (counted in Status.rejected too)
   std::uint32_t tx_dropped = 0;    // device reports not sent (the board had no room)
+  std::uint32_t drive_saturated = 0;      // drive ticks with a motor duty clamped to ±1
+  std::uint32_t drive_not_converged = 0;  // drive ticks whose QP ran out of iterations (bounded answer)
 };
 
 // One received report with its arrival time.
@@ -61,7 +64,8 @@ class Core {
 
   // tick_hz: the rate on_tick() is called at (a build setting; tests run other rates). 0 → the default.
   // first_tick: where the tick counter starts (boards: 0; tests use it to cross the 2^32 wrap).
-  explicit Core(const BoardSeam& board, std::uint32_t tick_hz = kDefaultTickHz, std::uint64_t first_tick = 0);
+  explicit Core(const BoardSeam& board, std::uint32_t tick_hz = kDefaultTickHz, std::uint64_t first_tick = 0,
+                const DriveParams& drive = {});
   Core(const Core&) = delete;
   Core& operator=(const Core&) = delete;
 
@@ -86,12 +90,17 @@ class Core {
   float last_output() const { return last_output_; }
   std::uint16_t queued_notes() const { return queue_.size(); }
   protocol::Status status() const;  // what a Status report sent now would carry
+  bool has_drive() const { return has_drive_; }
+  const Drive& drive() const { return drive_; }
+  const float (&duties() const)[kMotorCount] { return duty_; }  // the last ones sent to the board
 
  private:
   // core.cpp: the tick
   void start_due_notes();
   void check_watchdog();
   void send_periodic_reports();
+  void run_drive();
+  void drive_fault(std::uint32_t faults);
   std::uint64_t rx_tick64(std::uint32_t rx_tick) const;
   // core_commands.cpp: one handler per host report type
   void handle(const InboxEntry& entry);
@@ -120,6 +129,10 @@ class Core {
   NoteQueue queue_;
   OutputStage output_;
   SpscQueue<InboxEntry, kInboxCapacity> inbox_;
+  Drive drive_;
+  float duty_[kMotorCount]{};
+  float force_n_ = 0.0f;  // the drive's achieved force along the direction (N)
+  bool has_drive_ = false;
   protocol::Settings settings_{};
   protocol::Started started_{};
   Stats stats_{};

@@ -165,6 +165,7 @@ void Core::apply_settings() {
     engine_.configure(synth_cfg_);
   }
   output_.configure(tick_hz_, settings_.ramp_in_ms, settings_.gain);
+  drive_.apply(settings_);
   watchdog_ticks_ = ms_to_ticks(settings_.watchdog_ms, tick_hz_);
 }
 

@@ -58,7 +58,7 @@ bool SerialLink::queue_report(const protocol::Report& report) {
     ++counters_.tx_dropped;
     return false;
   }
-  __builtin_memcpy(slot->bytes, report, protocol::kReportSize);  // word copies, not 64 byte moves
+  for (std::uint32_t i = 0; i < protocol::kReportSize; ++i) slot->bytes[i] = report[i];
   tx_queue_.commit();
   nvic::set_pending(uart_.tx_irq());
   return true;

@@ -2,3 +2,7 @@
 add_test(NAME qemu_boot_one_note
   COMMAND ${CMAKE_CURRENT_LIST_DIR}/check_one_note.sh $<TARGET_FILE:hmp_fw_qemu_an386_demo>)
 set_tests_properties(qemu_boot_one_note PROPERTIES LABELS "firmware;qemu" TIMEOUT 60)
+
+add_test(NAME qemu_boot_firmware
+  COMMAND ${CMAKE_CURRENT_LIST_DIR}/check_firmware_boot.sh $<TARGET_FILE:hmp_fw_qemu_an386>)
+set_tests_properties(qemu_boot_firmware PROPERTIES LABELS "firmware;qemu" TIMEOUT 60)

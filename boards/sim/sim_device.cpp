@@ -4,18 +4,71 @@
 
 namespace hmp::sim {
 
-SimDevice::SimDevice(std::uint32_t tick_hz, std::uint64_t first_tick)
-    : core_(make_seam(this), tick_hz, first_tick) {}
+plant::PlantParams drive_scene() {
+  plant::PlantParams p;
+  p.scene.translation_only = true;
+  p.scene.finger = true;
+  return p;
+}
 
-fw::BoardSeam SimDevice::make_seam(SimDevice* self) {
+namespace {
+std::unique_ptr<plant::Plant> make_plant(const std::optional<PlantOptions>& o) {
+  if (!o) return nullptr;
+  auto p = std::make_unique<plant::Plant>(o->params);
+  p->reset(o->bias_tension);
+  return p;
+}
+}  // namespace
+
+SimDevice::SimDevice(std::uint32_t tick_hz, std::uint64_t first_tick)
+    : core_(make_seam(this, false), tick_hz, first_tick) {}
+
+SimDevice::SimDevice(const SimOptions& options)
+    : plant_(make_plant(options.plant)),
+      observe_substeps_(options.plant && options.plant->observe_substeps > 1 ? options.plant->observe_substeps : 1),
+      core_(make_seam(this, options.plant.has_value()), options.tick_hz, options.first_tick, options.drive) {}
+
+fw::BoardSeam SimDevice::make_seam(SimDevice* self, bool motors) {
   fw::BoardSeam seam;
   seam.ctx = self;
   seam.output = &SimDevice::on_output;
   seam.send = &SimDevice::on_send;
   seam.log = &SimDevice::on_log;
   seam.subtick = &SimDevice::on_subtick;
+  if (motors) {
+    seam.read_encoders = &SimDevice::on_read_encoders;
+    seam.motor_output = &SimDevice::on_motor_output;
+  }
   seam.id = protocol::Board::sim;
   return seam;
+}
+
+void SimDevice::on_read_encoders(void* ctx, std::int32_t (&counts)[fw::kMotorCount]) {
+  auto* self = static_cast<SimDevice*>(ctx);
+  const plant::PlantOutput& out = self->plant_->output();
+  for (int i = 0; i < fw::kMotorCount; ++i) counts[i] = out.counts[i];
+  if (self->encoder_hook_) self->encoder_hook_(counts);
+}
+
+void SimDevice::on_motor_output(void* ctx, const float (&duty)[fw::kMotorCount]) {
+  auto* self = static_cast<SimDevice*>(ctx);
+  for (int i = 0; i < fw::kMotorCount; ++i) self->duty_[i] = duty[i];
+}
+
+// The tick's duties act until the next tick; the counts at the end are what the drive reads next.
+void SimDevice::step_plant() {
+  float duty[fw::kMotorCount];
+  for (int i = 0; i < fw::kMotorCount; ++i) duty[i] = duty_[i];
+  if (duty_hook_) duty_hook_(duty);
+  const double dt = 1.0 / static_cast<double>(core_.tick_hz()) / observe_substeps_;
+  for (int k = 0; k < observe_substeps_; ++k) {
+    const plant::PlantOutput& out = plant_->step(duty, dt);
+    if (observer_) observer_(plant_->time(), out);
+  }
+  if (plant_->unstable() && !unstable_logged_) {
+    unstable_logged_ = true;
+    on_log(this, "plant unstable: the integrator's step is past its stable limit (results invalid)");
+  }
 }
 
 void SimDevice::on_output(void* ctx, float value) {
@@ -65,7 +118,10 @@ bool SimDevice::poll_report(protocol::Report& out) {
 
 void SimDevice::advance(std::uint64_t ticks, float* record) {
   record_ = record;
-  for (std::uint64_t i = 0; i < ticks; ++i) core_.on_tick();
+  for (std::uint64_t i = 0; i < ticks; ++i) {
+    core_.on_tick();
+    if (plant_) step_plant();
+  }
   record_ = nullptr;
 }
 

@@ -113,12 +113,11 @@ void DeviceLink::on_report(const protocol::Message& m, std::int64_t now) {
     case protocol::Type::sync_reply: {
       const SyncSample s{static_cast<std::int64_t>(m.sync_reply.host_time_us), now, m.sync_reply.tick, m.sync_reply.subtick};
       if (s.sent_us > now) return;  // not one of ours
-      fprintf(stderr, "DBG S %ld %ld %.4f\n", static_cast<long>(s.sent_us), static_cast<long>(s.received_us), static_cast<double>(s.tick) + s.subtick * 0x1p-32);
-      if (clock_.add(s) == ClockSync::Verdict::reset) { events_.restarted = true; fprintf(stderr, "DBG sync reset tick=%lu sub=%u rtt=%ld\n", static_cast<unsigned long>(s.tick), s.subtick, static_cast<long>(s.received_us - s.sent_us)); }
+      if (clock_.add(s) == ClockSync::Verdict::reset) events_.restarted = true;
       return;
     }
     case protocol::Type::status:
-      if (status_ && m.status.tick < status_->tick) { events_.restarted = true; fprintf(stderr, "DBG status back %lu < %lu\n", static_cast<unsigned long>(m.status.tick), static_cast<unsigned long>(status_->tick)); }
+      if (status_ && m.status.tick < status_->tick) events_.restarted = true;
       status_ = m.status;
       ++statuses_;
       while (!in_flight_.empty() && seq_not_after(in_flight_.front(), m.status.last_seq)) in_flight_.pop_front();

@@ -96,11 +96,12 @@ std::string format_time(std::int64_t us) {
 }
 
 std::string format_status(const Snapshot& s) {
+  // Most important first: a narrow terminal cuts the end (envelope and mapping).
   const Counters& c = s.counters;
-  return fmt::format("{} {} / {}  track {} \"{}\"  env {}  map {}  sent {} played {}  queue {}/{}  late {} stolen {}",
+  return fmt::format("{} {}/{}  track {} \"{}\"  sent {} played {}  queue {}/{}  late {} stolen {}  env {} map {}",
                      s.paused ? "paused " : "playing", format_time(s.song_us), format_time(s.end_us), s.track,
-                     s.track_name, s.envelope, s.mapping, c.notes_sent, c.notes_played,
-                     s.queue_capacity - s.queue_free, s.queue_capacity, c.late, c.stolen);
+                     s.track_name, c.notes_sent, c.notes_played, s.queue_capacity - s.queue_free, s.queue_capacity,
+                     c.late, c.stolen, s.envelope, s.mapping);
 }
 
 void StatusLine::draw() {

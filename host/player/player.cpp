@@ -63,7 +63,8 @@ void Player::send_transport(protocol::TransportOp op, std::uint64_t tick) {
   protocol::Message m = protocol::make(protocol::Type::transport, 0);
   m.transport.op = op;
   m.transport.tick = op == protocol::TransportOp::seek ? tick : 0;
-  send(m);
+  const std::optional<std::uint16_t> seq = send(m);
+  if (op == protocol::TransportOp::play && seq) play_seq_ = *seq;
 }
 
 std::int64_t Player::song_now() const { return paused_ ? paused_at_us_ : audio_.song_time_us(); }
@@ -253,6 +254,12 @@ void Player::check_device_state() {
   if (!s) return;
   if (s->faults & protocol::fault_estop) {
     throw LinkError(fmt::format("device {}: emergency stop latched: playback stopped", link_.transport().name()));
+  }
+  // Idle after it processed our play: the device lost the session (it restarted, and its clock happens
+  // not to look restarted).
+  if (!paused_ && s->state == protocol::State::idle && play_seq_ && link_.processed(*play_seq_)) {
+    recover("it is idle");
+    return;
   }
   // The device's host watchdog fired (we were silent too long: a stalled host). Acknowledge with a stop,
   // then play on from where the song is; at most once a second (the Status may predate the stop).

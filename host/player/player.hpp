@@ -150,6 +150,7 @@ class Player {
   bool paused_ = false;
   std::int64_t paused_at_us_ = 0;
   std::int64_t next_sync_us_ = 0;
+  std::optional<std::uint16_t> play_seq_;  // the last Transport play sent
   std::int64_t last_fault_recovery_us_ = 0;
 
   std::optional<protocol::Status> baseline_;  // device counters when the session (or a restart) began

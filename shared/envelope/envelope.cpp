@@ -48,12 +48,8 @@ float rate(float num, float den) {
   return q > kMax ? kMax : (q < -kMax ? -kMax : q);
 }
 
-// First tick at or after the (fractional) tick position t ≥ 0, at most N (t ≤ N up to rounding).
-std::uint32_t first_tick_at_or_after(float t, std::uint32_t n_end) {
-  const float c = std::ceil(t);
-  return c >= static_cast<float>(n_end) ? n_end : static_cast<std::uint32_t>(c);
-}
-
+// First tick at or after the (fractional) tick position t, with 0 ≤ t ≤ N ≤ 2^32 − 1.
+std::uint32_t first_tick_at_or_after(double t) { return static_cast<std::uint32_t>(std::ceil(t)); }
 }  // namespace
 
 const Adsr& builtin(Preset p) {
@@ -85,77 +81,65 @@ void Envelope::start(const Adsr& preset, float peak, std::uint32_t duration_tick
                      float end_fade_ms) {
   const bool time_base_ok = std::isfinite(tick_hz) && tick_hz > 0.0f;
   const Adsr& p = (valid(preset) && time_base_ok) ? preset : builtin(Preset::square);
-  const float ticks_per_ms = time_base_ok ? tick_hz / 1000.0f : 0.0f;
+  const double ticks_per_ms = time_base_ok ? static_cast<double>(tick_hz) / 1000.0 : 0.0;
 
   n_end_ = duration_ticks == 0 ? 1 : duration_ticks;
-  // N as a float is rounded above 2^24 ticks; it is only used for proportions (short notes, the one
-  // phase of triangle and damped), never to place a boundary that is measured from the note's end.
-  const float n = static_cast<float>(n_end_);
+  const double n = n_end_;
   peak_ = clamp_peak(peak);
   sustain_level_ = p.shape == Shape::damped ? peak_ : peak_ * p.sustain;  // ≤ peak_: sustain ≤ 1
 
-  // Phase lengths in ticks. Short notes keep the proportions of the phases and drop the sustain (SPEC §6).
-  float attack = p.attack_ms * ticks_per_ms;
-  float decay = p.decay_ms * ticks_per_ms;
-  float release = p.release_ms * ticks_per_ms;
+  // The phase boundaries in double: they must stay exact to a small fraction of a tick for notes and
+  // phases of hours, and a boundary that moves by a rounding error can move a step (decay 0, s < 1).
+  double attack = static_cast<double>(p.attack_ms) * ticks_per_ms;
+  double decay = static_cast<double>(p.decay_ms) * ticks_per_ms;
+  double release = static_cast<double>(p.release_ms) * ticks_per_ms;
   if (p.shape != Shape::adsr) {  // the shape's one phase spans the whole note
-    attack = 0.0f;
-    decay = p.shape == Shape::triangle ? n : 0.0f;
-    release = p.shape == Shape::damped ? n : 0.0f;
+    attack = 0;
+    decay = p.shape == Shape::triangle ? n : 0.0;
+    release = p.shape == Shape::damped ? n : 0.0;
   }
-  const float phases = attack + decay + release;
+  // Short notes keep the proportions of the phases and drop the sustain (SPEC §6).
+  const double phases = attack + decay + release;
   if (phases > n) {
-    const float scale = n / phases;
+    const double scale = n / phases;
     attack *= scale;
     decay *= scale;
     release *= scale;
   }
-  // Boundaries t1 ≤ t2 ≤ t3 ≤ N. t1 and t2 count from the start, t3 = N − release from the end: kept as
-  // integer ticks plus a fraction, so they stay exact for notes of hours (no difference of two large
-  // floats): ceil(N − r) = N − floor(r), and ceil(N − r) − (N − r) = r − floor(r).
-  const float t1 = std::fmin(attack, n);
-  const float t2 = std::fmin(t1 + decay, n);
-  decay_first_ = first_tick_at_or_after(t1, n_end_);
-  sustain_first_ = first_tick_at_or_after(t2, n_end_);
-  decay_offset_ = static_cast<float>(decay_first_) - t1;
-  float release_ticks = release;
-  if (p.shape == Shape::damped) {  // the whole note, exactly (N may not be a float)
-    release_first_ = 0;
-    release_offset_ = 0.0f;
-  } else {
-    const float room = n - t2;  // rounding must not let the release start before t2
-    if (release_ticks > room) release_ticks = room > 0.0f ? room : 0.0f;
-    const float whole = std::floor(release_ticks);
-    const auto whole_ticks = static_cast<std::uint32_t>(std::fmin(whole, n));
-    release_first_ = n_end_ - (whole_ticks < n_end_ ? whole_ticks : n_end_);
-    release_offset_ = release_ticks - whole;
-    if (release_first_ < sustain_first_) {  // t3 = t2
-      release_first_ = sustain_first_;
-      release_offset_ = static_cast<float>(sustain_first_) - t2;
-      release_ticks = n - t2;
-    }
-  }
+  // Rounding must not reorder the boundaries: 0 ≤ t1 ≤ t2 ≤ t3 ≤ N.
+  const double t1 = attack < n ? attack : n;
+  const double t2 = t1 + decay < n ? t1 + decay : n;
+  const double t3 = n - release > t2 ? n - release : t2;
 
-  // Per-tick rates, in float like everything at() uses (start() runs on the tick that starts the note,
-  // so it must be cheap too: double is a software library on the Cortex-M4F).
-  attack_slope_ = t1 > 0.0f ? rate(peak_, t1) : 0.0f;
-  decay_slope_ = t2 > t1 ? rate(sustain_level_ - peak_, t2 - t1) : 0.0f;
+  decay_first_ = first_tick_at_or_after(t1);
+  sustain_first_ = first_tick_at_or_after(t2);
+  release_first_ = first_tick_at_or_after(t3);
+  decay_offset_ = static_cast<float>(static_cast<double>(decay_first_) - t1);
+  release_offset_ = static_cast<float>(static_cast<double>(release_first_) - t3);
+
+  // The per-tick rates are floats: worked out in float from the boundaries (start() runs on the tick that
+  // starts the note, and double is a software library on the Cortex-M4F). Each is within 2 ulp of its
+  // value in double, a relative error the envelope inherits; the boundaries themselves are unaffected.
+  const auto span = [](double from, double to) { return static_cast<float>(to - from); };
+  attack_slope_ = t1 > 0.0 ? rate(peak_, span(0.0, t1)) : 0.0f;
+  decay_slope_ = t2 > t1 ? rate(sustain_level_ - peak_, span(t1, t2)) : 0.0f;
 
   // r: Table 1's ratio, or for the damped shape the ratio that lands on the absolute end level.
   float ratio = p.final_ratio;
   if (p.shape == Shape::damped) ratio = sustain_level_ > 0.0f ? std::fmin(1.0f, ratio / sustain_level_) : 1.0f;
+  const float release_ticks = span(t3, n);
   release_zero_ = !(ratio > 0.0f);
   release_log2_per_tick_ = (release_zero_ || release_ticks <= 0.0f) ? 0.0f : rate(std::log2(ratio), release_ticks);
 
   const bool fade_ok = time_base_ok && std::isfinite(end_fade_ms) && end_fade_ms > 0.0f;
-  const float fade_ticks = fade_ok ? std::fmin(end_fade_ms, 1e7f) * ticks_per_ms : 0.0f;
+  const float fade_ticks = fade_ok ? std::fmin(end_fade_ms, 1e7f) * static_cast<float>(ticks_per_ms) : 0.0f;
   fade_per_tick_ = fade_ticks > 0.0f ? rate(1.0f, fade_ticks) : 0.0f;
   // at() multiplies by the fade factor (N − n)·(1/F) where it is below 1: the ticks from fade_first_ on.
   // Found here with the same float product, so at() needs only an integer comparison per tick.
   fade_first_ = n_end_;
   if (fade_per_tick_ > 0.0f) {
-    auto k = static_cast<std::uint32_t>(std::fmin(fade_ticks + 2.0f, n));
-    if (k > n_end_) k = n_end_;
+    const float k_max = fade_ticks + 2.0f;
+    auto k = k_max < static_cast<float>(n_end_) ? static_cast<std::uint32_t>(k_max) : n_end_;
     while (k > 0 && !(static_cast<float>(k) * fade_per_tick_ < 1.0f)) --k;
     fade_first_ = n_end_ - k;
   }

@@ -20,12 +20,20 @@ T MotorModel<T>::duty(T tension, T omega, Flags& flags) const {
     flags |= flag::invalid_input;
     return 0;
   }
+  return duty_for_force(tension > 0 ? tension : static_cast<T>(0), omega, flags);  // a string cannot push
+}
+
+template <class T>
+T MotorModel<T>::duty_for_force(T force, T omega, Flags& flags) const {
+  if (!std::isfinite(force)) {
+    flags |= flag::invalid_input;
+    return 0;
+  }
   if (!std::isfinite(omega)) {
     flags |= flag::invalid_input;
     omega = 0;
   }
-  const T pull = tension > 0 ? tension : static_cast<T>(0);
-  const T d = pull * duty_per_newton_ + omega * duty_per_rad_s_;
+  const T d = force * duty_per_newton_ + omega * duty_per_rad_s_;
   if (d > 1) { flags |= flag::saturated; return 1; }
   if (d < -1) { flags |= flag::saturated; return -1; }
   return d;

@@ -35,6 +35,10 @@ class MotorModel {
   // winds at `omega` (rad/s). Sets flag::saturated when clamped, flag::invalid_input (and returns 0 — no
   // drive) for a non-finite tension; a non-finite omega drops the back-EMF term and flags invalid_input.
   T duty(T tension, T omega, Flags& flags) const;
+  // The same with a signed force at the pulley instead of a string tension: the firmware drive's
+  // feed-forward asks the motor for its tension plus what accelerates its own rotor, which may be negative
+  // (a motor braking its inertia). Clamping and flags as duty().
+  T duty_for_force(T force, T omega, Flags& flags) const;
 
   // Winding speed from one tick's encoder change (counts grow as string pays out, hence the minus sign).
   T winding_speed(std::int32_t delta_counts, T tick_hz) const {

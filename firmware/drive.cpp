@@ -1,0 +1,128 @@
+#include "firmware/drive.hpp"
+
+#include <cmath>
+
+namespace hmp::fw {
+
+using spidar::Flags;
+namespace flag = spidar::flag;
+
+namespace {
+constexpr float kTwoPi = 6.28318530717958647692f;
+// Pose flags that mean the lengths do not describe a grip the device can hold.
+constexpr Flags kPoseBroken = flag::invalid_input | flag::ill_conditioned | flag::pose_limited | flag::short_string;
+// QP flags that mean its tensions are not an answer to the request (not_converged is: bounded, nearly optimal).
+constexpr Flags kQpBroken = flag::invalid_input | flag::ill_conditioned | flag::degenerate_geometry;
+}  // namespace
+
+Drive::Drive(std::uint32_t tick_hz, const DriveParams& params)
+    : params_(params), tick_hz_(static_cast<float>(tick_hz != 0 ? tick_hz : 1000u)), motor_(params.motor) {
+  compensator_.configure(params_.plant, params_.motor, params_.compensator, static_cast<std::uint32_t>(tick_hz_));
+  // No-load speed V/Ke in counts per tick, times the factor; never below 2 counts (quantisation).
+  const float no_load = params_.motor.supply_voltage / params_.motor.torque_constant;
+  const float counts = params_.limits.jump_speed_factor * no_load *
+                       static_cast<float>(params_.motor.counts_per_rev) / kTwoPi / tick_hz_;
+  jump_counts_ = counts > 2.0f ? static_cast<std::int32_t>(counts) : 2;
+  const float persist = params_.limits.persist_ms * 1e-3f * tick_hz_;
+  persist_ticks_ = persist > 1.0f ? static_cast<std::uint16_t>(persist) : 1;
+  for (float& t : tension_) t = qp_.t_min;
+}
+
+void Drive::apply(const protocol::Settings& s) {
+  direction_ = {s.direction[0], s.direction[1], s.direction[2]};
+  const float n = spidar::norm(direction_);
+  direction_ = n > 0.0f ? (1.0f / n) * direction_ : spidar::Vec3<float>{0.0f, 1.0f, 0.0f};
+  peak_n_ = s.peak_force_n;
+  qp_.t_min = s.t_min_n;
+  qp_.t_max = s.t_max_n;
+}
+
+void Drive::hold(float (&duty)[kMotors]) {
+  Flags ignored = 0;
+  const float d = motor_.duty(qp_.t_min, 0.0f, ignored);  // no back-EMF term: the motors also damp
+  for (int i = 0; i < kMotors; ++i) {
+    duty[i] = d;
+    tension_[i] = qp_.t_min;
+  }
+  holding_ = true;
+}
+
+// Encoders → speeds, pose, and the sensing checks. Returns new fault bits.
+std::uint32_t Drive::check_sensing(const std::int32_t (&counts)[kMotors], float (&speed)[kMotors]) {
+  std::uint32_t faults = 0;
+  for (int i = 0; i < kMotors; ++i) {
+    // Wrap-around difference: counters may roll over.
+    const auto delta = static_cast<std::int32_t>(static_cast<std::uint32_t>(counts[i]) -
+                                                 static_cast<std::uint32_t>(last_counts_[i]));
+    last_counts_[i] = counts[i];
+    if (delta > jump_counts_ || delta < -jump_counts_) {
+      faults |= protocol::fault_encoder_jump;
+      speed[i] = 0.0f;
+    } else {
+      speed[i] = motor_.winding_speed(delta, tick_hz_);
+    }
+  }
+  float lengths[kMotors];
+  calibration_.lengths(counts, lengths);
+  const Flags pose_flags = pose_.update(params_.frame, lengths, params_.pose);
+  if (pose_flags & kPoseBroken) faults |= protocol::fault_pose_diverged;
+  // Misfit: the strings at the last linearisation point (one Gauss–Newton step behind, micrometres while
+  // tracking). A slack string has paid out more than its straight path.
+  const spidar::StringGeometry<float>& g = pose_.strings();
+  bool slack = false;
+  for (int i = 0; i < kMotors; ++i) slack = slack || lengths[i] - g.length[i] > params_.limits.slack_m;
+  slack_ticks_ = slack ? static_cast<std::uint16_t>(slack_ticks_ + (slack_ticks_ < persist_ticks_)) : 0;
+  if (slack_ticks_ >= persist_ticks_) faults |= protocol::fault_string_slack;
+  const bool misfit = !(pose_.residual_rms() <= params_.limits.misfit_m);  // NaN counts as a misfit
+  misfit_ticks_ = misfit ? static_cast<std::uint16_t>(misfit_ticks_ + (misfit_ticks_ < persist_ticks_)) : 0;
+  if (misfit_ticks_ >= persist_ticks_) faults |= protocol::fault_pose_diverged;
+  return faults;
+}
+
+DriveTick Drive::tick(float vibration, bool safe, const std::int32_t (&counts)[kMotors], float (&duty)[kMotors]) {
+  DriveTick out;
+  if (!calibrated_) {
+    calibration_.calibrate(params_.frame, counts, motor_.metres_per_count());
+    pose_.reset();
+    for (int i = 0; i < kMotors; ++i) last_counts_[i] = counts[i];
+    calibrated_ = true;
+  }
+  float measured[kMotors];
+  out.faults = check_sensing(counts, measured);
+  if (safe || out.faults != 0) {
+    hold(duty);
+    return out;
+  }
+  if (holding_) {
+    compensator_.reset(qp_.t_min);
+    holding_ = false;
+  }
+
+  // The force: the vibration along the direction, on top of the bias tensions.
+  const float requested = vibration * peak_n_;
+  const spidar::StringGeometry<float>& strings = pose_.strings();
+  const spidar::TensionResult<float> qp = spidar::solve_tensions(
+      strings, requested * direction_, spidar::Vec3<float>{}, qp_, bank_.at(vibration));
+  out.flags = qp.flags;
+  if (qp.flags & kQpBroken) {
+    out.faults |= protocol::fault_qp_infeasible;
+    hold(duty);
+    return out;
+  }
+  // What the tensions make along the direction, as far as the QP could meet the request: the request
+  // itself plus the QP's shortfall (t_max reached, t_min in the way). The bias alone makes ~0 (the
+  // regulariser's ~1 mN), so the shortfall is the QP's force minus the request.
+  out.force_n = spidar::dot(qp.force, direction_);
+  float along[kMotors], motor_force[kMotors], speed[kMotors];
+  for (int i = 0; i < kMotors; ++i) {
+    tension_[i] = qp.tension[i];
+    along[i] = spidar::dot(strings.u[i], direction_);
+  }
+  compensator_.step(tension_, out.force_n, along, measured, motor_force, speed);
+  Flags motor_flags = 0;
+  for (int i = 0; i < kMotors; ++i) duty[i] = motor_.duty_for_force(motor_force[i], speed[i], motor_flags);
+  out.flags = static_cast<Flags>(out.flags | motor_flags);
+  return out;
+}
+
+}  // namespace hmp::fw

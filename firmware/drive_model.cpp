@@ -1,0 +1,192 @@
+#include "firmware/drive_model.hpp"
+
+#include <cmath>
+
+#include "firmware/matrix_exp.hpp"
+
+namespace hmp::fw {
+
+namespace {
+
+constexpr float kPi = 3.14159265358979f;
+
+// The model's continuous quantities. configure() derives the output rows by evaluating these formulas on
+// unit states (they stay readable; the tick runs only the resulting dot products).
+struct Constants {
+  float wc, zeta, m, tau_e, k, c, grip_mass, kh, ch;
+};
+
+// Motor force without the back-EMF term, and the winding speed, for the string part at state s
+// (T_r, Ṫ_r/ω_c, k·x_s) with R's input at `target`.
+void string_outputs(const Constants& q, const float (&s)[3], float target, float& force, float& speed) {
+  const float t_dot = q.wc * s[1];
+  const float t_ddot = q.wc * q.wc * (target - s[0]) - 2.0f * q.zeta * q.wc * q.wc * s[1];
+  const float x_dot = (s[0] - s[2]) / q.c;  // c ẋ_s = T_r − k x_s
+  const float x_ddot = (t_dot - q.k * x_dot) / q.c;
+  const float x_dddot = (t_ddot - q.k * x_ddot) / q.c;
+  force = s[0] + q.tau_e * t_dot + q.m * (x_ddot + q.tau_e * x_dddot);
+  speed = x_dot;
+}
+
+// The same for the grip part at state g (F_r, Ḟ_r/ω_c, M ω_c² y, M ω_c ẏ), per unit of u_i·d.
+void grip_outputs(const Constants& q, const float (&g)[4], float& force, float& speed) {
+  const float y = g[2] / (q.grip_mass * q.wc * q.wc);
+  const float y_dot = g[3] / (q.grip_mass * q.wc);
+  const float f_dot = q.wc * g[1];
+  const float y_ddot = (g[0] - q.ch * y_dot - q.kh * y) / q.grip_mass;
+  const float y_dddot = (f_dot - q.ch * y_ddot - q.kh * y_dot) / q.grip_mass;
+  force = q.m * (y_ddot + q.tau_e * y_dddot);
+  speed = y_dot;
+}
+
+// One tick of x' = A x + B w with w running from w(n−1) to w(n), and the integrals of the two outputs
+// o·x + o_in·w, from the exponential of the augmented system (x, w, w's slope, ∫force, ∫speed).
+template <int N>
+LinearStepper<N> make_stepper(const float (&a)[N][N], const float (&b)[N], const float (&force)[N], float force_in,
+                              const float (&speed)[N], float speed_in, float h) {
+  constexpr int W = N, P = N + 1, QF = N + 2, QV = N + 3, M = N + 4;
+  float am[M][M]{};
+  for (int i = 0; i < N; ++i) {
+    for (int j = 0; j < N; ++j) am[i][j] = a[i][j];
+    am[i][W] = b[i];
+    am[QF][i] = force[i];
+    am[QV][i] = speed[i];
+  }
+  am[W][P] = 1.0f / h;  // w' = (w(n) − w(n−1))/h, the slope state holding w(n) − w(n−1)
+  am[QF][W] = force_in;
+  am[QV][W] = speed_in;
+  float e[M][M];
+  expm(am, h, e);
+  // Start values: w = w(n−1), slope = w(n) − w(n−1).
+  LinearStepper<N> out;
+  const float inv_h = 1.0f / h;
+  for (int i = 0; i < N; ++i) {
+    for (int j = 0; j < N; ++j) out.phi[i][j] = e[i][j];
+    out.gamma_prev[i] = e[i][W] - e[i][P];
+    out.gamma_now[i] = e[i][P];
+    out.force[i] = e[QF][i] * inv_h;
+    out.speed[i] = e[QV][i] * inv_h;
+  }
+  out.force_prev = (e[QF][W] - e[QF][P]) * inv_h;
+  out.force_now = e[QF][P] * inv_h;
+  out.speed_prev = (e[QV][W] - e[QV][P]) * inv_h;
+  out.speed_now = e[QV][P] * inv_h;
+  return out;
+}
+
+}  // namespace
+
+void DriveCompensator::configure(const PlantModel& plant, const spidar::MotorParams<float>& motor,
+                                 const CompensatorConfig& config, std::uint32_t tick_hz) {
+  config_ = config;
+  const float hz = static_cast<float>(tick_hz != 0 ? tick_hz : 1000u);
+  const float h = 1.0f / hz;
+  const float r = motor.pulley_radius;
+  speed_per_metre_ = 1.0f / r;
+  blend_ = 1.0f - std::exp(-2.0f * kPi * config.speed_blend_hz * h);
+
+  Constants q{};
+  q.wc = kReferenceCorner * hz;
+  q.zeta = kReferenceDamping;
+  q.m = plant.rotor_inertia / (r * r);
+  q.tau_e = plant.inductance / motor.resistance;
+  q.k = plant.string_stiffness;
+  q.c = plant.string_damping > 1e-3f ? plant.string_damping : 1e-3f;
+  q.grip_mass = plant.grip_mass;
+  q.kh = plant.hand_stiffness;
+  q.ch = plant.hand_damping;
+
+  // Strings: s1' = ω_c s2, s2' = ω_c (T − s1) − 2ζ ω_c s2, s3' = (k/c)(s1 − s3).
+  const float a3[3][3] = {{0.0f, q.wc, 0.0f}, {-q.wc, -2.0f * q.zeta * q.wc, 0.0f}, {q.k / q.c, 0.0f, -q.k / q.c}};
+  const float b3[3] = {0.0f, q.wc, 0.0f};
+  float force3[3], speed3[3], force3_in = 0.0f, speed3_in = 0.0f;
+  for (int j = 0; j < 3; ++j) {
+    float unit[3] = {};
+    unit[j] = 1.0f;
+    string_outputs(q, unit, 0.0f, force3[j], speed3[j]);
+  }
+  const float zero3[3] = {};
+  string_outputs(q, zero3, 1.0f, force3_in, speed3_in);
+  string_ = make_stepper(a3, b3, force3, force3_in, speed3, speed3_in, h);
+
+  // Grip: g1' = ω_c g2, g2' = ω_c (F − g1) − 2ζ ω_c g2, g3' = ω_c g4, g4' = ω_c g1 − (c_h/M) g4 − k_h/(M ω_c) g3.
+  const float a4[4][4] = {{0.0f, q.wc, 0.0f, 0.0f},
+                          {-q.wc, -2.0f * q.zeta * q.wc, 0.0f, 0.0f},
+                          {0.0f, 0.0f, 0.0f, q.wc},
+                          {q.wc, 0.0f, -q.kh / (q.grip_mass * q.wc), -q.ch / q.grip_mass}};
+  const float b4[4] = {0.0f, q.wc, 0.0f, 0.0f};
+  float force4[4], speed4[4];
+  for (int j = 0; j < 4; ++j) {
+    float unit[4] = {};
+    unit[j] = 1.0f;
+    grip_outputs(q, unit, force4[j], speed4[j]);
+  }
+  grip_model_ = make_stepper(a4, b4, force4, 0.0f, speed4, 0.0f, h);
+  reset(0.0f);
+}
+
+void DriveCompensator::reset(float tension) {
+  for (StringState& st : strings_) {
+    st.s[0] = tension;
+    st.s[1] = 0.0f;
+    st.s[2] = tension;
+    st.last_tension = tension;
+    st.model_speed = 0.0f;
+    st.correction = 0.0f;
+  }
+  for (float& g : grip_) g = 0.0f;
+  last_applied_ = 0.0f;
+}
+
+void DriveCompensator::step(const float (&tension)[kStrings], float applied, const float (&along)[kStrings],
+                            const float (&measured_speed)[kStrings], float (&motor_force)[kStrings],
+                            float (&speed)[kStrings]) {
+  if (!config_.enabled) {
+    // Stall duties; the back-EMF from the encoders' speed, low-passed (their quantum is 3 rad/s at 1 kHz).
+    for (int i = 0; i < kStrings; ++i) {
+      StringState& st = strings_[i];
+      st.correction += blend_ * (measured_speed[i] - st.correction);
+      motor_force[i] = tension[i];
+      speed[i] = st.correction;
+    }
+    return;
+  }
+  const LinearStepper<4>& gm = grip_model_;
+  float grip_force = gm.force_prev * last_applied_ + gm.force_now * applied;
+  float grip_speed = gm.speed_prev * last_applied_ + gm.speed_now * applied;
+  float g[4];
+  for (int i = 0; i < 4; ++i) {
+    grip_force += gm.force[i] * grip_[i];
+    grip_speed += gm.speed[i] * grip_[i];
+    g[i] = gm.gamma_prev[i] * last_applied_ + gm.gamma_now[i] * applied;
+    for (int j = 0; j < 4; ++j) g[i] += gm.phi[i][j] * grip_[j];
+  }
+  for (int i = 0; i < 4; ++i) grip_[i] = g[i];
+  last_applied_ = applied;
+
+  const LinearStepper<3>& sm = string_;
+  for (int i = 0; i < kStrings; ++i) {
+    StringState& st = strings_[i];
+    const float t = tension[i], tp = st.last_tension;
+    const float* x = st.s;
+    const float model_speed = speed_per_metre_ * (sm.speed[0] * x[0] + sm.speed[1] * x[1] + sm.speed[2] * x[2] +
+                                                  sm.speed_prev * tp + sm.speed_now * t + along[i] * grip_speed);
+    motor_force[i] = sm.force[0] * x[0] + sm.force[1] * x[1] + sm.force[2] * x[2] + sm.force_prev * tp +
+                     sm.force_now * t + along[i] * grip_force;
+    float next[3];
+    for (int r = 0; r < 3; ++r) {
+      next[r] = sm.gamma_prev[r] * tp + sm.gamma_now[r] * t + sm.phi[r][0] * x[0] + sm.phi[r][1] * x[1] +
+                sm.phi[r][2] * x[2];
+    }
+    st.s[0] = next[0];
+    st.s[1] = next[1];
+    st.s[2] = next[2];
+    st.last_tension = t;
+    // measured_speed averages the last tick, as does the model speed kept from the last step.
+    st.correction += blend_ * (measured_speed[i] - st.model_speed - st.correction);
+    st.model_speed = model_speed;
+    speed[i] = model_speed + st.correction;
+  }
+}
+
+}  // namespace hmp::fw

@@ -1,0 +1,54 @@
+// `hmp play --device qemu` (SPEC §3, §10, §13): the hmp binary boots the qemu-an386 firmware in
+// qemu-system-arm, plays a 10 s passage of the demo's flute over the emulated UART, and every note of
+// the passage (counted independently from `hmp info --json --notes`) starts on its scheduled tick.
+// Skipped when the firmware image (the qemu-an386 tree next to this build tree, or $HMP_QEMU_ELF) or the
+// emulator is missing.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+
+#include "play_harness.hpp"
+
+namespace {
+
+namespace test = hmp::test;
+namespace fs = std::filesystem;
+
+// The same places hmp looks (host/player/qemu_device.hpp).
+std::string image() {
+  if (const char* e = std::getenv("HMP_QEMU_ELF"); e != nullptr && *e != '\0') return e;
+  return (fs::path(HMP_BIN_DIR).parent_path().parent_path() / "qemu-an386" / "boards" / "qemu-an386" / "hmp_fw_qemu_an386.elf")
+      .string();
+}
+
+bool have_emulator() {
+  const char* e = std::getenv("QEMU_SYSTEM_ARM");
+  return test::run_command(std::string("command -v ") + (e != nullptr && *e != '\0' ? e : "qemu-system-arm")).status == 0;
+}
+
+TEST(PlayQemu, FlutePassageEveryNoteOnItsTick) {
+  if (!fs::exists(image())) GTEST_SKIP() << "no firmware image at " << image() << " (cmake --preset qemu-an386)";
+  if (!have_emulator()) GTEST_SKIP() << "qemu-system-arm is not installed";
+  const auto expected = test::passage_notes(1, 130, 140);
+  ASSERT_GT(expected.size(), 40u);
+  const std::string log_path = (fs::temp_directory_path() / ("hmp-e2e-qemu-" + std::to_string(::getpid()) + ".jsonl")).string();
+  fs::remove(log_path);
+  const test::CommandResult r = test::run_command(test::kHmp + " play '" + test::kDemo +
+                                                  "' --track flute --no-audio --device qemu --from 130 --to 140 --log " +
+                                                  log_path + " </dev/null");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("board qemu-an386"), std::string::npos) << r.err;
+  const test::ParsedLog log = test::parse_log(log_path);
+  fs::remove(log_path);
+  ASSERT_EQ(log.notes.size(), expected.size()) << r.err;
+  for (const test::LogEntry& e : log.notes) EXPECT_EQ(e.actual, e.scheduled) << "key " << e.key << " at " << e.start_s;
+  ASSERT_TRUE(log.summary.has_value());
+  EXPECT_EQ(log.summary->at("notes_played").get<std::size_t>(), expected.size());
+  EXPECT_EQ(log.summary->at("late").get<int>(), 0);
+  EXPECT_EQ(log.summary->at("rejected").get<int>(), 0);
+}
+
+}  // namespace

@@ -1,0 +1,57 @@
+#!/usr/bin/env bash
+# firmware-tick (SPEC §8 budget: 16 voices ≤ 1,500 instructions per tick): instructions per device tick of
+# the qemu-an386 firmware (Cortex-M4F build) with 0, 1, 4, 8 and 16 sounding voices, at 1 kHz and 10 kHz.
+#
+# Method (boards/qemu-an386/instruction_counter.hpp, docs/performance.md "Firmware tick"): the bench image
+# hmp_fw_qemu_an386_bench runs the real board tick (An386Board::on_tick: core tick, output, report
+# hand-off) under `qemu-system-arm -icount shift=0`, where every instruction advances virtual time by
+# exactly 1 ns. It reads virtual time from a 25 MHz hardware timer around each tick, synchronised to the
+# timer's count edges, which resolves single instructions; a run of 1000 nops must count 1000 (checked).
+# Prints the mean over 2 s of ticks with every voice sounding (metric instructions_per_tick), the worst of
+# those ticks (…_max: a tick that starts a note), and the cost of the pieces (instructions_detail).
+#
+# Run by scripts/bench with the host build directory as $1 (unused: the image comes from the cross tree,
+# build/qemu-an386, or $HMP_QEMU_BUILD_DIR, configured and built here).
+set -euo pipefail
+cross="${HMP_QEMU_BUILD_DIR:-build/qemu-an386}"
+qemu="${QEMU_SYSTEM_ARM:-qemu-system-arm}"
+command -v "$qemu" >/dev/null || { echo "firmware-tick: $qemu not installed" >&2; exit 1; }
+[ -f "$cross/CMakeCache.txt" ] || cmake --preset qemu-an386 -B "$cross" >&2
+cmake --build "$cross" -j2 --target hmp_fw_qemu_an386_bench >&2
+image="$cross/boards/qemu-an386/hmp_fw_qemu_an386_bench.elf"
+
+for hz in 1000 10000; do
+  out=$(timeout 300 "$qemu" -M mps2-an386 -nographic -monitor none -serial null \
+          -semihosting-config enable=on,target=native -icount shift=0,sleep=off \
+          -kernel "$image" -append "hz=$hz" </dev/null 2>&1) || { printf '%s\n' "$out" >&2; exit 1; }
+  # The counter must count a known run of instructions right, or none of the numbers mean anything.
+  nops=$(sed -n 's/^calibration: nops=1000 measured=\(-\{0,1\}[0-9]*\)$/\1/p' <<<"$out")
+  if [ -z "$nops" ] || [ "$nops" -lt 996 ] || [ "$nops" -gt 1004 ]; then
+    printf '%s\n' "$out" >&2
+    echo "firmware-tick: instruction counter off (1000 nops counted as '${nops}')" >&2
+    exit 1
+  fi
+  grep -q '^WARNING' <<<"$out" && { printf '%s\n' "$out" >&2; exit 1; }
+  awk -v hz="$hz" '
+    function field(name,   i, kv) {
+      for (i = 2; i <= NF; ++i) { split($i, kv, "="); if (kv[1] == name) return kv[2] }
+      return ""
+    }
+    function emit(metric, value, params) {
+      printf "{\"bench\":\"firmware-tick\",\"metric\":\"%s\",\"value\":%s,\"unit\":\"instructions\",\"params\":{%s\"drive\":false,\"board\":\"qemu-an386\",\"tick_hz\":%d}}\n", metric, value, params, hz
+    }
+    $1 == "result" {
+      v = "\"voices\":" field("voices") ","
+      emit("instructions_per_tick", field("mean"), v)
+      emit("instructions_per_tick_max", field("max"), v)
+    }
+    $1 == "detail:" {
+      for (i = 2; i <= NF; ++i) {
+        split($i, kv, "=")
+        if (kv[2] == "") { what = $i; continue }  # "envelope_at" names the group of the phases after it
+        part = (what == "" ? kv[1] : what "_" kv[1])
+        emit("instructions_detail", kv[2], "\"part\":\"" part "\",")
+      }
+      what = ""
+    }' <<<"$out"
+done

@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# midi-parse (SPEC §4): `hmp info --json` against mido (parse + note pairing, timed inside Python) and
+# midicsv (conversion to /dev/null), side by side on a generated large file (tools/bench/gen_big_midi.py:
+# 12 tracks, 620k notes, tempo changes, running status) and on the real songs (examples/*.mid and the Bach
+# files of ../shared/midi/classical; identical files measured once). Also hmp's peak RSS.
+# Run by scripts/bench with the build directory as $1. Needs midicsv and python3-mido (scripts/packages.txt).
+set -euo pipefail
+build=$1
+cmake --build "$build" -j2 --target hmp >&2
+
+# The generated file is cached in the build tree and made again when the generator changes.
+notes=620000
+big="$build/bench/midi-parse-big-$notes.mid"
+if [ ! -f "$big" ] || [ tools/bench/gen_big_midi.py -nt "$big" ]; then
+  mkdir -p "$build/bench"
+  echo "midi-parse: generating $big" >&2
+  /usr/bin/python3 tools/bench/gen_big_midi.py "$big.tmp" --notes "$notes" && mv "$big.tmp" "$big"
+fi
+
+files=("generated-big.mid=$big")
+seen=()
+for f in examples/*.mid ../shared/midi/classical/*.mid; do
+  [ -f "$f" ] || continue
+  sum=$(cksum < "$f")
+  [[ " ${seen[*]-} " == *" $sum "* ]] && { echo "midi-parse: $f is a copy of a file already measured; skipped" >&2; continue; }
+  seen+=("$sum")
+  files+=("$f")
+done
+exec /usr/bin/python3 tools/bench/midi_parse.py "$build/bin/hmp" "${files[@]}"
