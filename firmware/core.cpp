@@ -88,8 +88,12 @@ void Core::on_tick() {
 void Core::run_drive() {
   std::int32_t counts[kMotorCount];
   board_.read_encoders(board_.ctx, counts);
-  // Safe state (docs/spidar.md): a latched fault whose fade has ended, or an emergency stop.
-  const bool safe = state_ == State::fault && output_.silent();
+  // Safe state (docs/spidar.md): the drive cannot trust what it senses, so it holds every string at t_min
+  // with plain stall duties. After an emergency stop or the watchdog the sensing is fine: the drive goes
+  // on rendering, with the vibration at zero, so the strings' force returns to the bias cleanly.
+  constexpr std::uint32_t kSensingFaults = protocol::fault_qp_infeasible | protocol::fault_pose_diverged |
+                                           protocol::fault_encoder_jump | protocol::fault_string_slack;
+  const bool safe = (faults_ & kSensingFaults) != 0;
   const DriveTick t = drive_.tick(last_output_, safe, counts, duty_);
   board_.motor_output(board_.ctx, duty_);
   if (t.flags & spidar::flag::saturated) ++stats_.drive_saturated;

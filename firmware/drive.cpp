@@ -98,27 +98,29 @@ DriveTick Drive::tick(float vibration, bool safe, const std::int32_t (&counts)[k
     holding_ = false;
   }
 
-  // The force: the vibration along the direction, on top of the bias tensions.
+  // The force: the vibration along the direction, on top of the bias tensions, pre-emphasised for what
+  // the tick rate costs (drive_model.hpp).
   const float requested = vibration * peak_n_;
+  const float emphasised = compensator_.emphasise(requested);
   const spidar::StringGeometry<float>& strings = pose_.strings();
   const spidar::TensionResult<float> qp = spidar::solve_tensions(
-      strings, requested * direction_, spidar::Vec3<float>{}, qp_, bank_.at(vibration));
+      strings, emphasised * direction_, spidar::Vec3<float>{}, qp_, bank_.at(vibration));
   out.flags = qp.flags;
   if (qp.flags & kQpBroken) {
     out.faults |= protocol::fault_qp_infeasible;
     hold(duty);
     return out;
   }
-  // What the tensions make along the direction, as far as the QP could meet the request: the request
-  // itself plus the QP's shortfall (t_max reached, t_min in the way). The bias alone makes ~0 (the
-  // regulariser's ~1 mN), so the shortfall is the QP's force minus the request.
-  out.force_n = spidar::dot(qp.force, direction_);
+  // What the tensions make along the direction: the QP's force (the bias alone makes ~1 mN, the
+  // regulariser's), short of the request where t_max or t_min got in the way.
+  const float applied = spidar::dot(qp.force, direction_);
+  out.force_n = requested + (applied - emphasised);
   float along[kMotors], motor_force[kMotors], speed[kMotors];
   for (int i = 0; i < kMotors; ++i) {
     tension_[i] = qp.tension[i];
     along[i] = spidar::dot(strings.u[i], direction_);
   }
-  compensator_.step(tension_, out.force_n, along, measured, motor_force, speed);
+  compensator_.step(tension_, applied, along, measured, motor_force, speed);
   Flags motor_flags = 0;
   for (int i = 0; i < kMotors; ++i) duty[i] = motor_.duty_for_force(motor_force[i], speed[i], motor_flags);
   out.flags = static_cast<Flags>(out.flags | motor_flags);

@@ -74,6 +74,57 @@ LinearStepper<N> make_stepper(const float (&a)[N][N], const float (&b)[N], const
   return out;
 }
 
+// Just enough complex arithmetic for the design-frequency check (no <complex>: it drags in streams).
+struct Cx {
+  float re = 0.0f, im = 0.0f;
+};
+Cx operator+(Cx a, Cx b) { return {a.re + b.re, a.im + b.im}; }
+Cx operator-(Cx a, Cx b) { return {a.re - b.re, a.im - b.im}; }
+Cx operator*(Cx a, Cx b) { return {a.re * b.re - a.im * b.im, a.re * b.im + a.im * b.re}; }
+Cx operator*(float s, Cx a) { return {s * a.re, s * a.im}; }
+Cx operator/(Cx a, Cx b) {
+  const float d = b.re * b.re + b.im * b.im;
+  return {(a.re * b.re + a.im * b.im) / d, (a.im * b.re - a.re * b.im) / d};
+}
+float abs(Cx a) { return std::sqrt(a.re * a.re + a.im * a.im); }
+
+// The discrete response of a stepper's two outputs to u(n) = e^{jθn}: x = (e^{jθ} − Φ)⁻¹(Γp e^{−jθ} + Γn),
+// out = o·x + o_p e^{−jθ} + o_n (Gaussian elimination with partial pivoting on the complex 3×3).
+void stepper_response(const LinearStepper<3>& s, float theta, Cx& force, Cx& speed) {
+  const Cx z{std::cos(theta), std::sin(theta)}, zinv{z.re, -z.im};
+  Cx m[3][4];
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) m[i][j] = Cx{(i == j ? z.re : 0.0f) - s.phi[i][j], i == j ? z.im : 0.0f};
+    m[i][3] = s.gamma_prev[i] * zinv + Cx{s.gamma_now[i], 0.0f};
+  }
+  for (int k = 0; k < 3; ++k) {
+    int p = k;
+    for (int i = k + 1; i < 3; ++i)
+      if (abs(m[i][k]) > abs(m[p][k])) p = i;
+    for (int j = 0; j < 4; ++j) {
+      const Cx t = m[k][j];
+      m[k][j] = m[p][j];
+      m[p][j] = t;
+    }
+    for (int i = k + 1; i < 3; ++i) {
+      const Cx f = m[i][k] / m[k][k];
+      for (int j = k; j < 4; ++j) m[i][j] = m[i][j] - f * m[k][j];
+    }
+  }
+  Cx x[3];
+  for (int i = 2; i >= 0; --i) {
+    Cx acc = m[i][3];
+    for (int j = i + 1; j < 3; ++j) acc = acc - m[i][j] * x[j];
+    x[i] = acc / m[i][i];
+  }
+  force = s.force_prev * zinv + Cx{s.force_now, 0.0f};
+  speed = s.speed_prev * zinv + Cx{s.speed_now, 0.0f};
+  for (int i = 0; i < 3; ++i) {
+    force = force + s.force[i] * x[i];
+    speed = speed + s.speed[i] * x[i];
+  }
+}
+
 }  // namespace
 
 void DriveCompensator::configure(const PlantModel& plant, const spidar::MotorParams<float>& motor,
@@ -122,7 +173,33 @@ void DriveCompensator::configure(const PlantModel& plant, const spidar::MotorPar
     grip_outputs(q, unit, force4[j], speed4[j]);
   }
   grip_model_ = make_stepper(a4, b4, force4, 0.0f, speed4, 0.0f, h);
+
+  // The string chain at the design frequency: targets → held commands (force, and speed for the back-EMF)
+  // → a motor and string with the grip held still. The plant's response to a held command is the hold's
+  // (1 − e^{−jθ})/(jθ) over the model's K(s) = (1 + τ_e s) + (m s²(1 + τ_e s) + b s)/(k + c s).
+  float design_hz = 0.25f * hz;
+  if (design_hz > 250.0f) design_hz = 250.0f;
+  const float theta = 2.0f * kPi * design_hz * h;
+  Cx d_force, d_speed;
+  stepper_response(string_, theta, d_force, d_speed);
+  const float b_damp = motor.torque_constant * motor.torque_constant / (motor.resistance * r * r);
+  const Cx command = d_force + b_damp * d_speed;  // the stepper's speed is ẋ (m/s), b's unit
+  const Cx jw{0.0f, 2.0f * kPi * design_hz};
+  const Cx lag = Cx{1.0f, 0.0f} + q.tau_e * jw;
+  const Cx k_of_s = lag + (q.m * (jw * jw * lag) + b_damp * jw) / (Cx{q.k, 0.0f} + q.c * jw);
+  const Cx hold = (Cx{1.0f - std::cos(theta), std::sin(theta)}) / Cx{0.0f, theta};
+  chain_gain_ = abs(command * hold / k_of_s);
+  // |(1 + α) − α e^{−jθ}|² = 1 + 2α(1 + α)(1 − cos θ) = 1/gain²; α may be negative (a chain that gains).
+  const float want = chain_gain_ > 0.0f ? 1.0f / chain_gain_ : 1.0f;
+  const float cq = (want * want - 1.0f) / (2.0f * (1.0f - std::cos(theta)));
+  alpha_ = cq > -0.25f ? 0.5f * (std::sqrt(1.0f + 4.0f * cq) - 1.0f) : -0.5f;
   reset(0.0f);
+}
+
+float DriveCompensator::emphasise(float force) {
+  const float out = config_.enabled ? (1.0f + alpha_) * force - alpha_ * last_request_ : force;
+  last_request_ = force;
+  return out;
 }
 
 void DriveCompensator::reset(float tension) {
@@ -136,6 +213,7 @@ void DriveCompensator::reset(float tension) {
   }
   for (float& g : grip_) g = 0.0f;
   last_applied_ = 0.0f;
+  last_request_ = 0.0f;
 }
 
 void DriveCompensator::step(const float (&tension)[kStrings], float applied, const float (&along)[kStrings],

@@ -17,7 +17,11 @@
 // to averaging and holding (sinc(πf/f_tick) each); R, a 2nd-order low-pass with ω_c = 2.282/h and
 // damping 0.287, is shaped so that |R|·sinc⁴ stays within 0.18% of 1 up to a quarter of the tick rate
 // (250 Hz at 1 kHz) and falls beyond it. The rendered force is the target's R-filtered version, delayed
-// by about 1.2 ticks.
+// by about 1.2 ticks. At 1 kHz one more effect shows: the compensator's command has content above the
+// tick's Nyquist rate (the inverse of a motor's inertia grows with frequency), and the tick-rate samples
+// fold it back into the band (−5.5% at 250 Hz). configure() computes the resulting gain of the whole
+// string chain exactly at a design frequency (a quarter of the tick rate, at most 250 Hz) and makes it up
+// with a one-tap pre-emphasis of the requested force, (1 + α) F(n) − α F(n−1).
 // The back-EMF term uses the model's winding speed, corrected towards the encoders' speed at low
 // frequencies (a user moving the grip), where the encoders see the motion well.
 #include <cstdint>
@@ -67,6 +71,9 @@ class DriveCompensator {
   // At rest with every string at `tension` (N): no motion, no speed correction.
   void reset(float tension);
 
+  // The requested force (N) with the pre-emphasis applied; call once a tick, before the QP.
+  float emphasise(float force);
+
   // One tick. tension: this tick's target tensions (N, the QP's); applied: the force they make along the
   // direction beyond the bias (N); along[i] = u_i·d. measured_speed: the encoders' winding speed over the
   // last tick (rad/s). Out: the force each motor must exert at its pulley (N, may be negative) and the
@@ -75,6 +82,10 @@ class DriveCompensator {
             const float (&measured_speed)[kStrings], float (&motor_force)[kStrings], float (&speed)[kStrings]);
 
   bool enabled() const { return config_.enabled; }
+  float emphasis() const { return alpha_; }
+  // Gain of the string chain (targets → held commands → nominal motor and string) at the design frequency,
+  // before the pre-emphasis: 1 without folding.
+  float chain_gain() const { return chain_gain_; }
 
  private:
   // Per string: s = (T_r, Ṫ_r/ω_c, k·x_s) at the start of the tick, all in newtons so that A·h is of
@@ -94,6 +105,7 @@ class DriveCompensator {
   float grip_[4]{};
   float last_applied_ = 0.0f;
   StringState strings_[kStrings];
+  float alpha_ = 0.0f, last_request_ = 0.0f, chain_gain_ = 1.0f;
   float blend_ = 1.0f;              // speed-correction low-pass coefficient per tick
   float speed_per_metre_ = 200.0f;  // 1/r
 };

@@ -159,6 +159,45 @@ void details(const hmp::board::InstructionCounter& counter, std::uint32_t tick_h
   line.print();
 }
 
+// The two heaviest ticks a host can cause: the one that takes four full Notes reports (20 notes) from
+// the inbox, and the one that starts 16 notes at once while 16 voices sound (every start steals).
+void worst_ticks(const hmp::board::InstructionCounter& counter, std::uint32_t tick_hz) {
+  run(counter, 0, tick_hz);  // a fresh playing session
+  const auto chord = [&](std::uint64_t start, std::uint32_t first_voice) {
+    for (std::uint32_t r = 0; r < 4; ++r) {
+      p::Message m = p::make(p::Type::notes, 0);
+      m.notes.count = static_cast<std::uint8_t>(p::kNotesPerBatch);
+      m.notes.base_tick = static_cast<std::uint32_t>(start);
+      for (std::uint32_t i = 0; i < p::kNotesPerBatch; ++i) {
+        const std::uint32_t v = first_voice + r * p::kNotesPerBatch + i;
+        p::CompactNote& n = m.notes.notes[i];
+        n.preset = static_cast<std::uint8_t>(kPresets[v % (sizeof kPresets / sizeof kPresets[0])]);
+        n.duration_ticks = tick_hz;
+        n.freq_q20 = hmp::synth::freq_to_q20(50.0 + 5.0 * v);
+        n.amp_q16 = hmp::synth::amp_to_q16(0.3);
+      }
+      send(m);
+    }
+  };
+  const auto measured_tick = [&] {
+    const std::uint32_t primask = hmp::board::irq_save();
+    const std::int32_t n = counter.measure(&tick, nullptr);
+    hmp::board::irq_restore(primask);
+    return n;
+  };
+  // 20 notes on one tick: the first 16 sound (and steal each other's voices), then 20 more.
+  const std::uint64_t now = g_board->core().tick();
+  chord(now + 50, 0);
+  const std::int32_t take_reports = measured_tick();
+  while (g_board->core().tick() + 1 < now + 50) measured_tick();
+  measured_tick();  // 20 notes due: 16 start (the most per tick), 4 on the next tick
+  measured_tick();
+  chord(now + 100, 20);
+  while (g_board->core().tick() + 1 < now + 100) measured_tick();
+  const std::int32_t start_16 = measured_tick();
+  Line().text("detail: worst take_4_reports=").i32(take_reports).text(" start_16_notes=").i32(start_16).print();
+}
+
 }  // namespace
 
 extern "C" void UART0_RX_Handler() { g_board->on_uart_rx(); }
@@ -190,6 +229,7 @@ int main() {
     Line().text("result voices=").u32(voices).text(" tick_hz=").u32(opt.tick_hz).text(" ticks=").u32(r.ticks)
         .text(" mean=").fixed(mean, 1).text(" max=").i32(r.max).text(" min=").i32(r.min).print();
   }
+  worst_ticks(counter, opt.tick_hz);
   const hmp::fw::Stats& s = g_board->core().stats();
   Line().text("core: started=").u32(s.started).text(" late=").u32(s.late).text(" rejected=").u32(s.rejected)
       .text(" tx_dropped=").u32(s.tx_dropped).print();

@@ -51,7 +51,7 @@ int main() {
     if (idle_ticks != 0) {
       const std::uint32_t now = g_board->ticks();
       const std::uint32_t rx = g_board->link().rx_bytes();
-      if (rx != seen_rx) {
+      if (rx != seen_rx || g_board->link().rx_paused()) {  // held-back bytes are not silence
         seen_rx = rx;
         last_rx_tick = now;
       } else if (now - last_rx_tick >= idle_ticks) {

@@ -1,11 +1,12 @@
-// Demo image for qemu-an386 (until the firmware core exists): the SysTick interrupt plays one note
-// through the shared synthesis engine, then main() checks the samples against an independent
-// reference, prints a summary over semihosting and exits with 0 only if every check passed.
-// tests.cmake runs it under QEMU (test qemu_boot_one_note).
+// Demo image for qemu-an386 (hmp_fw_qemu_an386_demo): the SysTick interrupt plays one note through the
+// shared synthesis engine alone (no firmware core, no UART), then main() checks the samples against an
+// independent reference, prints a summary over semihosting and exits with 0 only if every check passed.
+// A self-check of the toolchain, startup code and float ABI; tests.cmake runs it (qemu_boot_one_note).
 #include <cmath>
 #include <cstdint>
 
 #include "console.hpp"
+#include "registers.hpp"
 #include "semihosting.hpp"
 #include "shared/envelope/envelope.hpp"
 #include "shared/synth/engine.hpp"
@@ -15,7 +16,7 @@ namespace {
 
 using hmp::board::Line;
 
-constexpr std::uint32_t kCoreHz = 25'000'000;  // MPS2 AN386 system clock
+using hmp::board::kCoreHz;  // MPS2 AN386 system clock
 constexpr std::uint32_t kTickHz = HMP_TICK_HZ;
 static_assert(kCoreHz % kTickHz == 0 && kCoreHz / kTickHz - 1 <= 0xFFFFFFu, "SysTick cannot make this rate");
 
@@ -33,11 +34,8 @@ constexpr auto kPreset = hmp::envelope::Preset::square;  // E = amplitude for th
 constexpr float kSampleTolerance = 1e-4f;
 constexpr float kPeakTolerance = 1e-3f;
 
-// SysTick (ARMv7-M ARM, B3.3).
-volatile std::uint32_t& reg(std::uintptr_t address) { return *reinterpret_cast<volatile std::uint32_t*>(address); }
-constexpr std::uintptr_t kSystCsr = 0xE000E010, kSystRvr = 0xE000E014, kSystCvr = 0xE000E018;
-constexpr std::uint32_t kSystEnable = 1u << 0, kSystTickInt = 1u << 1, kSystCoreClock = 1u << 2;
-constexpr std::uintptr_t kScbCpacr = 0xE000ED88;
+using hmp::board::reg;
+namespace systick = hmp::board::systick;
 
 // Startup probes: one in .data, one in .bss, one set by a constructor that cannot be folded into
 // static data (it reads a volatile), so each part of the C runtime set-up is checked separately.
@@ -99,7 +97,7 @@ extern "C" void SysTick_Handler() {
 
 int main() {
   Line().text("HMP qemu-an386 one-note demo").print();
-  const bool fpu_on = (reg(kScbCpacr) & (0xFu << 20)) == (0xFu << 20);
+  const bool fpu_on = (reg(hmp::board::scb::kCpacr) & (0xFu << 20)) == (0xFu << 20);
   Line()
       .text("startup: data=").text(g_data_probe == kDataPattern ? "ok" : "BAD")
       .text(" bss=").text(g_bss_probe == 0 ? "ok" : "BAD")
@@ -122,11 +120,11 @@ int main() {
       .text(" ticks=").u32(kNoteTicks).text(" tail=").u32(kTailTicks).print();
 
   // Ticks come from SysTick, as in the firmware; the core sleeps in between.
-  reg(kSystRvr) = kCoreHz / kTickHz - 1;
-  reg(kSystCvr) = 0;
-  reg(kSystCsr) = kSystEnable | kSystTickInt | kSystCoreClock;
+  reg(systick::kRvr) = kCoreHz / kTickHz - 1;
+  reg(systick::kCvr) = 0;
+  reg(systick::kCsr) = systick::kEnable | systick::kTickInt | systick::kCoreClock;
   while (g_tick < kTotalTicks) asm volatile("wfi" ::: "memory");
-  reg(kSystCsr) = 0;
+  reg(systick::kCsr) = 0;
   check(g_start_ok, "engine accepted the note");
 
   Line first;

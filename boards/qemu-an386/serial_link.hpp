@@ -51,6 +51,8 @@ class SerialLink {
   const Counters& counters() const { return counters_; }
   // Read by the main loop: changes with every received byte (the exit-when-idle option watches it).
   std::uint32_t rx_bytes() const { return *static_cast<const volatile std::uint32_t*>(&counters_.rx_bytes); }
+  // Reception is held back for a full inbox (bytes are waiting in the UART and behind it).
+  bool rx_paused() const { return rx_paused_; }
 
  private:
   struct QueuedReport {

@@ -2,6 +2,7 @@
 // (-nostartfiles: there is no crt0), run main(), and report faults through semihosting.
 #include <cstdint>
 
+#include "registers.hpp"
 #include "semihosting.hpp"
 
 // Symbols from an386.ld.
@@ -65,11 +66,8 @@ constexpr VectorTable make_vector_table() {
 
 [[gnu::section(".isr_vector"), gnu::used]] constinit const VectorTable g_vectors = make_vector_table();
 
-// System control block registers (ARMv7-M ARM, B3.2).
-volatile std::uint32_t& reg(std::uintptr_t address) { return *reinterpret_cast<volatile std::uint32_t*>(address); }
-constexpr std::uintptr_t kScbVtor = 0xE000ED08;
-constexpr std::uintptr_t kScbCpacr = 0xE000ED88;
-constexpr std::uintptr_t kScbShcsr = 0xE000ED24;
+using hmp::board::reg;
+namespace scb = hmp::board::scb;
 constexpr std::uint32_t kCpacrCp10Cp11Full = 0xFu << 20;
 constexpr std::uint32_t kShcsrFaultsEnabled = (1u << 16) | (1u << 17) | (1u << 18);  // Mem, Bus, Usage
 
@@ -95,10 +93,10 @@ extern "C" {
 
 // Integer-only until CPACR grants access to CP10/CP11: any FP instruction before that would fault.
 void Reset_Handler() {
-  reg(kScbVtor) = reinterpret_cast<std::uintptr_t>(&g_vectors);
-  reg(kScbCpacr) = reg(kScbCpacr) | kCpacrCp10Cp11Full;
+  reg(scb::kVtor) = reinterpret_cast<std::uintptr_t>(&g_vectors);
+  reg(scb::kCpacr) = reg(scb::kCpacr) | kCpacrCp10Cp11Full;
   // Separate MemManage/BusFault/UsageFault handlers give better messages than an escalated HardFault.
-  reg(kScbShcsr) = reg(kScbShcsr) | kShcsrFaultsEnabled;
+  reg(scb::kShcsr) = reg(scb::kShcsr) | kShcsrFaultsEnabled;
   asm volatile("dsb\n\tisb" ::: "memory");
   start_runtime();
 }

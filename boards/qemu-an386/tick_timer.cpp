@@ -11,6 +11,7 @@ bool TickTimer::valid_rate(std::uint32_t tick_hz) {
 
 void TickTimer::start(std::uint32_t tick_hz) {
   reload_ = kCoreHz / tick_hz - 1;
+  scale_ = ~std::uint64_t{0} / (reload_ + 1u);  // (2^64 − 1) / period: the same as 2^64 / period here
   reg(systick::kCsr) = 0;
   reg(systick::kRvr) = reload_;
   reg(systick::kCvr) = 0;  // any write clears the counter: the first period is a full one
@@ -24,7 +25,10 @@ std::uint32_t TickTimer::subtick() const {
   const std::uint32_t value = reg(systick::kCvr);
   if ((reg(scb::kIcsr) & scb::kIcsrPendStSet) != 0) return 0xFFFFFFFFu;
   const std::uint32_t elapsed = reload_ - value;  // the counter runs down from reload_ to 0
-  return static_cast<std::uint32_t>((static_cast<std::uint64_t>(elapsed) << 32) / (reload_ + 1u));
+  // elapsed · 2^32 / period as elapsed · scale_ / 2^32, in two 32 × 32 multiplies: this runs with
+  // interrupts masked (An386Board::deliver), where a 64-bit division would cost a few hundred instructions.
+  const auto hi = static_cast<std::uint32_t>(scale_ >> 32), lo = static_cast<std::uint32_t>(scale_);
+  return elapsed * hi + static_cast<std::uint32_t>((static_cast<std::uint64_t>(elapsed) * lo) >> 32);
 }
 
 }  // namespace hmp::board

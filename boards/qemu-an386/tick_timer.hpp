@@ -19,6 +19,7 @@ class TickTimer {
 
  private:
   std::uint32_t reload_ = 0;  // clocks per tick − 1
+  std::uint64_t scale_ = 0;   // 2^64 / (reload_ + 1): elapsed clocks → 2^-32 ticks without a division
 };
 
 }  // namespace hmp::board

@@ -28,6 +28,7 @@ void register_all(CLI::App& app, Registry& registry) {
   register_tone(app, registry);
   register_devices(app, registry);
   register_play(app, registry);
+  register_sim(app, registry);
 }
 
 }  // namespace hmp::cli

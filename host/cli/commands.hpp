@@ -30,5 +30,6 @@ void register_info(CLI::App& app, Registry& registry);
 void register_render(CLI::App& app, Registry& registry);
 void register_devices(CLI::App&, Registry&);
 void register_play(CLI::App& app, Registry& registry);
+void register_sim(CLI::App& app, Registry& registry);
 
 }  // namespace hmp::cli

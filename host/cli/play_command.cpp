@@ -14,6 +14,7 @@
 #include "host/cli/commands.hpp"
 #include "host/cli/song_options.hpp"
 #include "host/common/error.hpp"
+#include "host/config/config.hpp"
 #include "host/midi/gm.hpp"
 #include "host/player/device_link.hpp"
 #include "host/player/live_terminal.hpp"
@@ -133,7 +134,14 @@ int run_play(const PlayOptions& o) {
   OpenedLink opened = open_link(o.device, haptic.tick_hz);
   if (!opened.note.empty()) std::fprintf(stderr, "%s\n", opened.note.c_str());
   player::DeviceLink link(*opened.transport);
-  const protocol::HelloReply hello = link.connect();
+  protocol::HelloReply hello;
+  try {
+    hello = link.connect();
+  } catch (const player::LinkError& e) {
+    // An emulated board that does not answer is most likely an image of something else.
+    if (!opened.qemu) throw;
+    throw player::LinkError(fmt::format("{} (image {}: is it the qemu-an386 firmware?)", e.what(), opened.qemu->image()));
+  }
   std::fprintf(stderr, "device %s: board %s, firmware %s, %u Hz, %u voices\n", opened.transport->name().c_str(),
                transport::board_name(hello.board), transport::firmware_version(hello).c_str(), hello.tick_hz,
                static_cast<unsigned>(hello.voices));
@@ -156,6 +164,14 @@ int run_play(const PlayOptions& o) {
   player::PlayerOptions po;
   po.track = track;
   po.haptic = haptic;
+  if (o.haptic.config_path) {
+    // The config's [device] table: force of full scale and vibration direction (SPEC §11).
+    const config::Config cfg = config::load(*o.haptic.config_path);
+    if (cfg.peak_force_n) po.settings.peak_force_n = static_cast<float>(*cfg.peak_force_n);
+    if (cfg.direction) {
+      for (int i = 0; i < 3; ++i) po.settings.direction[i] = static_cast<float>((*cfg.direction)[static_cast<std::size_t>(i)]);
+    }
+  }
   po.from_us = o.from_s ? std::llround(*o.from_s * 1e6) : 0;
   if (o.to_s) po.to_us = std::llround(*o.to_s * 1e6);
   po.on_started = [&](const player::StartedNote& n) { log.started(n); };

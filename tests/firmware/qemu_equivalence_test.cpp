@@ -208,7 +208,7 @@ Outcome play_on_qemu(const std::string& image, const std::string& options, doubl
         std::size_t at = len / 2;
         while (frame[at] == 0x00 || frame[at] == 0x01) ++at;
         frame[at] ^= 0x01;
-        EXPECT_EQ(::write(qemu.raw_fd(), frame, len), static_cast<ssize_t>(len));
+        EXPECT_EQ(::send(qemu.raw_fd(), frame, len, MSG_NOSIGNAL), static_cast<ssize_t>(len));
       }
       const std::uint16_t q = send(b.msg);
       note_seqs.push_back(q);
@@ -236,11 +236,8 @@ Outcome play_on_qemu(const std::string& image, const std::string& options, doubl
 }
 
 void check_equivalence(const std::string& options, double from_s, double seconds) {
-  const std::string image = qemu_image_path();
-  if (image.empty() || !std::filesystem::exists(image)) GTEST_SKIP() << "no firmware image at '" << image << "' (build the qemu-an386 preset)";
-  if (std::system((qemu_program() + " --version >/dev/null 2>&1").c_str()) != 0) GTEST_SKIP() << "qemu-system-arm not installed";
-
-  const Outcome o = play_on_qemu(image, options, from_s, seconds);
+  if (const std::string why = qemu_missing(); !why.empty()) GTEST_SKIP() << why;
+  const Outcome o = play_on_qemu(qemu_image_path(), options, from_s, seconds);
   ASSERT_TRUE(o.exit_code.has_value());
   ASSERT_EQ(*o.exit_code, 0);
   const FirmwareRun& run = o.run;
@@ -248,7 +245,7 @@ void check_equivalence(const std::string& options, double from_s, double seconds
   for (const std::string& line : run.log) std::cout << "  firmware " << line << "\n";
   std::cout << "  " << o.tick_hz << " Hz: " << o.song.notes << " notes in " << o.song.batches.size()
             << " reports, up to " << o.song.max_overlap << " at once, " << run.outputs.size() << " ticks traced\n";
-  ASSERT_GT(o.song.notes, 50u);
+  ASSERT_GT(o.song.notes, 25u);
   EXPECT_GE(o.song.max_overlap, 4) << "the song segment should have chords";
 
   // The link: every intact report arrived once, in order, and the corrupted frame was dropped and counted.

@@ -54,6 +54,16 @@ inline std::string qemu_program() {
   return env != nullptr && *env != '\0' ? env : "qemu-system-arm";
 }
 
+// Why a QEMU test cannot run here (for GTEST_SKIP), or empty when the image and the emulator are there.
+inline std::string qemu_missing() {
+  const std::string image = qemu_image_path();
+  if (image.empty() || !std::filesystem::exists(image)) {
+    return "no firmware image at '" + image + "' (build the qemu-an386 preset)";
+  }
+  if (std::system((qemu_program() + " --version >/dev/null 2>&1").c_str()) != 0) return qemu_program() + " not installed";
+  return {};
+}
+
 class QemuFirmware {
  public:
   // Starts QEMU with `append` as the image's command line (its options). Throws std::runtime_error.

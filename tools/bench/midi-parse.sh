@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # midi-parse (SPEC §4): `hmp info --json` against mido (parse + note pairing, timed inside Python) and
 # midicsv (conversion to /dev/null), side by side on a generated large file (tools/bench/gen_big_midi.py:
-# 12 tracks, 620k notes, tempo changes, running status) and on the real songs (examples/*.mid and the Bach
-# files of ../shared/midi/classical; identical files measured once). Also hmp's peak RSS.
+# 12 tracks, 620k notes, ~1000 tempo changes, running status) and on the real songs (examples/*.mid and
+# the Bach files of ../shared/midi/classical; identical files measured once). Also hmp's peak RSS.
 # Run by scripts/bench with the build directory as $1. Needs midicsv and python3-mido (scripts/packages.txt).
 set -euo pipefail
 build=$1
@@ -21,8 +21,11 @@ files=("generated-big.mid=$big")
 seen=()
 for f in examples/*.mid ../shared/midi/classical/*.mid; do
   [ -f "$f" ] || continue
-  sum=$(cksum < "$f")
-  [[ " ${seen[*]-} " == *" $sum "* ]] && { echo "midi-parse: $f is a copy of a file already measured; skipped" >&2; continue; }
+  sum=$(cksum < "$f" | tr " " _)
+  if [[ " ${seen[*]-} " == *" $sum "* ]]; then
+    echo "midi-parse: $f is a copy of a file already measured; skipped" >&2
+    continue
+  fi
   seen+=("$sum")
   files+=("$f")
 done

@@ -1,0 +1,281 @@
+// hmp sim SONG --track T [--out FILE.csv|.png] — plays one track on the simulated device with its plant
+// (SPEC §12, §13 `sim`) and shows the force the strings actually put on the grip next to the vibration
+// the firmware was asked for: the fidelity of the whole chain (synthesis → drive → motors → strings).
+// The song goes through the same haptic-track builder as `hmp render` and reaches the device as protocol
+// reports (Hello, Settings, Preset, Notes within the device's credit, Play, Syncs), exactly as over USB.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+
+#include <fmt/format.h>
+
+#include "boards/sim/sim_device.hpp"
+#include "host/cli/commands.hpp"
+#include "host/cli/song_options.hpp"
+#include "host/common/error.hpp"
+#include "host/common/progress.hpp"
+#include "host/midi/gm.hpp"
+#include "host/output/output_file.hpp"
+#include "host/output/trace_plot.hpp"
+#include "host/player/note_batcher.hpp"
+
+namespace hmp::cli {
+
+namespace {
+
+struct SimCliOptions {
+  std::string song;
+  std::string track;
+  std::string out = "-";
+  std::optional<double> from_s, to_s;
+  bool force = false;
+  double peak_force_n = 1.0;
+  bool plain_drive = false;
+  std::string integrator = "rosenbrock2";
+  HapticCliOptions haptic;
+};
+
+// One tick of the recording.
+struct Sample {
+  float commanded = 0, actual = 0, reported = 0, min_tension = 0, max_tension = 0;
+};
+
+// A host speaking the protocol to the in-process device: numbered reports, the credit rule of
+// docs/protocol.md (queue_free minus the note reports sent after last_seq), Syncs for the watchdog.
+class Host {
+ public:
+  explicit Host(sim::SimDevice& dev) : dev_(dev) {}
+  void send(protocol::Message m) {
+    m.seq = ++seq_;
+    protocol::Report r;
+    if (!protocol::encode(m, r)) throw std::runtime_error(std::string("cannot encode a ") + protocol::name(m.type));
+    if (m.type == protocol::Type::notes || m.type == protocol::Type::long_note) note_seqs_.push_back(m.seq);
+    dev_.deliver(r);
+  }
+  // Reads what the device said; returns its faults (latched bits) as of the last Status.
+  void collect() {
+    protocol::Report r;
+    while (dev_.poll_report(r)) {
+      protocol::Message m;
+      if (protocol::decode(r, m) != protocol::ErrorCode::none) continue;
+      if (m.type == protocol::Type::status) {
+        queue_free_ = m.status.queue_free;
+        last_seq_ = m.status.last_seq;
+        faults_ = m.status.faults;
+        std::erase_if(note_seqs_, [&](std::uint16_t s) { return static_cast<std::int16_t>(s - last_seq_) <= 0; });
+      } else if (m.type == protocol::Type::error) {
+        ++errors_;
+      }
+    }
+  }
+  int credit() const { return static_cast<int>(queue_free_) - static_cast<int>(note_seqs_.size()); }
+  std::uint32_t faults() const { return faults_; }
+  std::uint32_t errors() const { return errors_; }
+
+ private:
+  sim::SimDevice& dev_;
+  std::uint16_t seq_ = 0, last_seq_ = 0, queue_free_ = 0;
+  std::vector<std::uint16_t> note_seqs_;  // note reports sent and not yet processed
+  std::uint32_t faults_ = 0, errors_ = 0;
+};
+
+// The notes overlapping [first, end) (song ticks), clipped to it and moved to start at device tick `base`.
+std::vector<synth::Note> window_notes(const haptics::HapticTrack& ht, std::uint64_t first, std::uint64_t end,
+                                      std::uint64_t base) {
+  std::vector<synth::Note> out;
+  for (synth::Note n : ht.device_notes()) {
+    const std::uint64_t stop = n.start_tick + n.duration_ticks;
+    if (stop <= first || n.start_tick >= end) continue;
+    const std::uint64_t start = std::max(n.start_tick, first);
+    n.duration_ticks = static_cast<std::uint32_t>(std::min(stop, end) - start);
+    n.start_tick = start - first + base;
+    out.push_back(n);
+  }
+  std::stable_sort(out.begin(), out.end(), [](const synth::Note& a, const synth::Note& b) { return a.start_tick < b.start_tick; });
+  return out;
+}
+
+void write_csv(const SimCliOptions& o, const std::vector<Sample>& samples, double t0, std::uint32_t tick_hz) {
+  output::FilePtr f = output::open_for_writing(o.out, o.force);
+  std::fputs("t_s,commanded_n,actual_n,reported_n,min_tension_n,max_tension_n\n", f.get());
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    const Sample& s = samples[i];
+    std::fprintf(f.get(), "%.6f,%.6g,%.6g,%.6g,%.6g,%.6g\n", t0 + static_cast<double>(i) / tick_hz,
+                 static_cast<double>(s.commanded), static_cast<double>(s.actual), static_cast<double>(s.reported),
+                 static_cast<double>(s.min_tension), static_cast<double>(s.max_tension));
+  }
+  if (std::fflush(f.get()) != 0 || std::ferror(f.get())) throw std::runtime_error(o.out + ": write failed");
+}
+
+// The lag (whole ticks, 0…10) that best aligns actual with commanded, and the residual RMS there.
+std::pair<int, double> best_alignment(const std::vector<Sample>& s) {
+  int best = 0;
+  double best_rms = INFINITY;
+  for (int lag = 0; lag <= 10 && static_cast<std::size_t>(lag) < s.size(); ++lag) {
+    double sum = 0;
+    for (std::size_t i = 0; i + static_cast<std::size_t>(lag) < s.size(); ++i) {
+      const double d = static_cast<double>(s[i + static_cast<std::size_t>(lag)].actual) - static_cast<double>(s[i].commanded);
+      sum += d * d;
+    }
+    const double rms = std::sqrt(sum / static_cast<double>(s.size() - static_cast<std::size_t>(lag)));
+    if (rms < best_rms) {
+      best_rms = rms;
+      best = lag;
+    }
+  }
+  return {best, best_rms};
+}
+
+int run_sim(const SimCliOptions& o) {
+  const std::string fmt_out = o.out == "-" ? "csv" : output::extension_of(o.out);
+  if (fmt_out != "csv" && fmt_out != "png") throw BadInput("--out " + o.out + ": use a .csv or .png file");
+  if (!(o.peak_force_n > 0 && o.peak_force_n <= 20)) throw BadInput("--peak-force: must be in (0, 20] N");
+  for (const auto& t : {o.from_s, o.to_s}) {
+    if (t && !(std::isfinite(*t) && *t >= 0)) throw BadInput("--from/--to: must be seconds ≥ 0");
+  }
+  sim::plant::Method method{};
+  if (!sim::plant::parse_method(o.integrator, method)) {
+    throw BadInput("--integrator " + o.integrator +
+                   ": unknown (explicit_euler, semi_implicit_euler, rk4, linear_implicit_euler, rosenbrock2)");
+  }
+  const haptics::HapticOptions opts = resolve(o.haptic);
+  output::check_writable(o.out, o.force);
+
+  const midi::ReadResult r = midi::load_song(o.song);
+  for (const midi::Warning& w : r.warnings) std::fprintf(stderr, "warning: %s\n", w.message.c_str());
+  const std::uint32_t track = select_track(r.song, o.track);
+  const haptics::HapticTrack ht = haptics::build_haptic_track(r.song, track, opts);
+  std::uint64_t song_end = haptics::seconds_to_tick(r.song.duration_us, opts.tick_hz);
+  for (const haptics::HapticNote& n : ht.notes) song_end = std::max(song_end, n.note.start_tick + n.note.duration_ticks);
+  const std::uint64_t first = o.from_s ? haptics::seconds_to_tick(std::llround(*o.from_s * 1e6), opts.tick_hz) : 0;
+  const std::uint64_t end = o.to_s ? haptics::seconds_to_tick(std::llround(*o.to_s * 1e6), opts.tick_hz) : song_end;
+  if (end <= first) throw BadInput("--from/--to: empty window");
+  if (end - first > 600ull * opts.tick_hz) throw BadInput("--from/--to: at most 600 s of simulation at a time");
+
+  sim::SimOptions so;
+  so.tick_hz = opts.tick_hz;
+  so.plant = sim::PlantOptions{};
+  so.plant->params.stepper.method = method;
+  so.drive.compensator.enabled = !o.plain_drive;
+  sim::SimDevice dev(so);
+  Host host(dev);
+  protocol::Settings settings;
+  settings.policy = static_cast<protocol::PolicyCode>(opts.polyphony);
+  settings.end_fade_ms = static_cast<float>(opts.end_fade_ms);
+  settings.peak_force_n = static_cast<float>(o.peak_force_n);
+  host.send(protocol::make(protocol::Type::hello, 0));
+  protocol::Message m = protocol::make(protocol::Type::settings, 0);
+  m.settings = settings;
+  host.send(m);
+  for (const haptics::UserPreset& p : ht.uploads) {
+    m = protocol::make(protocol::Type::preset, 0);
+    m.preset.slot = p.slot;
+    m.preset.adsr = p.adsr;
+    host.send(m);
+  }
+  m = protocol::make(protocol::Type::transport, 0);
+  m.transport.op = protocol::TransportOp::play;
+  host.send(m);
+  // The window starts once the ramp-in is over (plus a margin for the first notes to arrive).
+  const std::uint64_t base = dev.tick() + (static_cast<std::uint64_t>(settings.ramp_in_ms) + 100) * opts.tick_hz / 1000;
+  const std::vector<synth::Note> notes = window_notes(ht, first, end, base);
+  const std::uint64_t lookahead = opts.tick_hz / 5, sync_period = opts.tick_hz / 10;
+  const double dir_y = settings.direction[1];  // the direction is (0, 1, 0) unless configured
+
+  std::vector<Sample> samples;
+  samples.reserve(end - first);
+  std::size_t cursor = 0;
+  ProgressBar bar("simulating");
+  for (std::uint64_t since_sync = 0; dev.tick() + 1 < base + (end - first); ++since_sync) {
+    host.collect();
+    while (cursor < notes.size() && notes[cursor].start_tick <= dev.tick() + lookahead && host.credit() > 0) {
+      m = protocol::Message{};
+      cursor += player::make_report(std::span(notes).subspan(cursor), m);
+      host.send(m);
+    }
+    if (since_sync >= sync_period) {
+      host.send(protocol::make(protocol::Type::sync, 0));
+      since_sync = 0;
+    }
+    const sim::plant::PlantOutput before = dev.plant()->output();  // the force at the start of this tick
+    dev.advance(1);
+    if (dev.tick() < base) continue;
+    Sample s;
+    s.commanded = dev.last_output() * settings.peak_force_n;
+    s.actual = static_cast<float>(before.string_force.y * dir_y);
+    s.reported = dev.core().status().force_n;
+    s.min_tension = static_cast<float>(*std::min_element(std::begin(before.tension), std::end(before.tension)));
+    s.max_tension = static_cast<float>(*std::max_element(std::begin(before.tension), std::end(before.tension)));
+    samples.push_back(s);
+    bar.update(samples.size(), end - first);
+    if (dev.plant_unstable()) break;
+  }
+  host.collect();
+  if (dev.plant_unstable()) {
+    throw std::runtime_error(fmt::format("the plant simulation went unstable at {:.3f} s: integrator {} is past its "
+                                         "stable step (use rosenbrock2)", static_cast<double>(samples.size()) / opts.tick_hz,
+                                         o.integrator));
+  }
+  if (dev.core().faults() != 0) {
+    std::fprintf(stderr, "warning: the device latched faults 0x%x (see docs/spidar.md, Firmware drive)\n",
+                 dev.core().faults());
+  }
+  double cmd_sq = 0, act_sq = 0;
+  for (const Sample& s : samples) {
+    cmd_sq += static_cast<double>(s.commanded) * static_cast<double>(s.commanded);
+    act_sq += static_cast<double>(s.actual) * static_cast<double>(s.actual);
+  }
+  const double n = std::max<double>(1.0, static_cast<double>(samples.size()));
+  const auto [lag, residual] = best_alignment(samples);
+  std::fprintf(stderr,
+               "fidelity: commanded rms %.4f N, actual rms %.4f N; best aligned %d tick(s) later, residual rms %.4f N "
+               "(%.1f%% of the commanded rms)\n",
+               std::sqrt(cmd_sq / n), std::sqrt(act_sq / n), lag, residual,
+               cmd_sq > 0 ? 100.0 * residual / std::sqrt(cmd_sq / n) : 0.0);
+
+  const double t0 = static_cast<double>(first) / opts.tick_hz;
+  if (fmt_out == "csv") {
+    write_csv(o, samples, t0, opts.tick_hz);
+  } else {
+    std::vector<float> commanded, actual;
+    for (const Sample& s : samples) {
+      commanded.push_back(s.commanded);
+      actual.push_back(s.actual);
+    }
+    const midi::Track& t = r.song.tracks[track];
+    output::TracePlotSpec spec;
+    spec.title = fmt::format("{} — track {} \"{}\" ({}) on the simulated device{}", o.song, track, t.name,
+                             midi::gm_instrument_name(t.program(), t.channel()), o.plain_drive ? ", plain drive" : "");
+    spec.rate_hz = opts.tick_hz;
+    spec.t0_s = t0;
+    output::write_traces_png(o.out,
+                             {{"commanded (vibration × peak force)", commanded, 0.10, 0.25, 0.60},
+                              {"actual (string force on the grip)", actual, 0.85, 0.35, 0.10}},
+                             spec, o.force);
+  }
+  return kExitOk;
+}
+
+}  // namespace
+
+void register_sim(CLI::App& app, Registry& registry) {
+  auto o = std::make_shared<SimCliOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "sim", "Play one track on the simulated device and plant: commanded vs actual grip force (CSV or PNG)");
+  cmd->add_option("SONG", o->song, "MIDI file")->required();
+  cmd->add_option("--track", o->track, "Track index, or part of its name or instrument (see hmp info)")->required();
+  cmd->add_option("--out", o->out,
+                  "FILE.csv (t_s,commanded_n,actual_n,reported_n,min_tension_n,max_tension_n), FILE.png, '-' = CSV")
+      ->capture_default_str();
+  cmd->add_option("--from", o->from_s, "Start of the window in seconds of the song");
+  cmd->add_option("--to", o->to_s, "End of the window in seconds of the song");
+  cmd->add_option("--peak-force", o->peak_force_n, "Force at full scale in N (device setting, default 1)");
+  cmd->add_flag("--plain-drive", o->plain_drive, "Stall duties without the dynamics compensation (to compare)");
+  cmd->add_option("--integrator", o->integrator, "Plant integrator (default rosenbrock2)")->capture_default_str();
+  cmd->add_flag("-f,--force", o->force, "Overwrite an existing output file");
+  add_haptic_options(cmd, o->haptic);
+  cmd->callback([o, &registry] { registry.set([o] { return run_sim(*o); }); });
+}
+
+}  // namespace hmp::cli
