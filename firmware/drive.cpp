@@ -99,12 +99,13 @@ DriveTick Drive::tick(float vibration, bool safe, const std::int32_t (&counts)[k
   }
 
   // The force: the vibration along the direction, on top of the bias tensions, pre-emphasised for what
-  // the tick rate costs (drive_model.hpp).
+  // the tick rate costs (drive_model.hpp). The warm-start bank is keyed by the force asked of the QP: its
+  // sign decides which strings sit at t_min.
   const float requested = vibration * peak_n_;
   const float emphasised = compensator_.emphasise(requested);
   const spidar::StringGeometry<float>& strings = pose_.strings();
   const spidar::TensionResult<float> qp = spidar::solve_tensions(
-      strings, emphasised * direction_, spidar::Vec3<float>{}, qp_, bank_.at(vibration));
+      strings, emphasised * direction_, spidar::Vec3<float>{}, qp_, bank_.at(peak_n_ > 0.0f ? emphasised / peak_n_ : 0.0f));
   out.flags = qp.flags;
   if (qp.flags & kQpBroken) {
     out.faults |= protocol::fault_qp_infeasible;

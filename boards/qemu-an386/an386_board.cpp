@@ -5,18 +5,32 @@
 
 namespace hmp::board {
 
-An386Board::An386Board(std::uint32_t tick_hz, bool trace)
-    : tick_hz_(tick_hz), tracing_(trace), core_(make_seam(this), tick_hz) {}
+An386Board::An386Board(std::uint32_t tick_hz, bool trace, BenchMotors* motors)
+    : tick_hz_(tick_hz), tracing_(trace), motors_(motors), core_(make_seam(this, motors != nullptr), tick_hz) {}
 
-fw::BoardSeam An386Board::make_seam(An386Board* self) {
+fw::BoardSeam An386Board::make_seam(An386Board* self, bool motors) {
   fw::BoardSeam seam;
   seam.ctx = self;
   seam.output = &An386Board::on_output;
   seam.send = &An386Board::on_send;
   seam.log = &An386Board::on_log;
   seam.subtick = &An386Board::on_subtick;
+  if (motors) {
+    seam.read_encoders = &An386Board::on_read_encoders;
+    seam.motor_output = &An386Board::on_motor_output;
+  }
   seam.id = protocol::Board::qemu_an386;
   return seam;
+}
+
+void An386Board::on_read_encoders(void* ctx, std::int32_t (&counts)[fw::kMotorCount]) {
+  const BenchMotors& m = *static_cast<An386Board*>(ctx)->motors_;
+  for (int i = 0; i < fw::kMotorCount; ++i) counts[i] = m.counts[i];
+}
+
+void An386Board::on_motor_output(void* ctx, const float (&duty)[fw::kMotorCount]) {
+  BenchMotors& m = *static_cast<An386Board*>(ctx)->motors_;
+  for (int i = 0; i < fw::kMotorCount; ++i) m.duty[i] = duty[i];
 }
 
 void An386Board::start_link() {

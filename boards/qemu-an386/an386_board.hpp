@@ -14,9 +14,17 @@
 
 namespace hmp::board {
 
+// Motors and encoders simulated by the bench image, so that the core's SPIDAR drive runs: the drive reads
+// `counts` (the bench writes them between ticks) and leaves its duties in `duty`. The firmware image has
+// no motors (the board is built without this, and the core skips the drive).
+struct BenchMotors {
+  std::int32_t counts[fw::kMotorCount]{};
+  float duty[fw::kMotorCount]{};
+};
+
 class An386Board {
  public:
-  An386Board(std::uint32_t tick_hz, bool trace);
+  An386Board(std::uint32_t tick_hz, bool trace, BenchMotors* motors = nullptr);
   An386Board(const An386Board&) = delete;
   An386Board& operator=(const An386Board&) = delete;
 
@@ -40,7 +48,9 @@ class An386Board {
   const SerialLink& link() const { return link_; }
 
  private:
-  static fw::BoardSeam make_seam(An386Board* self);
+  static fw::BoardSeam make_seam(An386Board* self, bool motors);
+  static void on_read_encoders(void* ctx, std::int32_t (&counts)[fw::kMotorCount]);
+  static void on_motor_output(void* ctx, const float (&duty)[fw::kMotorCount]);
   static void on_output(void* ctx, float value);
   static bool on_send(void* ctx, const protocol::Report& report);
   static void on_log(void* ctx, const char* line);
@@ -55,6 +65,7 @@ class An386Board {
   bool tracing_;
   std::uint32_t inbox_refused_ = 0;  // on_packet said no although the link checked for room (a bug)
   volatile std::uint32_t ticks_ = 0;
+  BenchMotors* motors_ = nullptr;
   fw::Core core_;  // last: its seam points at the members above
 };
 

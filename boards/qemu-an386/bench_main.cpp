@@ -11,6 +11,11 @@
 // through on_packet, ahead of their start, as from a host. Output: one line per voice count,
 //   result voices=V tick_hz=H ticks=N mean=M max=X min=Y
 // plus a calibration line (1000 nops should count 1000). Option hz=N sets the tick rate.
+//
+// Then the same with the SPIDAR drive (SPEC §8: the full tick ≤ 12,000): the board gets simulated motors
+// (BenchMotors), whose encoders report, between ticks and not counted, the counts of a grip circling 5 mm
+// around the centre at 0.5 Hz with a 0.1 mm, 173 Hz wobble, so the pose moves and the QP's warm starts
+// are exercised; lines `result drive=1 voices=V …` for 0 and 16 voices.
 #include <new>
 
 #include "an386_board.hpp"
@@ -20,6 +25,7 @@
 #include "registers.hpp"
 #include "semihosting.hpp"
 #include "shared/envelope/envelope.hpp"
+#include "shared/spidar/geometry.hpp"
 #include "shared/synth/frequency.hpp"
 #include "shared/synth/voice.hpp"
 
@@ -41,6 +47,26 @@ void send(p::Message m) {
 }
 
 void tick(void*) { g_board->on_tick(); }
+
+// The drive rows: simulated motors, and the counts of a moving grip written before each tick.
+hmp::board::BenchMotors g_motors;
+bool g_drive = false;
+const hmp::spidar::Frame<float> g_frame = hmp::spidar::x3_frame<float>();
+float g_rest[8];
+
+void set_counts(std::uint64_t tick, std::uint32_t tick_hz) {
+  constexpr float kPi = 3.14159265f;
+  const float circle = kPi * static_cast<float>(tick % (2u * tick_hz)) / static_cast<float>(tick_hz);
+  const float wobble = 2.0f * kPi * 173.0f * static_cast<float>(tick % tick_hz) / static_cast<float>(tick_hz);
+  hmp::spidar::Pose<float> pose;
+  pose.position = {0.005f * __builtin_cosf(circle), 0.0001f * __builtin_sinf(wobble), 0.005f * __builtin_sinf(circle)};
+  hmp::spidar::StringGeometry<float> s;
+  hmp::spidar::compute_strings(g_frame, pose, s);
+  const float metres_per_count = 2.0f * kPi * 0.005f / 2048.0f;  // 512 lines × 4 on a 5 mm pulley
+  for (int i = 0; i < 8; ++i) {
+    g_motors.counts[i] = static_cast<std::int32_t>(__builtin_lroundf((s.length[i] - g_rest[i]) / metres_per_count));
+  }
+}
 
 // Envelopes with every phase (Table 1), cycled over the voices.
 constexpr hmp::envelope::Preset kPresets[] = {
@@ -91,6 +117,7 @@ Result run(const hmp::board::InstructionCounter& counter, std::uint32_t voices, 
       next_start[v] += note_ticks;
       ++sent;
     }
+    if (g_drive) set_counts(now, tick_hz);
     const std::uint32_t primask = hmp::board::irq_save();
     if (now >= measure_from) {
       const std::int32_t n = counter.measure(&tick, nullptr);
@@ -230,8 +257,25 @@ int main() {
         .text(" mean=").fixed(mean, 1).text(" max=").i32(r.max).text(" min=").i32(r.min).print();
   }
   worst_ticks(counter, opt.tick_hz);
+
   const hmp::fw::Stats& s = g_board->core().stats();
   Line().text("core: started=").u32(s.started).text(" late=").u32(s.late).text(" rejected=").u32(s.rejected)
       .text(" tx_dropped=").u32(s.tx_dropped).print();
+
+  // The same board with motors: a fresh board (and core) whose seam has encoders and motor outputs.
+  g_board->stop();
+  g_board->~An386Board();
+  hmp::spidar::rest_lengths(g_frame, g_rest);
+  g_drive = true;
+  g_board = new (g_board_storage) An386Board(opt.tick_hz, false, &g_motors);
+  g_board->start_link();
+  constexpr std::uint32_t kDriveVoiceCounts[] = {0, 16};
+  for (const std::uint32_t voices : kDriveVoiceCounts) {
+    const Result r = run(counter, voices, opt.tick_hz);
+    const float mean = static_cast<float>(r.sum) / static_cast<float>(r.ticks);
+    Line().text("result drive=1 voices=").u32(voices).text(" tick_hz=").u32(opt.tick_hz).text(" ticks=").u32(r.ticks)
+        .text(" mean=").fixed(mean, 1).text(" max=").i32(r.max).text(" min=").i32(r.min).print();
+  }
+  if (g_board->core().faults() != 0) Line().text("WARNING: drive faults ").hex(g_board->core().faults()).print();
   return hmp::board::semihost::kExitOk;
 }

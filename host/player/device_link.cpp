@@ -120,7 +120,10 @@ void DeviceLink::on_report(const protocol::Message& m, std::int64_t now) {
       if (status_ && m.status.tick < status_->tick) events_.restarted = true;
       status_ = m.status;
       ++statuses_;
-      while (!in_flight_.empty() && seq_not_after(in_flight_.front(), m.status.last_seq)) in_flight_.pop_front();
+      // last_seq 0: nothing processed yet (0 never names a report).
+      while (m.status.last_seq != 0 && !in_flight_.empty() && seq_not_after(in_flight_.front(), m.status.last_seq)) {
+        in_flight_.pop_front();
+      }
       return;
     case protocol::Type::started:
       for (std::uint8_t i = 0; i < m.started.count; ++i) events_.started.push_back(m.started.entries[i]);
@@ -165,7 +168,7 @@ int DeviceLink::credit() const {
 
 bool DeviceLink::processed(std::uint16_t seq) const {
   std::lock_guard lock(mutex_);
-  return status_ && seq_not_after(seq, status_->last_seq);
+  return status_ && status_->last_seq != 0 && seq_not_after(seq, status_->last_seq);
 }
 
 std::optional<protocol::Status> DeviceLink::status() const {

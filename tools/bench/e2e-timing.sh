@@ -45,9 +45,10 @@ if p.returncode != 0:
 notes = [json.loads(l) for l in open(log) if '"track"' in l]
 errors = sorted(n["actual_tick"] - n["scheduled_tick"] for n in notes)
 summary = [json.loads(l)["summary"] for l in open(log) if '"summary"' in l][0]
-params = {"device": device, "track": "flute", "seconds": seconds, "notes": len(notes)}
+params = {"device": device, "track": "flute", "seconds": 310 if seconds == "song" else float(seconds), "notes": len(notes)}
 def emit(metric, value, unit, extra=None):
-    print(json.dumps({"bench": "e2e-timing", "metric": metric, "value": value, "unit": unit, "params": {**params, **(extra or {})}}))
+    line = {"bench": "e2e-timing", "metric": metric, "value": round(value, 4), "unit": unit, "params": {**params, **(extra or {})}}
+    print(json.dumps(line, separators=(",", ":")), flush=True)
 emit("onset_error_max", errors[-1] if errors else 0, "ticks")
 emit("onset_error_mean", sum(errors) / len(errors) if errors else 0, "ticks")
 emit("onset_error_p99", errors[int(0.99 * (len(errors) - 1))] if errors else 0, "ticks")
