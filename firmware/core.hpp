@@ -93,6 +93,7 @@ class Core {
   bool has_drive() const { return has_drive_; }
   const Drive& drive() const { return drive_; }
   const float (&duties() const)[kMotorCount] { return duty_; }  // the last ones sent to the board
+  std::uint16_t reports_sent() const { return tx_seq_; }  // device reports made so far (wrapping)
 
  private:
   // core.cpp: the tick

@@ -74,10 +74,16 @@ constexpr hmp::envelope::Preset kPresets[] = {
     hmp::envelope::Preset::harpsichord, hmp::envelope::Preset::flute, hmp::envelope::Preset::organ,
     hmp::envelope::Preset::guitar, hmp::envelope::Preset::contrabass};
 
+// What else a tick did besides the voices (and the drive): the heaviest tick of each kind, so that a
+// max can be traced to its cause. A tick is counted under the first kind that applies.
+enum Kind { kStart, kReport, kStatus, kPlain, kKinds };
+constexpr const char* kKindNames[kKinds] = {"note_start", "report", "status", "plain"};
+
 struct Result {
   std::uint64_t sum = 0;
   std::int32_t max = 0, min = 0x7FFFFFFF;
   std::uint32_t ticks = 0;
+  std::int32_t kind_max[kKinds] = {};
 };
 
 Result run(const hmp::board::InstructionCounter& counter, std::uint32_t voices, std::uint32_t tick_hz) {
@@ -120,11 +126,19 @@ Result run(const hmp::board::InstructionCounter& counter, std::uint32_t voices, 
     if (g_drive) set_counts(now, tick_hz);
     const std::uint32_t primask = hmp::board::irq_save();
     if (now >= measure_from) {
+      const hmp::fw::Core& core = g_board->core();
+      const std::uint32_t started = core.stats().started, packets = core.stats().packets;
+      const std::uint16_t reports = core.reports_sent();
       const std::int32_t n = counter.measure(&tick, nullptr);
       r.sum += static_cast<std::uint64_t>(n < 0 ? 0 : n);
       r.max = n > r.max ? n : r.max;
       r.min = n < r.min ? n : r.min;
       ++r.ticks;
+      const Kind kind = core.stats().started != started ? kStart
+                        : core.stats().packets != packets ? kReport
+                        : core.reports_sent() != reports  ? kStatus
+                                                          : kPlain;
+      r.kind_max[kind] = n > r.kind_max[kind] ? n : r.kind_max[kind];
     } else {
       tick(nullptr);
     }
@@ -225,6 +239,13 @@ void worst_ticks(const hmp::board::InstructionCounter& counter, std::uint32_t ti
   Line().text("detail: worst take_4_reports=").i32(take_reports).text(" start_16_notes=").i32(start_16).print();
 }
 
+void print_kinds(const char* group, const Result& r) {
+  Line line;
+  line.text("detail: ").text(group);
+  for (int k = 0; k < kKinds; ++k) line.text(" ").text(kKindNames[k]).text("=").i32(r.kind_max[k]);
+  line.print();
+}
+
 }  // namespace
 
 extern "C" void UART0_RX_Handler() { g_board->on_uart_rx(); }
@@ -255,6 +276,7 @@ int main() {
     const float mean = static_cast<float>(r.sum) / static_cast<float>(r.ticks);
     Line().text("result voices=").u32(voices).text(" tick_hz=").u32(opt.tick_hz).text(" ticks=").u32(r.ticks)
         .text(" mean=").fixed(mean, 1).text(" max=").i32(r.max).text(" min=").i32(r.min).print();
+    if (voices == 16) print_kinds("max_by_kind_16_voices", r);
   }
   worst_ticks(counter, opt.tick_hz);
 
@@ -275,6 +297,7 @@ int main() {
     const float mean = static_cast<float>(r.sum) / static_cast<float>(r.ticks);
     Line().text("result drive=1 voices=").u32(voices).text(" tick_hz=").u32(opt.tick_hz).text(" ticks=").u32(r.ticks)
         .text(" mean=").fixed(mean, 1).text(" max=").i32(r.max).text(" min=").i32(r.min).print();
+    if (voices == 16) print_kinds("max_by_kind_16_voices_drive", r);
   }
   if (g_board->core().faults() != 0) Line().text("WARNING: drive faults ").hex(g_board->core().faults()).print();
   return hmp::board::semihost::kExitOk;

@@ -5,18 +5,21 @@
 
 namespace hmp::audio {
 
-std::vector<AudioEvent> audio_events(const midi::Song& song) { return audio_events(song.notes); }
+std::vector<AudioEvent> audio_events(const midi::Song& song) { return audio_events(song.notes, song.tempo_map); }
 
-std::vector<AudioEvent> audio_events(const std::vector<midi::Note>& notes) {
+std::vector<AudioEvent> audio_events(const std::vector<midi::Note>& notes, const midi::TempoMap& tempo_map) {
   using Kind = AudioEvent::Kind;
   std::vector<AudioEvent> raw;
   raw.reserve(notes.size() * 2);
+  std::size_t start_hint = 0, end_hint = 0;  // notes come in start order per track: mostly increasing ticks
   for (const midi::Note& n : notes) {
+    const std::int64_t start_us = tempo_map.micros(n.start_tick, start_hint);
+    const std::int64_t end_us = tempo_map.micros(n.end_tick, end_hint);
     const auto ch = static_cast<std::uint8_t>(n.channel & 0x0F), key = static_cast<std::uint8_t>(n.key & 0x7F);
     const auto velocity = static_cast<std::uint8_t>(std::clamp<int>(n.velocity, 1, 127));
     const auto program = static_cast<std::uint8_t>(n.program & 0x7F);
-    raw.push_back({n.start_us, Kind::note_on, ch, key, velocity, program});
-    raw.push_back({std::max(n.end_us, n.start_us + 1), Kind::note_off, ch, key, 0, 0});
+    raw.push_back({start_us, Kind::note_on, ch, key, velocity, program});
+    raw.push_back({std::max(end_us, start_us + 1), Kind::note_off, ch, key, 0, 0});
   }
   std::stable_sort(raw.begin(), raw.end(), [](const AudioEvent& a, const AudioEvent& b) {
     return a.time_us != b.time_us ? a.time_us < b.time_us : a.kind < b.kind;

@@ -27,6 +27,7 @@ struct AudioEvent {
 // every voice of a key on a note-off. A zero-length note gets its note-off 1 µs after its note-on (the
 // synthesizer's minimum note length keeps it audible).
 std::vector<AudioEvent> audio_events(const midi::Song& song);
-std::vector<AudioEvent> audio_events(const std::vector<midi::Note>& notes);
+// The same for any notes, their ticks turned into song time by `tempo_map`.
+std::vector<AudioEvent> audio_events(const std::vector<midi::Note>& notes, const midi::TempoMap& tempo_map);
 
 }  // namespace hmp::audio

@@ -87,7 +87,7 @@ int run_info(const InfoOptions& o) {
       j["notes"] = nlohmann::json::array();
       for (const midi::Note& n : s.notes) {
         j["notes"].push_back({{"track", n.track}, {"channel", n.channel + 1}, {"key", n.key}, {"velocity", n.velocity},
-                              {"start_s", n.start_s()}, {"end_s", n.end_s()}});
+                              {"start_s", s.start_s(n)}, {"end_s", s.end_s(n)}});
       }
     }
     fmt::print("{}\n", j.dump());

@@ -154,8 +154,9 @@ HapticTrack build_haptic_track(const midi::Song& song, std::uint32_t track, cons
     HapticNote h;
     h.key = n.key;
     h.channel = n.channel;
-    h.start_s = n.start_s();
-    h.end_s = n.end_s();
+    const std::int64_t start_us = song.start_us(n), end_us = song.end_us(n);
+    h.start_s = static_cast<double>(start_us) * 1e-6;
+    h.end_s = static_cast<double>(end_us) * 1e-6;
     const mapping::Haptic m = midi::auto_constant_frequency(n.channel) ? drum : mapper.map(n.key);
     h.freq_hz = m.freq_hz;
     h.amplitude = m.amplitude;
@@ -163,8 +164,8 @@ HapticTrack build_haptic_track(const midi::Song& song, std::uint32_t track, cons
     std::string preset = opts.envelope;
     if (is_auto(preset)) preset = legacy ? "legacy2013" : auto_preset_name(opts, n.program, n.channel);
 
-    const std::uint64_t start = seconds_to_tick(n.start_us, opts.tick_hz);
-    const std::uint64_t end = seconds_to_tick(n.end_us, opts.tick_hz);
+    const std::uint64_t start = seconds_to_tick(start_us, opts.tick_hz);
+    const std::uint64_t end = seconds_to_tick(end_us, opts.tick_hz);
     h.note.start_tick = start;
     h.note.duration_ticks = static_cast<std::uint32_t>(std::clamp<std::uint64_t>(end > start ? end - start : 1, 1, UINT32_MAX));
     h.note.freq_q20 = synth::freq_to_q20(m.freq_hz);

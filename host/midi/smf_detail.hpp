@@ -37,7 +37,7 @@ struct ProgramChange {
 struct ParseState {
   explicit ParseState(std::size_t file_size);
 
-  std::vector<Note> notes;  // end_tick == kPending (and end_us = FIFO link) while a note sounds
+  std::vector<Note> notes;  // end_tick is a sounding link (below) until the note ends
   std::vector<Track> tracks;
   std::vector<ProgramChange> program_changes;  // file order
   std::vector<TempoMap::Point> tempos;         // file order (format 2: patterns offset, resets added)
@@ -46,7 +46,7 @@ struct ParseState {
   std::optional<std::string> first_error;      // "track N at byte X: …" of the first error in a track
 
   // FIFO of sounding notes per (channel, key) of the chunk being parsed: indices into notes, linked
-  // through Note::end_us. A slot is valid only when its generation is the current chunk's.
+  // through Note::end_tick (sounding_link). A slot is valid only when its generation is the current chunk's.
   struct Slot {
     std::uint32_t generation = 0;
     std::uint32_t head = 0;
@@ -56,7 +56,18 @@ struct ParseState {
   std::uint32_t generation = 0;
 };
 
-inline constexpr std::uint64_t kPending = ~std::uint64_t{0};
+// While a note sounds its end_tick is not a tick but a link: kSounding | index of the next sounding note
+// of the same (channel, key) in notes, or kSounding | kNoNext for the last one. This keeps the FIFO
+// inside the notes themselves (no allocation per event, no extra field). Bit 63 cannot be a real tick:
+// a tick is the sum of the delta times read before it (format 2 patterns continue from the previous
+// pattern's end, they do not add to it); each delta is < 2^28 (a VLQ of at most 4 bytes) and takes at
+// least one byte, so a tick is < 2^28 × the input size, and read_smf refuses inputs over kMaxFileBytes
+// (2^28): ticks stay below 2^56.
+inline constexpr std::uint64_t kSounding = std::uint64_t{1} << 63;
+inline constexpr std::uint32_t kNoNext = 0xFFFFFFFFu;
+inline constexpr std::uint64_t sounding_link(std::uint32_t next) { return kSounding | next; }
+inline constexpr bool is_sounding(std::uint64_t end_tick) { return (end_tick & kSounding) != 0; }
+inline constexpr std::uint32_t next_sounding(std::uint64_t link) { return static_cast<std::uint32_t>(link); }
 
 // One MTrk chunk: its data is file[begin, end) (already clamped to the file).
 struct ChunkInput {
@@ -77,7 +88,7 @@ struct ChunkResult {
 // Parses the chunk's events, appends its notes, tracks, program/tempo/time-signature events and warnings.
 ChunkResult parse_track(std::span<const std::uint8_t> file, const ChunkInput& in, ParseState& state);
 
-// Tempo map, note times and programs, per-track statistics.
+// Tempo map, note programs, per-track statistics.
 void finish_song(ParseState& state, Song& song);
 
 // Valid UTF-8 of a text meta event: UTF-8 kept, other bytes read as Latin-1, trailing NULs and

@@ -192,13 +192,13 @@ class TrackParser {
       track = t;
     }
     const auto index = static_cast<std::uint32_t>(st_.notes.size());
-    // While sounding: end_tick = kPending, end_us = index of the next sounding note of this key (−1: none).
-    st_.notes.push_back(Note{tick_, kPending, 0, -1, track, channel, key, velocity, 0});
+    // Sounding, the last of its key so far; the program is filled in by finish_song.
+    st_.notes.push_back(Note{tick_, sounding_link(kNoNext), track, channel, key, velocity, 0});
     ParseState::Slot& slot = st_.slots[channel * 128u + key];
     if (slot.generation != st_.generation || slot.head == kNone) {
       slot = ParseState::Slot{st_.generation, index, index};
     } else {
-      st_.notes[slot.tail].end_us = index;
+      st_.notes[slot.tail].end_tick = sounding_link(index);
       slot.tail = index;
     }
   }
@@ -211,10 +211,9 @@ class TrackParser {
       return;
     }
     Note& note = st_.notes[slot.head];
-    const std::int64_t next = note.end_us;
+    const std::uint32_t next = next_sounding(note.end_tick);
     note.end_tick = tick_;
-    note.end_us = 0;
-    slot.head = next < 0 ? kNone : static_cast<std::uint32_t>(next);
+    slot.head = next == kNoNext ? kNone : next;
   }
 
   void missing_end_of_track() {
@@ -242,9 +241,8 @@ class TrackParser {
     std::uint64_t still_on = 0;
     for (std::size_t i = first_note_; i < st_.notes.size(); ++i) {
       Note& note = st_.notes[i];
-      if (note.end_tick == kPending) {
+      if (is_sounding(note.end_tick)) {
         note.end_tick = end_tick;
-        note.end_us = 0;
         ++still_on;
       }
     }

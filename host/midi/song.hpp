@@ -1,6 +1,6 @@
 #pragma once
-// The song model built from a Standard MIDI File (SPEC §4): logical tracks, paired notes with ticks and
-// times, the global tempo map, and what the reader had to warn about.
+// The song model built from a Standard MIDI File (SPEC §4): logical tracks, paired notes (in ticks; their
+// times come from the tempo map), the global tempo map, and what the reader had to warn about.
 //
 // Logical tracks: format 1 → one per MTrk chunk (also the ones without notes, e.g. a conductor track);
 // format 0 → each chunk split by channel, one logical track per channel in the order of the channel's
@@ -20,22 +20,19 @@ namespace hmp::midi {
 
 inline constexpr std::uint8_t kDrumChannel = 9;  // MIDI channel 10, 0-based
 
-// One paired note. 40 bytes: a 5 MB file can hold ~500k of them, so they are kept compact.
+// One paired note, in ticks only. 24 bytes: a 5 MB file can hold ~600k of them, and they are most of a
+// read's memory (SPEC §4's peak-RSS budget is 3 × the file size), so times are not stored: Song::start_us()
+// and friends compute them from the tempo map when asked.
 struct Note {
   std::uint64_t start_tick = 0;  // absolute; format 2 patterns are offset to play one after another
   std::uint64_t end_tick = 0;    // ≥ start_tick; equal for a zero-length note (kept, see smf_reader.hpp)
-  std::int64_t start_us = 0;     // from the tempo map, integer µs
-  std::int64_t end_us = 0;
   std::uint32_t track = 0;       // logical track index
   std::uint8_t channel = 0;      // 0–15 (9 = drums)
   std::uint8_t key = 0;          // 0–127
   std::uint8_t velocity = 0;     // 1–127 (velocity 0 is a note-off)
   std::uint8_t program = 0;      // the channel's GM program at the note's start (0 when never set)
-
-  double start_s() const { return static_cast<double>(start_us) * 1e-6; }
-  double end_s() const { return static_cast<double>(end_us) * 1e-6; }
 };
-static_assert(sizeof(Note) == 40, "Note must stay compact");
+static_assert(sizeof(Note) == 24, "Note must stay compact");
 
 // A (channel, program) pair some notes of a track were played with.
 struct ProgramUse {
@@ -92,6 +89,11 @@ struct Song {
   std::int64_t duration_us = 0;
 
   double duration_s() const { return static_cast<double>(duration_us) * 1e-6; }
+  // A note's times from the tempo map: integer µs (rounded once, see tempo_map.hpp) and seconds.
+  std::int64_t start_us(const Note& n) const { return tempo_map.micros(n.start_tick); }
+  std::int64_t end_us(const Note& n) const { return tempo_map.micros(n.end_tick); }
+  double start_s(const Note& n) const { return static_cast<double>(start_us(n)) * 1e-6; }
+  double end_s(const Note& n) const { return static_cast<double>(end_us(n)) * 1e-6; }
   // The notes of one logical track, in start order (ties keep file order).
   std::vector<Note> track_notes(std::uint32_t track) const;
 };

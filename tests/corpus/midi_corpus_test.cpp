@@ -259,7 +259,7 @@ TEST(MidiCorpus, EveryFileHasItsPinnedOutcome) {
     EXPECT_EQ(counted, s.notes.size());
     for (const Note& n : s.notes) {
       EXPECT_LE(n.start_tick, n.end_tick);
-      EXPECT_LE(n.end_us, s.duration_us);
+      EXPECT_LE(s.end_us(n), s.duration_us);
       EXPECT_TRUE(s.tracks.at(n.track).has_channel(n.channel));
     }
     if (pin.c_major) {
@@ -269,7 +269,8 @@ TEST(MidiCorpus, EveryFileHasItsPinnedOutcome) {
       ASSERT_EQ(notes.size(), 8u);
       for (int i = 0; i < 8; ++i) {
         EXPECT_EQ(notes[static_cast<std::size_t>(i)].key, want[i]);
-        EXPECT_NEAR(notes[static_cast<std::size_t>(i)].end_s() - notes[static_cast<std::size_t>(i)].start_s(), 0.5, 1e-9);
+        const Note& n = notes[static_cast<std::size_t>(i)];
+        EXPECT_NEAR(s.end_s(n) - s.start_s(n), 0.5, 1e-9);
       }
     }
   }
@@ -312,8 +313,8 @@ TEST(MidiCorpus, Format2PatternsPlayOneAfterAnother) {
   ASSERT_EQ(s.tracks.size(), 2u);
   std::int64_t first_end = 0, second_start = INT64_MAX;
   for (const Note& n : s.notes) {
-    if (n.track == 0) first_end = std::max(first_end, n.end_us);
-    if (n.track == 1) second_start = std::min(second_start, n.start_us);
+    if (n.track == 0) first_end = std::max(first_end, s.end_us(n));
+    if (n.track == 1) second_start = std::min(second_start, s.start_us(n));
   }
   EXPECT_GE(second_start, first_end);
   EXPECT_EQ(s.tracks[0].end_us, 4500000);

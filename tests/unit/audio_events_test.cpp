@@ -10,14 +10,20 @@
 namespace {
 
 using hmp::audio::AudioEvent;
-using hmp::audio::audio_events;
 using Kind = AudioEvent::Kind;
 
-hmp::midi::Note note(std::int64_t start_us, std::int64_t end_us, std::uint8_t channel, std::uint8_t key,
+// 1000 ticks per quarter at 1000 µs per quarter: one tick is one µs, so the notes' ticks below read as µs.
+const hmp::midi::TempoMap kOneTickPerUs = hmp::midi::TempoMap::metrical(1000, {{0, 1000}});
+
+std::vector<AudioEvent> audio_events(const std::vector<hmp::midi::Note>& notes) {
+  return hmp::audio::audio_events(notes, kOneTickPerUs);
+}
+
+hmp::midi::Note note(std::uint64_t start_tick, std::uint64_t end_tick, std::uint8_t channel, std::uint8_t key,
                      std::uint8_t velocity = 100, std::uint8_t program = 0) {
   hmp::midi::Note n;
-  n.start_us = start_us;
-  n.end_us = end_us;
+  n.start_tick = start_tick;
+  n.end_tick = end_tick;
   n.channel = channel;
   n.key = key;
   n.velocity = velocity;
@@ -70,6 +76,21 @@ TEST(AudioEvents, ProgramsTravelWithTheirNotes) {
   EXPECT_EQ(ev[0].program, 0);
   EXPECT_EQ(ev[2].kind, Kind::note_on);
   EXPECT_EQ(ev[2].program, 24);
+}
+
+TEST(AudioEvents, TimesComeFromTheTempoMap) {
+  // 96 ticks per quarter, 120 bpm until tick 96, then 60 bpm: tick 48 is at 0.25 s, tick 144 at
+  // 0.5 s + 48/96 × 1 s = 1 s. Two notes given out of time order, as two tracks' notes come.
+  const hmp::midi::TempoMap map = hmp::midi::TempoMap::metrical(96, {{96, 1'000'000}});
+  const std::vector<hmp::midi::Note> notes = {note(144, 192, 0, 64), note(48, 144, 1, 60)};
+  const std::vector<AudioEvent> want = {on(250'000, 1, 60, 100, 0), off(1'000'000, 1, 60),
+                                        on(1'000'000, 0, 64, 100, 0), off(1'500'000, 0, 64)};
+  EXPECT_EQ(hmp::audio::audio_events(notes, map), want);
+  // The Song overload uses the song's own map.
+  hmp::midi::Song song;
+  song.notes = notes;
+  song.tempo_map = map;
+  EXPECT_EQ(hmp::audio::audio_events(song), want);
 }
 
 TEST(AudioEvents, EmptySongAndClampedValues) {

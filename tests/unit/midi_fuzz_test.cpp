@@ -88,10 +88,10 @@ void check_consistent(const hmp::midi::ReadResult& r) {
     ASSERT_GE(n.velocity, 1);
     ASSERT_LT(n.velocity, 128);
     ASSERT_LE(n.start_tick, n.end_tick);
-    ASSERT_LE(n.start_us, n.end_us);
-    ASSERT_GE(n.start_us, 0);
+    ASSERT_LE(s.start_us(n), s.end_us(n));
+    ASSERT_GE(s.start_us(n), 0);
     ASSERT_LE(n.end_tick, s.tracks[n.track].end_tick);
-    ASSERT_LE(n.end_us, s.duration_us);
+    ASSERT_LE(s.end_us(n), s.duration_us);
   }
   ASSERT_LE(r.warnings.size(), 201u);
 }

@@ -3,7 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <deque>
+#include <map>
+#include <random>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "host/common/error.hpp"
 #include "host/midi/smf_detail.hpp"
@@ -73,11 +78,11 @@ TEST(MidiReader, Format1TracksNotesAndTimes) {
   EXPECT_EQ(a.velocity, 90);
   EXPECT_EQ(a.start_tick, 0u);
   EXPECT_EQ(a.end_tick, 96u);
-  EXPECT_DOUBLE_EQ(a.end_s(), at120(96, 96));
+  EXPECT_DOUBLE_EQ(s.end_s(a), at120(96, 96));
   const Note& b = s.notes[1];
   EXPECT_EQ(b.start_tick, 144u);
   EXPECT_EQ(b.end_tick, 192u);
-  EXPECT_DOUBLE_EQ(b.start_s(), at120(144, 96));
+  EXPECT_DOUBLE_EQ(s.start_s(b), at120(144, 96));
   EXPECT_EQ(s.tracks[1].key_min(), 60);
   EXPECT_EQ(s.tracks[1].key_max(), 64);
   EXPECT_EQ(s.tracks[1].distinct_keys(), 2);
@@ -129,14 +134,14 @@ TEST(MidiReader, Format2PatternsPlayInSequenceEachWithItsOwnTempo) {
   ASSERT_EQ(s.tracks.size(), 3u);
   ASSERT_EQ(s.notes.size(), 3u);
   EXPECT_EQ(s.notes[0].track, 0u);
-  EXPECT_DOUBLE_EQ(s.notes[0].end_s(), 1.0);
+  EXPECT_DOUBLE_EQ(s.end_s(s.notes[0]), 1.0);
   EXPECT_EQ(s.notes[1].start_tick, 192u);
-  EXPECT_DOUBLE_EQ(s.notes[1].start_s(), 2.0);
-  EXPECT_DOUBLE_EQ(s.notes[1].end_s(), 2.5);
+  EXPECT_DOUBLE_EQ(s.start_s(s.notes[1]), 2.0);
+  EXPECT_DOUBLE_EQ(s.end_s(s.notes[1]), 2.5);
   EXPECT_EQ(s.notes[2].track, 2u);
   EXPECT_EQ(s.notes[2].start_tick, 288u + 48u);
-  EXPECT_DOUBLE_EQ(s.notes[2].start_s(), 2.5 + 0.125);
-  EXPECT_DOUBLE_EQ(s.notes[2].end_s(), 2.5 + 0.125 + 0.25);
+  EXPECT_DOUBLE_EQ(s.start_s(s.notes[2]), 2.5 + 0.125);
+  EXPECT_DOUBLE_EQ(s.end_s(s.notes[2]), 2.5 + 0.125 + 0.25);
   EXPECT_DOUBLE_EQ(s.duration_s(), 2.875);
   EXPECT_EQ(s.tracks[1].end_us, 2500000);
 }
@@ -439,7 +444,7 @@ TEST(MidiReader, FourByteVlqIsTheMaximum) {
   const ReadResult r = read(smf(1, 96, {t}));
   ASSERT_EQ(r.song.notes.size(), 1u);
   EXPECT_EQ(r.song.notes[0].start_tick, 0x0FFFFFFFu);
-  EXPECT_NEAR(r.song.notes[0].start_s(), at120(268435455.0, 96), 1e-6);
+  EXPECT_NEAR(r.song.start_s(r.song.notes[0]), at120(268435455.0, 96), 1e-6);
 }
 
 TEST(MidiReader, FiveByteVlqIsAnError) {
@@ -464,7 +469,7 @@ TEST(MidiReader, AbsoluteTicksBeyond32Bits) {
   EXPECT_GT(start, 0xFFFFFFFFull);
   EXPECT_EQ(r.song.notes[0].start_tick, start);
   EXPECT_EQ(r.song.notes[0].end_tick, start + 10);
-  EXPECT_NEAR(r.song.notes[0].start_s(), at120(static_cast<double>(start), 480), 1e-6);
+  EXPECT_NEAR(r.song.start_s(r.song.notes[0]), at120(static_cast<double>(start), 480), 1e-6);
 }
 
 // ---- note pairing ----
@@ -524,8 +529,67 @@ TEST(MidiReader, ZeroLengthNotesAreKept) {
   ASSERT_EQ(r.song.notes.size(), 2u);
   EXPECT_EQ(r.song.notes[0].start_tick, 50u);
   EXPECT_EQ(r.song.notes[0].end_tick, 50u);
-  EXPECT_EQ(r.song.notes[0].start_us, r.song.notes[0].end_us);
+  EXPECT_EQ(r.song.start_us(r.song.notes[0]), r.song.end_us(r.song.notes[0]));
   EXPECT_EQ(r.song.notes[1].end_tick, 100u);
+}
+
+TEST(MidiReader, RandomPairingMatchesAFifoReference) {
+  // Sounding notes are chained through their end_tick (smf_detail.hpp): deep FIFOs of re-struck keys,
+  // FIFOs emptied and refilled, orphan note-offs, notes left sounding at the end of a track, and ticks
+  // beyond 2^32 (whose low bits could pass for a note index) must pair exactly as a plain per-(track,
+  // channel, key) queue of note-ons does.
+  std::mt19937 rng(20240611);
+  struct Want {
+    std::uint64_t start = 0, end = 0;
+    std::uint32_t track = 0;
+    int channel = 0, key = 0, velocity = 0;
+  };
+  for (int round = 0; round < 20; ++round) {
+    SCOPED_TRACE(round);
+    std::vector<Events> tracks(3);
+    std::vector<Want> want;
+    for (std::uint32_t track = 0; track < tracks.size(); ++track) {
+      std::map<std::pair<int, int>, std::deque<std::size_t>> sounding;
+      std::uint64_t tick = 0;
+      for (int e = 0; e < 16; ++e) tracks[track].meta(0x0FFFFFFF, 0x01, {'x'});  // to 2^32 − 16
+      tick += 16ull * 0x0FFFFFFF;
+      for (int e = 0; e < 300; ++e) {
+        const std::uint32_t delta = rng() % 50 == 0 ? 0x0FFFFFFFu : static_cast<std::uint32_t>(rng() % 4);
+        tick += delta;
+        const int channel = static_cast<int>(rng() % 2), key = 60 + static_cast<int>(rng() % 3);
+        if (rng() % 100 < 55) {
+          const int velocity = 1 + static_cast<int>(rng() % 127);
+          tracks[track].on(delta, channel, key, velocity);
+          sounding[{channel, key}].push_back(want.size());
+          want.push_back(Want{tick, 0, track, channel, key, velocity});
+        } else {
+          tracks[track].off(delta, channel, key);  // an orphan when nothing sounds: ignored
+          auto& queue = sounding[{channel, key}];
+          if (!queue.empty()) {
+            want[queue.front()].end = tick;
+            queue.pop_front();
+          }
+        }
+      }
+      EXPECT_GT(tick, 0xFFFFFFFFull);
+      tracks[track].end(7);
+      for (auto& [where, queue] : sounding) {
+        for (const std::size_t i : queue) want[i].end = tick + 7;  // ended by End-of-Track
+      }
+    }
+    const ReadResult r = read(smf(1, 96, tracks));
+    ASSERT_EQ(r.song.notes.size(), want.size());
+    for (std::size_t i = 0; i < want.size(); ++i) {
+      const Note& n = r.song.notes[i];
+      SCOPED_TRACE(i);
+      EXPECT_EQ(n.track, want[i].track);
+      EXPECT_EQ(n.channel, want[i].channel);
+      EXPECT_EQ(n.key, want[i].key);
+      EXPECT_EQ(n.velocity, want[i].velocity);
+      EXPECT_EQ(n.start_tick, want[i].start);
+      EXPECT_EQ(n.end_tick, want[i].end);
+    }
+  }
 }
 
 TEST(MidiReader, NotesStillOnEndAtEndOfTrack) {
@@ -548,9 +612,9 @@ TEST(MidiReader, TempoInANonFirstTrackIsGlobal) {
   const ReadResult r = read(smf(1, 96, {notes, tempo_track}));
   ASSERT_EQ(r.song.notes.size(), 3u);
   // 0–96 at 120 bpm (0.5 s), 96–192 at 60 bpm (1 s), 192–288 at 240 bpm (0.25 s).
-  EXPECT_DOUBLE_EQ(r.song.notes[1].start_s(), 0.5);
-  EXPECT_DOUBLE_EQ(r.song.notes[1].end_s(), 1.5);
-  EXPECT_DOUBLE_EQ(r.song.notes[2].end_s(), 1.75);
+  EXPECT_DOUBLE_EQ(r.song.start_s(r.song.notes[1]), 0.5);
+  EXPECT_DOUBLE_EQ(r.song.end_s(r.song.notes[1]), 1.5);
+  EXPECT_DOUBLE_EQ(r.song.end_s(r.song.notes[2]), 1.75);
   ASSERT_EQ(r.song.tempo_changes.size(), 3u);
   EXPECT_DOUBLE_EQ(r.song.tempo_changes[0].bpm(), 120.0);
   EXPECT_EQ(r.song.tempo_changes[1].tick, 96u);
@@ -562,7 +626,7 @@ TEST(MidiReader, MalformedTempoIsIgnored) {
   Events t;
   t.meta(0, 0x51, {0x00, 0x00, 0x00}).meta(0, 0x51, {0x07}).on(0, 0, 60).off(96, 0, 60).end();
   const ReadResult r = read(smf(1, 96, {t}));
-  EXPECT_DOUBLE_EQ(r.song.notes[0].end_s(), 0.5);
+  EXPECT_DOUBLE_EQ(r.song.end_s(r.song.notes[0]), 0.5);
   EXPECT_TRUE(has_warning(r, "malformed tempo or time signature event ignored (2 times)"));
 }
 
@@ -588,7 +652,7 @@ TEST(MidiReader, SmpteDivisionIgnoresTempo) {
   ReadResult r = read(b);
   ASSERT_EQ(r.song.notes.size(), 1u);
   EXPECT_TRUE(r.song.division.smpte);
-  EXPECT_DOUBLE_EQ(r.song.notes[0].end_s(), 1.0);
+  EXPECT_DOUBLE_EQ(r.song.end_s(r.song.notes[0]), 1.0);
   EXPECT_TRUE(r.song.tempo_changes.empty());
 
   // 29.97 fps × 4 ticks: tick n at n·1001/(30000·4) s.
@@ -596,7 +660,7 @@ TEST(MidiReader, SmpteDivisionIgnoresTempo) {
   append(c, chunk("MTrk", t.data));
   r = read(c);
   EXPECT_EQ(r.song.division.fps, 29);
-  EXPECT_NEAR(r.song.notes[0].end_s(), 1000.0 * 1001.0 / 120000.0, 1e-6);
+  EXPECT_NEAR(r.song.end_s(r.song.notes[0]), 1000.0 * 1001.0 / 120000.0, 1e-6);
 }
 
 // ---- programs ----

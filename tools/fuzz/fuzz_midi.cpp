@@ -35,7 +35,8 @@ void check_song(const midi::Song& s) {
     check(n.channel < 16 && n.key < 128 && n.velocity >= 1 && n.velocity < 128 && n.program < 128);
     check(n.start_tick <= n.end_tick && n.end_tick <= s.tracks[n.track].end_tick);
     // Integer µs from a monotonic tempo map: never negative, never decreasing.
-    check(0 <= n.start_us && n.start_us <= n.end_us && n.end_us <= s.duration_us);
+    const std::int64_t start_us = s.start_us(n), end_us = s.end_us(n);
+    check(0 <= start_us && start_us <= end_us && end_us <= s.duration_us);
   }
   check(!s.tempo_changes.empty() || s.division.smpte);
 }
