@@ -5,7 +5,9 @@
 //   - calls core.on_tick() from its tick timer interrupt (tick_hz times per second), and
 //   - calls core.on_packet(report) for every 64-byte report the transport receives (HID OUT report,
 //     a deframed UART packet, or an in-process call). on_packet may run in another interrupt than the
-//     tick: it only fills a lock-free single-producer/single-consumer queue.
+//     tick: it decodes the report and fills a lock-free single-producer/single-consumer queue;
+//   - calls core.poll() from its main loop (below the tick) whenever a tick may have left work: it sends
+//     the tick's reports and prepares the voices of the next notes.
 // Every pointer may be null (the call is then skipped; subtick reads as 0). A board without motors leaves
 // motor_output and read_encoders null: the core then skips the SPIDAR drive and only computes the
 // vibration value (output).
@@ -24,8 +26,8 @@ struct BoardSeam {
   // configured limit |value| ≤ gain ≤ 1 (later boards turn it into motor duties).
   void (*output)(void* ctx, float value) = nullptr;
 
-  // Tick context. One device→host report. Must not block: return false when there is no room (the
-  // report is dropped and counted in Core::Stats::tx_dropped).
+  // Background context (Core::poll). One device→host report. Must not block: return false when there is
+  // no room (the report is dropped and counted in Core::Stats::tx_dropped).
   bool (*send)(void* ctx, const protocol::Report& report) = nullptr;
 
   // Tick context. One line of text without a newline (rate-limited by the core). May be slow

@@ -6,7 +6,7 @@ using protocol::State;
 
 // The RAM budget of docs/firmware.md (measured: 12.1 KiB on the Cortex-M4F build, 8 KiB of it the note
 // queue). A change that outgrows it must update the budget table too.
-static_assert(sizeof(Core) <= 14 * 1024, "Core outgrew its RAM budget (docs/firmware.md)");
+static_assert(sizeof(Core) <= 20 * 1024, "Core outgrew its RAM budget (docs/firmware.md)");
 static_assert(kMotorCount == Drive::kMotors, "the board seam and the drive disagree on the motor count");
 
 Core::Core(const BoardSeam& board, std::uint32_t tick_hz, std::uint64_t first_tick, const DriveParams& drive)
@@ -24,27 +24,60 @@ Core::Core(const BoardSeam& board, std::uint32_t tick_hz, std::uint64_t first_ti
   // preloads the queue before play still sees queue_free move.
   status_period_playing_ = tick_hz_ >= 100 ? tick_hz_ / 100 : 1;
   status_period_idle_ = tick_hz_ >= 10 ? tick_hz_ / 10 : 1;
+  const std::uint64_t ahead = static_cast<std::uint64_t>(tick_hz_) * kPrepareAheadMs / 1000;
+  prepare_ahead_ticks_ = ahead > 2 ? static_cast<std::uint32_t>(ahead) : 2;
   apply_settings();
 }
 
-bool Core::on_packet(const protocol::Report& report) {
-  // An emergency stop must not wait behind other reports (or be lost to a full inbox): a well-formed
-  // one raises a flag the next tick checks first. It still goes through the inbox to be acknowledged.
+InboxEntry Core::decode_packet(const protocol::Report& report) {
+  InboxEntry e;
+  e.error = protocol::decode(report, e.message);
+  e.raw_type = report[0];
+  e.raw_seq = static_cast<std::uint16_t>(report[1] | (report[2] << 8));
   if (report[0] == static_cast<std::uint8_t>(protocol::Type::estop)) {
     bool zero_payload = true;
     for (std::size_t i = 3; i < protocol::kReportSize; ++i) zero_payload = zero_payload && report[i] == 0;
-    if (zero_payload) estop_pending_.store(true, std::memory_order_release);
+    e.estop = zero_payload;
   }
+  return e;
+}
+
+bool Core::on_decoded(const InboxEntry& decoded, std::uint32_t* stamped_tick) {
+  // An emergency stop must not wait behind other reports (or be lost to a full inbox): a well-formed
+  // one raises a flag the next tick checks first. It still goes through the inbox to be acknowledged.
+  if (decoded.estop) estop_pending_.store(true, std::memory_order_release);
   InboxEntry* slot = inbox_.prepare();
   if (slot == nullptr) {  // the tick turns this into a latched fault (this context must not touch stats_)
     inbox_lost_.store(inbox_lost_.load(std::memory_order_relaxed) + 1, std::memory_order_release);
     return false;
   }
-  for (std::size_t i = 0; i < protocol::kReportSize; ++i) slot->bytes[i] = report[i];
+  *slot = decoded;
   slot->rx_tick = tick_lo_.load(std::memory_order_relaxed);
   slot->rx_subtick = board_.subtick != nullptr ? board_.subtick(board_.ctx) : 0;
+  if (stamped_tick != nullptr) *stamped_tick = slot->rx_tick;
   inbox_.commit();
   return true;
+}
+
+// Reports first in poll(): a host waits for them; voices are needed only on their tick.
+bool Core::send_reports() {
+  bool sent = false;
+  while (const protocol::Message* m = outbox_.front()) {
+    protocol::Report report;
+    // encode() refusing one of our own reports would be a bug; count it like a report the board dropped.
+    if (!protocol::encode(*m, report) || board_.send == nullptr || !board_.send(board_.ctx, report)) {
+      send_failed_.store(send_failed_.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed);
+    }
+    outbox_.pop();
+    sent = true;
+  }
+  return sent;
+}
+
+bool Core::prepare_voices() {
+  bool prepared = false;
+  while (prep_.prepare_one()) prepared = true;
+  return prepared;
 }
 
 std::uint64_t Core::rx_tick64(std::uint32_t rx_tick) const {
@@ -57,7 +90,10 @@ void Core::on_tick() {
   tick_lo_.store(static_cast<std::uint32_t>(tick_), std::memory_order_relaxed);
 
   // 1. Safety first: an emergency stop silences this very tick.
-  if (estop_pending_.exchange(false, std::memory_order_acq_rel)) emergency_stop();
+  // (A plain load first: the exchange, a load-exclusive/store-exclusive loop, only when it is set.)
+  if (estop_pending_.load(std::memory_order_acquire) && estop_pending_.exchange(false, std::memory_order_acq_rel)) {
+    emergency_stop();
+  }
   const std::uint32_t lost = inbox_lost_.load(std::memory_order_acquire);
   if (lost != stats_.inbox_full) {
     faults_ |= protocol::fault_queue_overflow;
@@ -71,9 +107,16 @@ void Core::on_tick() {
     handle(*entry);
     inbox_.pop();
   }
-  // 3. Host watchdog, 4. due notes.
+  // 3. Host watchdog, 4. due notes, and the next note to prepare in the background.
   check_watchdog();
-  if (state_ == State::playing) start_due_notes();
+  // (The checks inline: most ticks start nothing and hand nothing over.)
+  const QueuedNote* pending = prep_.front();
+  const bool queued = !queue_.empty();
+  if (state_ == State::playing && ((pending != nullptr && pending->note.start_tick <= tick_) ||
+                                   (queued && queue_.top().note.start_tick <= tick_))) {
+    start_due_notes();
+  }
+  if (queued && queue_.top().note.start_tick <= tick_ + prepare_ahead_ticks_) request_upcoming();
   // 5. Voices, mix, policy and limiter (the engine), then ramp/fade, gain and clamp.
   const float mixed = output_.silent() ? 0.0f : engine_.tick();
   last_output_ = output_.process(mixed, faults_);
@@ -109,28 +152,58 @@ void Core::drive_fault(std::uint32_t faults) {
   faults_ |= faults;
   engine_.stop_all();
   output_.silence();
-  queue_.clear();
+  flush_notes();
   if (fresh != 0) log_event("drive fault, bits ", fresh);
   state_ = State::fault;
 }
 
+// Notes due now, earliest first: from the prepared ones and the schedule, whichever comes first in the
+// schedule's order (a note can reach the schedule after later ones were handed to the background).
 void Core::start_due_notes() {
-  for (std::uint32_t n = 0; n < kMaxStartsPerTick && !queue_.empty(); ++n) {
-    const QueuedNote& next = queue_.top();
-    if (next.note.start_tick > tick_) break;
-    const QueuedNote q = next;
-    queue_.pop();
-    if (!engine_.start(q.note)) {
+  for (std::uint32_t n = 0; n < kMaxStartsPerTick; ++n) {
+    const QueuedNote* pending = prep_.front();
+    const QueuedNote* queued = queue_.empty() ? nullptr : &queue_.top();
+    const bool prepared = pending != nullptr && (queued == nullptr || NoteQueue::before(*pending, *queued));
+    const QueuedNote* next = prepared ? pending : queued;
+    if (next == nullptr || next->note.start_tick > tick_) break;
+    const QueuedNote q = *next;
+    const synth::Voice* voice = prepared ? prep_.front_voice() : nullptr;
+    const bool started = voice != nullptr ? engine_.start_prepared(*voice) : engine_.start(q.note);
+    if (prepared) {
+      prep_.pop_front();
+    } else {
+      queue_.pop();
+    }
+    if (!started) {
       ++stats_.engine_refused;
       continue;
     }
     ++stats_.started;
+    if (voice == nullptr) ++stats_.started_in_tick;
     if (q.note.start_tick < tick_) {
       ++stats_.late;
       if (worth_logging(stats_.late)) log_event("late note, ticks behind: ", tick_ - q.note.start_tick);
     }
     note_started(q);
   }
+}
+
+// One note per tick leaves the schedule for the background to prepare its voice, once it is due within
+// kPrepareAheadMs: one heap pop and a copy, so the tick's cost stays flat.
+void Core::request_upcoming() {
+  if (queue_.empty() || !prep_.can_request()) return;
+  const QueuedNote& next = queue_.top();
+  if (next.note.start_tick > tick_ + prepare_ahead_ticks_) return;  // (checked inline in on_tick too)
+  const envelope::Adsr* preset = engine_.preset(next.note.preset);
+  if (preset == nullptr) return;  // the engine refuses it on its tick
+  prep_.request(next, *preset, synth_cfg_);
+  queue_.pop();
+  ++stats_.prepare_requests;
+}
+
+void Core::flush_notes() {
+  queue_.clear();
+  prep_.clear();
 }
 
 void Core::check_watchdog() {
@@ -142,7 +215,7 @@ void Core::check_watchdog() {
 }
 
 void Core::fade_out(State next) {
-  queue_.clear();
+  flush_notes();
   output_.start_fade();
   state_ = next;
 }
@@ -155,15 +228,22 @@ void Core::send_periodic_reports() {
   }
   status_countdown_ = state_ == State::playing ? status_period_playing_ : status_period_idle_;
   flush_started();
-  protocol::Message m = protocol::make(protocol::Type::status, 0);
-  m.status = status();
-  send(m);
+  if (protocol::Message* m = begin_report(protocol::Type::status)) {
+    m->status = status();
+    outbox_.commit();
+  }
+}
+
+Stats Core::stats() const {
+  Stats s = stats_;
+  s.tx_dropped = outbox_full_ + send_failed_.load(std::memory_order_relaxed);
+  return s;
 }
 
 protocol::Status Core::status() const {
   protocol::Status s;
   s.tick = tick_;
-  s.queue_free = static_cast<std::uint16_t>(queue_.free_slots() / protocol::kNotesPerBatch);
+  s.queue_free = static_cast<std::uint16_t>(free_note_slots() / protocol::kNotesPerBatch);
   s.last_seq = last_seq_;
   s.late = stats_.late;
   s.stolen = engine_.counters().stolen;

@@ -4,14 +4,22 @@
 // RTTI, no board header. docs/firmware.md describes the tick, the queues, the safety behaviour and the
 // RAM budget.
 //
-// Threading: on_packet() runs in the transport context (producer of a lock-free SPSC inbox), on_tick()
-// in the tick timer interrupt (consumer). Everything else in the core is touched only from on_tick(),
-// so there are no locks. The inspection functions below are for a stopped tick (tests, the simulator).
+// Threading, three contexts and no locks (docs/firmware.md, "Contexts"):
+//  - on_packet() runs in the transport context: it decodes the report and puts it into a lock-free SPSC
+//    inbox (producer);
+//  - on_tick() in the tick timer interrupt: the inbox's consumer, and the only context that touches the
+//    core's state;
+//  - poll() in the background (the board's main loop, below the tick): encodes and sends the reports the
+//    tick queued, and prepares the voices of the notes due next (NotePrep); two more SPSC rings.
+// The tick never waits for the background: what the background has not done in time, the tick does
+// itself (a voice) or counts (a report it had no room for). The inspection functions below are for a
+// stopped tick (tests, the simulator).
 #include <atomic>
 #include <cstdint>
 
 #include "firmware/board.hpp"
 #include "firmware/drive.hpp"
+#include "firmware/note_prep.hpp"
 #include "firmware/note_queue.hpp"
 #include "firmware/output_stage.hpp"
 #include "firmware/spsc_queue.hpp"
@@ -36,14 +44,20 @@ struct Stats {
   std::uint32_t late = 0;          // notes started after their scheduled tick
   std::uint32_t started = 0;       // notes started
   std::uint32_t engine_refused = 0;  // notes the engine would not start (counted in Status.rejected too)
-  std::uint32_t tx_dropped = 0;    // device reports not sent (the board had no room)
+  std::uint32_t tx_dropped = 0;    // device reports not sent (no room in the outbox or at the board)
+  std::uint32_t prepare_requests = 0;  // notes handed to the background to prepare their voices
+  std::uint32_t started_in_tick = 0;  // of `started`, notes whose voice the tick set up itself (not prepared in time)
   std::uint32_t drive_saturated = 0;      // drive ticks with a motor duty clamped to ±1
   std::uint32_t drive_not_converged = 0;  // drive ticks whose QP ran out of iterations (bounded answer)
 };
 
-// One received report with its arrival time.
+// One received report, decoded in the transport context (the tick only acts on it), with its arrival time.
 struct InboxEntry {
-  protocol::Report bytes;
+  protocol::Message message;                              // valid when error is none
+  protocol::ErrorCode error = protocol::ErrorCode::none;  // what decode said
+  std::uint8_t raw_type = 0;                              // the header as received, to refuse what did not decode
+  std::uint16_t raw_seq = 0;
+  bool estop = false;            // a well-formed emergency stop
   std::uint32_t rx_tick = 0;     // low 32 bits of the tick during which it arrived
   std::uint32_t rx_subtick = 0;  // board sub-tick counter at arrival (2^32 = one tick)
 };
@@ -61,6 +75,9 @@ class Core {
   // the next tick (counted late).
   static constexpr std::uint32_t kMaxStartsPerTick = synth::kVoiceCount;
   static constexpr std::uint16_t kQueueCapacityReports = NoteQueue::kCapacity / protocol::kNotesPerBatch;
+  // Notes are handed to the background for their voices this far ahead of their tick, one per tick.
+  static constexpr std::uint32_t kPrepareAheadMs = 20;
+  static constexpr std::uint32_t kOutboxCapacity = 16;  // device reports waiting for poll()
 
   // tick_hz: the rate on_tick() is called at (a build setting; tests run other rates). 0 → the default.
   // first_tick: where the tick counter starts (boards: 0; tests use it to cross the 2^32 wrap).
@@ -70,25 +87,42 @@ class Core {
   Core& operator=(const Core&) = delete;
 
   // ---- transport context ----
-  // Queues one report for the next tick. false: the inbox is full and the report was not taken (a board
-  // that can hold it back, e.g. by NAKing a USB transfer, checks inbox_has_room() first). A well-formed
-  // emergency stop acts on the next tick even then.
-  bool on_packet(const protocol::Report& report);
+  // Decodes one report and queues it for the next tick. false: the inbox is full and the report was not
+  // taken (a board that can hold it back, e.g. by NAKing a USB transfer, checks inbox_has_room() first).
+  // A well-formed emergency stop acts on the next tick even then.
+  bool on_packet(const protocol::Report& report) { return on_decoded(decode_packet(report)); }
+  // The same in two steps, for a board that must keep a tick from falling between the core's arrival
+  // stamp and its own record of it: decode_packet (the long part: any context, touches no core state),
+  // then on_decoded with interrupts masked (a copy and the stamp). `stamped_tick` receives the tick
+  // stamped on the report.
+  static InboxEntry decode_packet(const protocol::Report& report);
+  bool on_decoded(const InboxEntry& decoded, std::uint32_t* stamped_tick = nullptr);
   bool inbox_has_room() const { return inbox_.has_room(); }
 
   // ---- tick context ----
   void on_tick();
+
+  // ---- background context (below the tick: the board's main loop; the simulator after each tick) ----
+  // Sends the reports the tick queued, then prepares the voices of the notes due next. Returns whether
+  // there was anything to do. Call it whenever the tick may have queued work; it never blocks.
+  bool poll() {
+    const bool sent = send_reports();
+    return prepare_voices() || sent;
+  }
+  bool send_reports();    // the first half of poll(): false if there were none
+  bool prepare_voices();  // the second half: false if there was nothing to prepare
 
   // ---- inspection (tick stopped) ----
   std::uint32_t tick_hz() const { return tick_hz_; }
   std::uint64_t tick() const { return tick_; }
   protocol::State state() const { return state_; }
   std::uint32_t faults() const { return faults_; }
-  const Stats& stats() const { return stats_; }
+  Stats stats() const;  // a copy: tx_dropped adds the reports the background could not send
   const synth::Engine& engine() const { return engine_; }
   const protocol::Settings& settings() const { return settings_; }
   float last_output() const { return last_output_; }
-  std::uint16_t queued_notes() const { return queue_.size(); }
+  std::uint16_t queued_notes() const { return static_cast<std::uint16_t>(queue_.size() + prep_.pending()); }
+  std::uint8_t prepared_pending() const { return prep_.pending(); }  // queued notes handed to the background
   protocol::Status status() const;  // what a Status report sent now would carry
   bool has_drive() const { return has_drive_; }
   const Drive& drive() const { return drive_; }
@@ -98,6 +132,9 @@ class Core {
  private:
   // core.cpp: the tick
   void start_due_notes();
+  void request_upcoming();
+  void flush_notes();
+  std::uint16_t free_note_slots() const { return static_cast<std::uint16_t>(queue_.free_slots() - prep_.pending()); }
   void check_watchdog();
   void send_periodic_reports();
   void run_drive();
@@ -118,6 +155,9 @@ class Core {
   void apply_settings();
   // core_reports.cpp: device → host reports
   void send(protocol::Message& m);
+  // The outbox slot for a report of this type, with its seq, for the caller to fill in place and then
+  // commit with outbox_.commit(); nullptr (counted) when the outbox is full.
+  protocol::Message* begin_report(protocol::Type type);
   void reject(protocol::ErrorCode code, std::uint16_t seq, std::uint8_t type);
   void note_started(const QueuedNote& q);
   void flush_started();
@@ -128,8 +168,13 @@ class Core {
   synth::SynthConfig synth_cfg_;
   synth::Engine engine_;
   NoteQueue queue_;
+  NotePrep prep_;
+  std::uint32_t prepare_ahead_ticks_ = 1;
   OutputStage output_;
   SpscQueue<InboxEntry, kInboxCapacity> inbox_;
+  SpscQueue<protocol::Message, kOutboxCapacity> outbox_;
+  std::uint32_t outbox_full_ = 0;                // reports the tick had no room for
+  std::atomic<std::uint32_t> send_failed_{0};   // written by the background only
   Drive drive_;
   float duty_[kMotorCount]{};
   float force_n_ = 0.0f;  // the drive's achieved force along the direction (N)

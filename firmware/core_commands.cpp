@@ -12,13 +12,12 @@ using protocol::Type;
 
 void Core::handle(const InboxEntry& entry) {
   ++stats_.packets;
-  protocol::Message m;
-  const ErrorCode decoded = protocol::decode(entry.bytes, m);
-  if (decoded != ErrorCode::none) {
+  if (entry.error != ErrorCode::none) {
     // The header is read raw: the type byte may be the unknown one.
-    reject(decoded, static_cast<std::uint16_t>(entry.bytes[1] | (entry.bytes[2] << 8)), entry.bytes[0]);
+    reject(entry.error, entry.raw_seq, entry.raw_type);
     return;
   }
+  const protocol::Message& m = entry.message;
   if (!protocol::is_host_to_device(m.type)) {
     reject(ErrorCode::wrong_direction, m.seq, static_cast<std::uint8_t>(m.type));
     return;
@@ -52,7 +51,7 @@ void Core::on_hello(const protocol::Message& m) {
   if (!version_locked_) {
     // A new session: nothing of the old one keeps sounding or waiting, faults are acknowledged.
     // Settings and uploaded presets stay.
-    queue_.clear();
+    flush_notes();
     engine_.stop_all();
     output_.silence();
     faults_ = protocol::fault_none;
@@ -101,7 +100,7 @@ void Core::on_notes(const protocol::Message& m, std::uint64_t rx_tick) {
       return;
     }
   }
-  if (batch.count > queue_.free_slots()) {
+  if (batch.count > free_note_slots()) {
     reject(ErrorCode::queue_full, m.seq, static_cast<std::uint8_t>(m.type));
     return;
   }
@@ -130,7 +129,7 @@ void Core::on_long_note(const protocol::Message& m) {
     reject(e, m.seq, static_cast<std::uint8_t>(m.type));
     return;
   }
-  if (queue_.free_slots() == 0) {
+  if (free_note_slots() == 0) {
     reject(ErrorCode::queue_full, m.seq, static_cast<std::uint8_t>(m.type));
     return;
   }
@@ -147,7 +146,9 @@ void Core::on_long_note(const protocol::Message& m) {
 void Core::on_preset(const protocol::Message& m) {
   if (!engine_.set_preset(m.preset.slot, m.preset.adsr)) {
     reject(ErrorCode::bad_slot, m.seq, static_cast<std::uint8_t>(m.type));  // decode checks it: unreachable
+    return;
   }
+  prep_.invalidate();  // voices prepared with the slot's old envelope; notes started from now on use the new one
 }
 
 void Core::on_settings(const protocol::Message& m) {
@@ -163,6 +164,7 @@ void Core::apply_settings() {
   if (settings_.end_fade_ms != synth_cfg_.end_fade_ms) {
     synth_cfg_.end_fade_ms = settings_.end_fade_ms;  // applies to notes started from now on
     engine_.configure(synth_cfg_);
+    prep_.invalidate();  // voices prepared with the old fade
   }
   output_.configure(tick_hz_, settings_.ramp_in_ms, settings_.gain);
   drive_.apply(settings_);
@@ -195,7 +197,7 @@ void Core::on_transport(const protocol::Message& m) {
     case protocol::TransportOp::seek:
       // Notes are scheduled in device ticks: after a seek the host sends the notes of the new position.
       // Whatever was queued or sounding belongs to the old one.
-      queue_.clear();
+      flush_notes();
       engine_.stop_all();
       song_tick_ = m.transport.tick;
       log_event("seek to song tick ", song_tick_);
@@ -206,7 +208,7 @@ void Core::on_transport(const protocol::Message& m) {
 void Core::emergency_stop() {
   engine_.stop_all();
   output_.silence();
-  queue_.clear();
+  flush_notes();
   faults_ |= protocol::fault_estop;
   if (state_ != State::fault) log_event("EMERGENCY STOP at tick ", tick_);
   state_ = State::fault;

@@ -4,13 +4,26 @@
 
 namespace hmp::fw {
 
+// Into the outbox: poll() encodes and sends it (encoding is a few hundred instructions the tick need not
+// spend). A full outbox drops the report, counted with the ones the board could not take.
 void Core::send(protocol::Message& m) {
-  m.seq = ++tx_seq_;
-  protocol::Report report;
-  // encode() refusing one of our own reports would be a bug; count it like a report the board dropped.
-  if (!protocol::encode(m, report) || board_.send == nullptr || !board_.send(board_.ctx, report)) {
-    ++stats_.tx_dropped;
+  protocol::Message* slot = begin_report(m.type);
+  m.seq = tx_seq_;
+  if (slot == nullptr) return;
+  *slot = m;
+  outbox_.commit();
+}
+
+protocol::Message* Core::begin_report(protocol::Type type) {
+  ++tx_seq_;
+  protocol::Message* slot = outbox_.prepare();
+  if (slot == nullptr) {
+    ++outbox_full_;
+    return nullptr;
   }
+  slot->type = type;
+  slot->seq = tx_seq_;
+  return slot;
 }
 
 // Counts the refusal and answers it. A note report refused for lack of room also latches
@@ -45,10 +58,12 @@ void Core::note_started(const QueuedNote& q) {
 
 void Core::flush_started() {
   if (started_.count == 0) return;
-  protocol::Message m = protocol::make(protocol::Type::started, 0);
-  m.started = started_;
-  send(m);
-  started_ = protocol::Started{};
+  // Built in place (the Status tick sends it): entries past count are not encoded, so only count resets.
+  if (protocol::Message* m = begin_report(protocol::Type::started)) {
+    m->started = started_;
+    outbox_.commit();
+  }
+  started_.count = 0;
 }
 
 void Core::log_event(const char* what, std::uint64_t value) {

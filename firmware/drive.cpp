@@ -25,6 +25,7 @@ Drive::Drive(std::uint32_t tick_hz, const DriveParams& params)
   jump_counts_ = counts > 2.0f ? static_cast<std::int32_t>(counts) : 2;
   const float persist = params_.limits.persist_ms * 1e-3f * tick_hz_;
   persist_ticks_ = persist > 1.0f ? static_cast<std::uint16_t>(persist) : 1;
+  qp_.max_iterations = params_.qp_max_changes;
   for (float& t : tension_) t = qp_.t_min;
 }
 

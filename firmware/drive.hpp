@@ -1,7 +1,7 @@
 #pragma once
 // The SPIDAR-G6 motor drive of the firmware tick (SPEC §8, §11; docs/spidar.md "Firmware drive"):
 //
-//   encoders → string lengths (LengthCalibration) → grip pose (PoseEstimator, 2 Gauss–Newton steps,
+//   encoders → string lengths (LengthCalibration) → grip pose (PoseEstimator, 1 Gauss–Newton step,
 //   warm start) → force F = vibration × peak force × direction → tensions (the QP: every string between
 //   t_min and t_max, TensionStateBank warm starts) → motor forces (DriveCompensator: the motor + string +
 //   grip dynamics inverted) → PWM duties (MotorModel, back-EMF from the model's and the encoders' speed).
@@ -34,10 +34,22 @@ struct DriveLimits {
   float persist_ms = 2.0f;
 };
 
+// The pose estimator's settings for the drive: one Gauss–Newton step per tick (docs/spidar.md, "Cost on
+// the Cortex-M4F": the second step costs ~1,700 instructions and the warm-started estimate tracks to
+// nanometres with one).
+inline spidar::PoseParams<float> drive_pose_params() {
+  spidar::PoseParams<float> p;
+  p.iterations = 1;
+  return p;
+}
+
 struct DriveParams {
   spidar::Frame<float> frame = spidar::x3_frame<float>();
   spidar::MotorParams<float> motor{};
-  spidar::PoseParams<float> pose{};
+  spidar::PoseParams<float> pose = drive_pose_params();
+  // Active-set changes the tension QP may make per tick; over it the answer is polished and flagged
+  // not_converged, and the next tick carries on from the set reached (bounds the tick's worst case).
+  int qp_max_changes = 2;
   PlantModel plant{};
   CompensatorConfig compensator{};
   DriveLimits limits{};

@@ -30,9 +30,10 @@ class NoteQueue {
   void pop();
   void clear() { size_ = 0; }
 
- private:
+  // The schedule's order: start tick, then arrival.
   static bool before(const QueuedNote& a, const QueuedNote& b);
 
+ private:
   QueuedNote heap_[kCapacity];
   std::uint16_t size_ = 0;
   std::uint32_t next_arrival_ = 0;

@@ -77,11 +77,14 @@ bool An386Board::inbox_has_room(void* ctx) { return static_cast<An386Board*>(ctx
 
 void An386Board::deliver(void* ctx, const protocol::Report& report) {
   auto* self = static_cast<An386Board*>(ctx);
-  // The core stamps the report with its tick counter; the trace must name the same tick, so no tick may
-  // run between the two reads (a few dozen instructions with interrupts masked).
+  // Decoding takes ~1,000 instructions and touches no core state: done first, interruptible. Then the core
+  // stamps the report with its tick counter and commits it; the trace must name the tick the core saw
+  // it arrive in, and it must be the next tick that takes it, so no tick may run between the stamp and
+  // the commit (a copy of the entry with interrupts masked).
+  const fw::InboxEntry decoded = fw::Core::decode_packet(report);
+  std::uint32_t tick = 0;
   const std::uint32_t primask = irq_save();
-  const bool taken = self->core_.on_packet(report);
-  const std::uint32_t tick = self->ticks_;
+  const bool taken = self->core_.on_decoded(decoded, &tick);
   irq_restore(primask);
   if (!taken) {
     ++self->inbox_refused_;

@@ -4,7 +4,8 @@
 //
 // Priorities: SysTick (the tick) is the highest; the UART interrupts sit below it, so a report's
 // arrival never interrupts a tick half-way and the tick is never delayed by the line. The main loop
-// (thread mode) sleeps in `wfi` and writes the optional trace.
+// (thread mode) runs the core's background work (poll(): encoding and sending the reports the tick
+// queued, preparing the voices of the next notes), writes the optional trace and sleeps in `wfi`.
 #include <cstdint>
 
 #include "firmware/core.hpp"
@@ -38,6 +39,7 @@ class An386Board {
   void on_uart_tx() { link_.on_tx_interrupt(); }
 
   // Main loop.
+  bool poll() { return core_.poll(); }  // the core's background work; true if there was any
   void drain_trace(bool all) {
     if (tracing_) trace_.drain(all);
   }

@@ -47,6 +47,8 @@ int main() {
   std::uint32_t seen_rx = g_board->link().rx_bytes();
   std::uint32_t last_rx_tick = 0;
   for (;;) {
+    while (g_board->poll()) {
+    }
     g_board->drain_trace(false);
     if (idle_ticks != 0) {
       const std::uint32_t now = g_board->ticks();
@@ -58,7 +60,8 @@ int main() {
         break;
       }
     }
-    // An interrupt that lands between the checks above and the wfi is seen one tick later at most.
+    // An interrupt that lands between the checks (or the poll) above and the wfi is seen one tick later
+    // at most: the tick hands voices to prepare kPrepareAheadMs ahead, and reports wait in the outbox.
     asm volatile("wfi" ::: "memory");
   }
   g_board->stop();

@@ -7,8 +7,8 @@
 // reading the UART (the byte stays in the UART, QEMU then stops delivering, the host's socket buffers)
 // and the tick resumes it once there is room (resume_rx()).
 //
-// Transmit: the tick only copies each device report into a queue of whole reports (queue_report(), a
-// lock-free SPSC ring) and pends the TX interrupt. The TX interrupt, which runs at a lower priority
+// Transmit: the core's background (Core::poll, in the main loop) copies each device report into a queue
+// of whole reports (queue_report(), a lock-free SPSC ring) and pends the TX interrupt. The TX interrupt, which runs at a lower priority
 // than the tick, frames one report at a time and feeds the UART byte by byte. The tick never waits for
 // the line: a full queue drops the report (the core counts it in Stats::tx_dropped).
 #include <cstdint>
@@ -43,7 +43,7 @@ class SerialLink {
   void on_rx_interrupt();
   void on_tx_interrupt();
 
-  // Tick context.
+  // Main loop (the core's background context: the queue's only producer).
   bool queue_report(const protocol::Report& report);
   void resume_rx();  // call after the core has taken reports from its inbox
 

@@ -1,7 +1,9 @@
 #pragma once
 // The simulated board (SPEC §13 `sim`): the firmware core built natively on a deterministic virtual
-// clock. Nothing runs by itself: advance(n) runs the tick interrupt n times, reports go in and come out
-// through the same 64-byte interface as over USB HID. Used by the firmware tests and as the default
+// clock. Nothing runs by itself: advance(n) runs the tick interrupt n times, each followed by the core's
+// background work (Core::poll: sending the tick's reports, preparing the voices of the next notes), as a
+// main loop that always keeps up would; reports go in and come out through the same 64-byte interface as
+// over USB HID. Used by the firmware tests and as the default
 // device of `hmp play`.
 //
 // With a plant (SimOptions::plant, SPEC §12) the board has motors: the core's SPIDAR drive runs, each
@@ -76,6 +78,9 @@ class SimDevice {
   // What the board's timer reports as the fraction of the present tick elapsed (2^32 = one tick) for
   // the next packets; the virtual clock itself only moves in whole ticks.
   void set_subtick(std::uint32_t fraction) { subtick_ = fraction; }
+  // Whether the background prepares voices after each tick (default on). Off: the tick sets up every
+  // note itself, as with a main loop that never gets to it (reports are sent either way).
+  void set_prepare_voices(bool on) { prepare_voices_ = on; }
 
   // ---- inspection ----
   const fw::Core& core() const { return core_; }
@@ -117,6 +122,7 @@ class SimDevice {
   float last_output_ = 0.0f;
   std::uint32_t subtick_ = 0;
   bool echo_log_ = false;
+  bool prepare_voices_ = true;
   std::unique_ptr<plant::Plant> plant_;
   int observe_substeps_ = 1;
   bool unstable_logged_ = false;

@@ -20,9 +20,9 @@ namespace hmp::midi {
 
 inline constexpr std::uint8_t kDrumChannel = 9;  // MIDI channel 10, 0-based
 
-// One paired note, in ticks only. 24 bytes: a 5 MB file can hold ~600k of them, and they are most of a
-// read's memory (SPEC §4's peak-RSS budget is 3 × the file size), so times are not stored: Song::start_us()
-// and friends compute them from the tempo map when asked.
+// One paired note, in ticks only. 24 bytes: a 5 MB file can hold ~600k of them and they are most of a
+// read's memory (the midi-parse benchmark allows 3 × the file size + 20 MiB of peak RSS), so times are not
+// stored: Song::start_us() and friends compute them from the tempo map when asked.
 struct Note {
   std::uint64_t start_tick = 0;  // absolute; format 2 patterns are offset to play one after another
   std::uint64_t end_tick = 0;    // ≥ start_tick; equal for a zero-length note (kept, see smf_reader.hpp)

@@ -77,7 +77,9 @@ class Envelope {
   // start() works in double (once per note, not per tick: a few µs of soft-float on a Cortex-M4F).
   void start(const Adsr& preset, float peak, std::uint32_t duration_ticks, float tick_hz, float end_fade_ms);
   // E at tick n, in [0, peak]; 0 for n ≥ N.
-  float at(std::uint32_t n) const;
+  float at(std::uint32_t n) const { return n < n_end_ ? at_within(n) : 0.0f; }
+  // The same for a caller that knows n < N (a voice checks it anyway): one comparison less per tick.
+  float at_within(std::uint32_t n) const;
   std::uint32_t duration_ticks() const { return n_end_; }
 
  private:
@@ -99,8 +101,7 @@ class Envelope {
   bool release_zero_ = false;
 };
 
-inline float Envelope::at(std::uint32_t n) const {
-  if (n >= n_end_) return 0.0f;
+inline float Envelope::at_within(std::uint32_t n) const {
   // Later phases first: the sustain (the most common tick) returns after three comparisons, without
   // the clamp (0 ≤ S ≤ peak by construction).
   float v;

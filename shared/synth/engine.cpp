@@ -82,35 +82,47 @@ const envelope::Adsr* Engine::preset(std::uint8_t slot) const {
   return slot < envelope::kSlotCount && slot_used_[slot] ? &slots_[slot] : nullptr;
 }
 
-bool Engine::start(const Note& note) {
-  const envelope::Adsr* adsr = preset(note.preset);
+bool Engine::playable(const Note& note) {
   // Zero duration is a malformed command here (the host always sends N ≥ 1); zero frequency is silence
   // and frequencies at or above Nyquist cannot be synthesised at this tick rate. Amplitude 0 is allowed.
   const bool below_nyquist = static_cast<std::uint64_t>(note.freq_q20) * 2 <
                              (static_cast<std::uint64_t>(cfg_.tick_hz) << kFreqFracBits);
-  if (!adsr || note.duration_ticks == 0 || note.freq_q20 == 0 || !below_nyquist) {
+  if (preset(note.preset) == nullptr || note.duration_ticks == 0 || note.freq_q20 == 0 || !below_nyquist) {
     ++counters_.rejected;
     return false;
   }
+  return true;
+}
 
-  // A free voice, or else the oldest one. Ages are counted modulo 2^32 so the order counter may wrap.
-  Voice* target = nullptr;
-  std::uint32_t oldest_age = 0;
+Voice& Engine::take_voice() {
+  ++counters_.started;
+  // The first free voice (a plain scan: the ages are needed only when there is none)…
   for (Voice& v : voices_) {
-    if (!v.active()) {
-      target = &v;
-      break;
-    }
+    if (!v.active()) return v;
+  }
+  // …or else the oldest one. Ages are counted modulo 2^32 so the order counter may wrap.
+  ++counters_.stolen;
+  Voice* oldest = &voices_[0];
+  std::uint32_t oldest_age = next_order_ - oldest->order();
+  for (Voice& v : voices_) {
     const std::uint32_t age = next_order_ - v.order();
-    if (!target || age > oldest_age) {
-      target = &v;
+    if (age > oldest_age) {
+      oldest = &v;
       oldest_age = age;
     }
   }
-  if (target->active()) ++counters_.stolen;
+  return *oldest;
+}
 
-  target->start(note, *adsr, cfg_, next_order_++);
-  ++counters_.started;
+bool Engine::start(const Note& note) {
+  if (!playable(note)) return false;
+  take_voice().start(note, *preset(note.preset), cfg_, next_order_++);
+  return true;
+}
+
+bool Engine::start_prepared(const Voice& prepared) {
+  if (!playable(prepared.note())) return false;
+  take_voice().adopt(prepared, next_order_++);
   return true;
 }
 

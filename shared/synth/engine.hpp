@@ -52,6 +52,10 @@ class Engine {
   // counted: empty preset slot, duration 0 (malformed here, although a voice would play it as 1 tick),
   // frequency 0 or at/above Nyquist (tick_hz / 2). Amplitude 0 is a valid, silent note.
   bool start(const Note& note);
+  // The same for a note whose voice was prepared ahead (Voice::prepare with this engine's config and
+  // the note's preset as they are now, e.g. outside a tick interrupt): the same checks, counters and
+  // choice of voice as start(note), with a copy instead of the envelope's set-up.
+  bool start_prepared(const Voice& prepared);
   // Advance every voice one tick; returns the mixed, limited sample in [−1, 1].
   float tick();
   void stop_all();
@@ -61,6 +65,9 @@ class Engine {
   const Voice& voice(std::uint8_t i) const { return voices_[i]; }
 
  private:
+  bool playable(const Note& note);  // counts a refusal
+  Voice& take_voice();               // a free voice, or else the oldest (counted as stolen)
+
   SynthConfig cfg_;
   Polyphony policy_ = Polyphony::sum;
   Limiter limiter_;

@@ -5,8 +5,13 @@
 namespace hmp::synth {
 
 void Voice::start(const Note& note, const envelope::Adsr& preset, const SynthConfig& cfg, std::uint32_t order) {
-  note_ = note;
+  prepare(note, preset, cfg);
   order_ = order;
+}
+
+void Voice::prepare(const Note& note, const envelope::Adsr& preset, const SynthConfig& cfg) {
+  note_ = note;
+  order_ = 0;
   freq_q20_ = note.freq_q20;
   sine_ = cfg.sine;
   env_.start(preset, q16_to_amp(note.amp_q16), note.duration_ticks, static_cast<float>(cfg.tick_hz), cfg.end_fade_ms);

@@ -27,6 +27,15 @@ struct SynthConfig {
 class Voice {
  public:
   void start(const Note& note, const envelope::Adsr& preset, const SynthConfig& cfg, std::uint32_t order);
+  // All of start() but the start order: the costly part (the envelope's set-up, in double), which the
+  // firmware does ahead of the note's tick outside the tick interrupt. A voice prepared from the same
+  // note, preset and config plays exactly what start() would; Engine::start_prepared puts it to work.
+  void prepare(const Note& note, const envelope::Adsr& preset, const SynthConfig& cfg);
+  // This voice becomes a copy of a prepared one, with its start order.
+  void adopt(const Voice& prepared, std::uint32_t order) {
+    *this = prepared;
+    order_ = order;
+  }
   // The sample for the current tick, then advance one tick. Returns 0 once finished. Inline below: the
   // engine calls it for every voice on every tick.
   float next();
@@ -47,7 +56,7 @@ class Voice {
 inline float Voice::next() {
   if (!active()) return 0.0f;
   // The top 32 bits address the sine; the low 32 keep the sub-LSB phase so it never drifts.
-  const float y = env_.at(n_) * sine(sine_, static_cast<std::uint32_t>(phase_ >> 32));
+  const float y = env_.at_within(n_) * sine(sine_, static_cast<std::uint32_t>(phase_ >> 32));
   phase_ += inc_;
   ++n_;
   return y;

@@ -10,9 +10,12 @@
 # exactly 1 ns. It reads virtual time from a 25 MHz hardware timer around each tick, synchronised to the
 # timer's count edges, which resolves single instructions; a run of 1000 nops must count 1000 (checked).
 # Prints the mean over 2 s of ticks with every voice sounding (metric instructions_per_tick), the worst of
-# those ticks (…_max: a tick that starts a note), the two heaviest ticks a host can cause
-# (instructions_worst_tick: taking four full note reports; starting 16 notes at once) and the cost of the
-# pieces (instructions_detail).
+# those ticks (…_max), the two heaviest ticks a host can cause (instructions_worst_tick: taking four full
+# note reports; starting 16 notes at once) and the cost of the pieces (instructions_detail), among them
+# the heaviest 16-voice tick of each kind (part max_by_kind_16_voices[_drive]_KIND: what else the tick did —
+# plain, note_start, report, status (any report sent), prepare_request, or a `+` of them). The core's
+# background work (Core::poll: encoding and sending reports, preparing voices) runs between the ticks,
+# as the board's main loop does, and is not counted: it is not part of the tick.
 #
 # Run by scripts/bench with the host build directory as $1 (unused: the image comes from the cross tree,
 # build/qemu-an386, or $HMP_QEMU_BUILD_DIR, configured and built here).

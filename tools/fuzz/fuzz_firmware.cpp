@@ -50,8 +50,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (!core.on_packet(r)) __builtin_trap();  // one tick per report: the inbox never fills
     ++fed;
     core.on_tick();
+    core.poll();  // the background: sends the tick's reports (checked above), prepares voices
   }
-  for (int i = 0; i < 300; ++i) core.on_tick();
+  for (int i = 0; i < 300; ++i) {
+    core.on_tick();
+    core.poll();
+  }
 
   const hmp::fw::Stats& s = core.stats();
   if (s.packets != fed || s.inbox_full != 0 || s.engine_refused != 0) __builtin_trap();
