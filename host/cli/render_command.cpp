@@ -28,22 +28,13 @@ struct RenderOptions {
 
 int run_render(const RenderOptions& o) {
   const output::SignalExport out{o.out, o.audible, o.force};
-  for (const auto& t : {o.from_s, o.to_s}) {
-    if (t && !(std::isfinite(*t) && *t >= 0)) throw BadInput("--from/--to: must be seconds ≥ 0");
-  }
   const haptics::HapticOptions opts = resolve(o.haptic);
   output::check_export(out);  // fail before the work, not after
-
-  const midi::ReadResult r = midi::load_song(o.song);
-  for (const midi::Warning& w : r.warnings) std::fprintf(stderr, "warning: %s\n", w.message.c_str());
-  const std::uint32_t track = select_track(r.song, o.track);
-  const haptics::HapticTrack ht = haptics::build_haptic_track(r.song, track, opts);
-
-  std::uint64_t song_end = haptics::seconds_to_tick(r.song.duration_us, opts.tick_hz);
-  for (const haptics::HapticNote& n : ht.notes) song_end = std::max(song_end, n.note.start_tick + n.note.duration_ticks);
-  const std::uint64_t first = o.from_s ? haptics::seconds_to_tick(std::llround(*o.from_s * 1e6), opts.tick_hz) : 0;
-  const std::uint64_t end = o.to_s ? haptics::seconds_to_tick(std::llround(*o.to_s * 1e6), opts.tick_hz) : song_end;
-  if (end <= first) throw BadInput("--from/--to: empty window");
+  const TrackWindow w = load_track_window(o.song, o.track, opts, o.from_s, o.to_s);
+  const midi::ReadResult& r = w.read;
+  const std::uint32_t track = w.track;
+  const haptics::HapticTrack& ht = w.haptic;
+  const std::uint64_t first = w.first_tick, end = w.end_tick;
   if (end - first > (std::uint64_t{1} << 31)) throw BadInput("--from/--to: window too long to render (> 2^31 ticks)");
 
   haptics::RenderSettings settings;

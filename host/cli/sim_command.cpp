@@ -158,9 +158,6 @@ int run_sim(const SimCliOptions& o) {
   const std::string fmt_out = o.out == "-" ? "csv" : output::extension_of(o.out);
   if (fmt_out != "csv" && fmt_out != "png") throw BadInput("--out " + o.out + ": use a .csv or .png file");
   if (!(o.peak_force_n > 0 && o.peak_force_n <= 20)) throw BadInput("--peak-force: must be in (0, 20] N");
-  for (const auto& t : {o.from_s, o.to_s}) {
-    if (t && !(std::isfinite(*t) && *t >= 0)) throw BadInput("--from/--to: must be seconds ≥ 0");
-  }
   sim::plant::Method method{};
   if (!sim::plant::parse_method(o.integrator, method)) {
     throw BadInput("--integrator " + o.integrator +
@@ -169,15 +166,11 @@ int run_sim(const SimCliOptions& o) {
   const haptics::HapticOptions opts = resolve(o.haptic);
   output::check_writable(o.out, o.force);
 
-  const midi::ReadResult r = midi::load_song(o.song);
-  for (const midi::Warning& w : r.warnings) std::fprintf(stderr, "warning: %s\n", w.message.c_str());
-  const std::uint32_t track = select_track(r.song, o.track);
-  const haptics::HapticTrack ht = haptics::build_haptic_track(r.song, track, opts);
-  std::uint64_t song_end = haptics::seconds_to_tick(r.song.duration_us, opts.tick_hz);
-  for (const haptics::HapticNote& n : ht.notes) song_end = std::max(song_end, n.note.start_tick + n.note.duration_ticks);
-  const std::uint64_t first = o.from_s ? haptics::seconds_to_tick(std::llround(*o.from_s * 1e6), opts.tick_hz) : 0;
-  const std::uint64_t end = o.to_s ? haptics::seconds_to_tick(std::llround(*o.to_s * 1e6), opts.tick_hz) : song_end;
-  if (end <= first) throw BadInput("--from/--to: empty window");
+  const TrackWindow w = load_track_window(o.song, o.track, opts, o.from_s, o.to_s);
+  const midi::ReadResult& r = w.read;
+  const std::uint32_t track = w.track;
+  const haptics::HapticTrack& ht = w.haptic;
+  const std::uint64_t first = w.first_tick, end = w.end_tick;
   if (end - first > 600ull * opts.tick_hz) throw BadInput("--from/--to: at most 600 s of simulation at a time");
 
   sim::SimOptions so;

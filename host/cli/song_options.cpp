@@ -1,6 +1,7 @@
 #include "host/cli/song_options.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 
 #include "host/common/error.hpp"
@@ -56,6 +57,27 @@ std::uint32_t select_track(const midi::Song& song, const std::string& query) {
     throw BadInput("--track '" + query + "': no track matches (tracks with notes: " + list.substr(2) + ")");
   }
   throw BadInput("--track '" + query + "' is ambiguous (candidates: " + list.substr(2) + ")");
+}
+
+TrackWindow load_track_window(const std::string& song, const std::string& track, const haptics::HapticOptions& opts,
+                              std::optional<double> from_s, std::optional<double> to_s) {
+  for (const auto& t : {from_s, to_s}) {
+    if (t && !(std::isfinite(*t) && *t >= 0)) throw BadInput("--from/--to: must be seconds ≥ 0");
+  }
+  TrackWindow w;
+  w.read = midi::load_song(song);
+  for (const midi::Warning& warning : w.read.warnings) std::fprintf(stderr, "warning: %s\n", warning.message.c_str());
+  w.track = select_track(w.read.song, track);
+  w.haptic = haptics::build_haptic_track(w.read.song, w.track, opts);
+  std::uint64_t song_end = haptics::seconds_to_tick(w.read.song.duration_us, opts.tick_hz);
+  for (const haptics::HapticNote& n : w.haptic.notes) {
+    song_end = std::max(song_end, n.note.start_tick + n.note.duration_ticks);
+  }
+  const auto to_tick = [&](double s) { return haptics::seconds_to_tick(std::llround(s * 1e6), opts.tick_hz); };
+  w.first_tick = from_s ? to_tick(*from_s) : 0;
+  w.end_tick = to_s ? to_tick(*to_s) : song_end;
+  if (w.end_tick <= w.first_tick) throw BadInput("--from/--to: empty window");
+  return w;
 }
 
 std::pair<double, double> parse_range(const std::string& option, const std::string& text) {

@@ -28,6 +28,19 @@ struct HapticCliOptions {
 void add_haptic_options(CLI::App* cmd, HapticCliOptions& o);
 haptics::HapticOptions resolve(const HapticCliOptions& o);
 
+// A song's haptic track over a window of device ticks: what `render` and `sim` both start from.
+struct TrackWindow {
+  midi::ReadResult read;            // the song and the reader's warnings (already printed)
+  std::uint32_t track = 0;
+  haptics::HapticTrack haptic;
+  std::uint64_t first_tick = 0;     // --from (default: the start)
+  std::uint64_t end_tick = 0;       // --to (default: the song's end or the last note's end, whichever is later)
+};
+// Loads the song (warnings to stderr), selects the track, maps it, and converts --from/--to (seconds ≥ 0)
+// to ticks. Throws BadInput on a bad window or an empty one.
+TrackWindow load_track_window(const std::string& song, const std::string& track, const haptics::HapticOptions& opts,
+                              std::optional<double> from_s, std::optional<double> to_s);
+
 // "A:B" → {A, B}; throws BadInput naming the option.
 std::pair<double, double> parse_range(const std::string& option, const std::string& text);
 
