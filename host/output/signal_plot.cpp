@@ -9,35 +9,22 @@
 #include <stdexcept>
 
 #include "host/common/error.hpp"
+#include "host/output/cairo_helpers.hpp"
 #include "host/output/output_file.hpp"
 
 namespace hmp::output {
 
 namespace {
 
+using cairo_helpers::text;
+
+using cairo_helpers::Context;
+using cairo_helpers::nice_step;
+using cairo_helpers::Surface;
+
 struct Box {
   double x, y, w, h;
 };
-
-using Surface = std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)>;
-using Context = std::unique_ptr<cairo_t, decltype(&cairo_destroy)>;
-
-// A "nice" tick spacing (1, 2 or 5 × 10^k) giving about `target` divisions of `span`.
-double nice_step(double span, int target) {
-  const double raw = span / target;
-  const double mag = std::pow(10.0, std::floor(std::log10(raw)));
-  for (double m : {1.0, 2.0, 5.0, 10.0}) {
-    if (raw <= m * mag) return m * mag;
-  }
-  return 10 * mag;
-}
-
-void text(cairo_t* cr, double x, double y, const std::string& s, double align = 0.0) {
-  cairo_text_extents_t ext;
-  cairo_text_extents(cr, s.c_str(), &ext);
-  cairo_move_to(cr, x - align * ext.width, y);
-  cairo_show_text(cr, s.c_str());
-}
 
 void draw_time_grid(cairo_t* cr, const Box& b, double t0, double t1, bool labels) {
   const double step = nice_step(t1 - t0, 10);

@@ -8,31 +8,17 @@
 #include <memory>
 
 #include "host/common/error.hpp"
+#include "host/output/cairo_helpers.hpp"
 #include "host/output/output_file.hpp"
 
 namespace hmp::output {
 
 namespace {
 
-using Surface = std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)>;
-using Context = std::unique_ptr<cairo_t, decltype(&cairo_destroy)>;
-
-// A "nice" spacing (1, 2 or 5 × 10^k) giving about `target` divisions of `span`.
-double nice_step(double span, int target) {
-  const double raw = span / target;
-  const double mag = std::pow(10.0, std::floor(std::log10(raw)));
-  for (double m : {1.0, 2.0, 5.0, 10.0}) {
-    if (raw <= m * mag) return m * mag;
-  }
-  return 10 * mag;
-}
-
-void label(cairo_t* cr, double x, double y, const std::string& s, double align) {
-  cairo_text_extents_t ext;
-  cairo_text_extents(cr, s.c_str(), &ext);
-  cairo_move_to(cr, x - align * ext.width, y);
-  cairo_show_text(cr, s.c_str());
-}
+using cairo_helpers::Context;
+using cairo_helpers::nice_step;
+using cairo_helpers::Surface;
+using cairo_helpers::text;
 
 }  // namespace
 
@@ -65,7 +51,7 @@ void write_traces_png(const std::string& path, const std::vector<Trace>& traces,
 
   cairo_set_font_size(cr, 15);
   cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
-  label(cr, left, 24, spec.title, 0.0);
+  text(cr, left, 24, spec.title, 0.0);
   cairo_set_font_size(cr, 12);
   cairo_set_line_width(cr, 1.0);
   const double t_step = nice_step(t1 - t0, 10);
@@ -77,7 +63,7 @@ void write_traces_png(const std::string& path, const std::vector<Trace>& traces,
     char buf[32];
     std::snprintf(buf, sizeof buf, "%g", std::round(t / t_step) * t_step);
     cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
-    label(cr, x_of(t), top + h + 16, buf, 0.5);
+    text(cr, x_of(t), top + h + 16, buf, 0.5);
   }
   const double v_step = nice_step(y_hi - y_lo, 6);
   for (double v = std::ceil(y_lo / v_step) * v_step; v <= y_hi + 1e-12; v += v_step) {
@@ -88,7 +74,7 @@ void write_traces_png(const std::string& path, const std::vector<Trace>& traces,
     char buf[32];
     std::snprintf(buf, sizeof buf, "%g", std::round(v / v_step) * v_step);
     cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
-    label(cr, left - 6, y_of(v) + 4, buf, 1.0);
+    text(cr, left - 6, y_of(v) + 4, buf, 1.0);
   }
 
   const auto columns = static_cast<std::size_t>(w);
@@ -116,14 +102,14 @@ void write_traces_png(const std::string& path, const std::vector<Trace>& traces,
     cairo_rectangle(cr, legend_x, 36, 18, 4);
     cairo_fill(cr);
     cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
-    label(cr, legend_x + 24, 42, t.label, 0.0);
+    text(cr, legend_x + 24, 42, t.label, 0.0);
     cairo_text_extents_t ext;
     cairo_text_extents(cr, t.label.c_str(), &ext);
     legend_x += 24 + ext.width + 30;
   }
   cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
-  label(cr, left + w, spec.height - 8.0, "time (s)", 1.0);
-  label(cr, 8, top - 4, spec.y_label, 0.0);
+  text(cr, left + w, spec.height - 8.0, "time (s)", 1.0);
+  text(cr, 8, top - 4, spec.y_label, 0.0);
 
   if (cairo_surface_write_to_png(surface.get(), path.c_str()) != CAIRO_STATUS_SUCCESS) {
     throw BadInput(path + ": cannot write PNG");
