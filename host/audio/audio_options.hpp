@@ -15,12 +15,17 @@ void print_warning(const std::string& message);
 struct AudioOptions {
   bool enabled = true;    // false (`--no-audio`): no SoundFont is loaded and no audio driver is created
   std::string soundfont;  // a .sf2/.sf3 path; empty: the standard places (soundfont.hpp)
-  std::vector<std::string> drivers = {"pulseaudio", "alsa", "sdl2"};  // FluidSynth drivers, tried in order
+  // FluidSynth drivers, tried in order; "virtual" is a simulated card (never tried unless named).
+  std::vector<std::string> drivers = {"pulseaudio", "alsa", "sdl2"};
   SynthSettings synth;
   // Driver buffering: frames per period and number of periods. The output latency estimate is
   // period_frames × periods / sample_rate (5.3 ms × 4 = 21 ms at 48 kHz by default).
   int period_frames = 256;
   int periods = 4;
+  // The "virtual" driver (virtual_card.hpp, for measurements): its crystal error and how many frames
+  // of its output it keeps.
+  double virtual_ppm = 0.0;
+  std::size_t virtual_record_frames = 0;
 };
 
 }  // namespace hmp::audio

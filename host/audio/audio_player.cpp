@@ -35,11 +35,13 @@ AudioPlayer::AudioPlayer(const AudioOptions& options, WarningSink warn)
 }
 
 AudioPlayer::~AudioPlayer() {
+  card_.reset();  // its thread calls render(): stopped before anything it uses goes
   if (driver_ != nullptr) delete_fluid_audio_driver(driver_);
   if (sdl_acquired_) sdl_audio_release();
 }
 
 void AudioPlayer::go_silent(const std::string& reason, bool warn_user) {
+  card_.reset();
   if (driver_ != nullptr) delete_fluid_audio_driver(driver_);
   driver_ = nullptr;
   synth_.reset();
@@ -54,6 +56,16 @@ bool AudioPlayer::open_driver() {
   fluid_settings_setint(settings, "audio.periods", options_.periods);
   std::string tried;
   for (const std::string& name : options_.drivers) {
+    if (name == "virtual") {
+      VirtualCard::Settings card{options_.synth.sample_rate, options_.period_frames, options_.periods,
+                                 options_.virtual_ppm, options_.virtual_record_frames};
+      card_ = std::make_unique<VirtualCard>(card, [this](float* left, float* right, int frames) {
+        float* out[2] = {left, right};
+        render(frames, 2, out);
+      });
+      driver_name_ = name;
+      return true;
+    }
     if (name == "sdl2" && !sdl_acquired_) sdl_acquired_ = sdl_audio_acquire();
     fluid_settings_setstr(settings, "audio.driver", name.c_str());
     take_fluid_messages();
@@ -80,10 +92,20 @@ std::chrono::steady_clock::duration AudioPlayer::latency() const {
 }
 
 double AudioPlayer::output_latency_s() const {
-  if (driver_ == nullptr) return 0.0;
+  if (!audible()) return 0.0;
   const int seen = period_seen_.load();
   const int period = seen > 0 ? seen : options_.period_frames;
   return static_cast<double>(period) * options_.periods / options_.synth.sample_rate;
+}
+
+double AudioPlayer::clock_speed() const {
+  std::lock_guard lock(mutex_);
+  return clock_.speed();
+}
+
+std::uint64_t AudioPlayer::clock_restarts() const {
+  std::lock_guard lock(mutex_);
+  return clock_.restarts();
 }
 
 int AudioPlayer::on_audio(void* self, int len, int, float*[], int nout, float* out[]) {
@@ -103,6 +125,7 @@ void AudioPlayer::render(int len, int nout, float* out[]) {
     right = spare_.data();
   }
   // This buffer's first sample is heard once the buffers queued ahead of it have played.
+  clock_.set_buffer_us(output_latency_s() * 1e6);
   clock_.observe(synth_->position_us(), called + latency());
   synth_->render(out[0], right, static_cast<std::size_t>(len));
 }
@@ -173,6 +196,18 @@ std::int64_t AudioPlayer::song_time_us(TimePoint t) const {
 AudioPlayer::TimePoint AudioPlayer::heard_at(std::int64_t song_us) const {
   std::lock_guard lock(mutex_);
   return clock_.heard_at(song_us);
+}
+
+AudioPlayer::TimePoint AudioPlayer::heard_onset_at(std::uint8_t channel, std::uint8_t program, std::uint8_t key,
+                                                   std::int64_t song_us) const {
+  std::lock_guard lock(mutex_);
+  if (!synth_ || !audible()) return clock_.heard_at(song_us);
+  const std::int64_t frame = synth_->heard_frame(channel, program, key, song_us);
+  // Nearest µs of that frame (the clock counts µs; half a µs is far below anything heard).
+  const std::int64_t rate = synth_->sample_rate();
+  const std::int64_t scaled = frame * 1'000'000;
+  const std::int64_t us = scaled >= 0 ? (scaled + rate / 2) / rate : -((-scaled + rate / 2) / rate);
+  return clock_.heard_at(us);
 }
 
 }  // namespace hmp::audio

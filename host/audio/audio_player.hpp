@@ -1,6 +1,6 @@
 #pragma once
 // The song's audio during `hmp play` (SPEC §14): FluidSynth with the GM SoundFont on the first audio
-// driver that opens (pulseaudio, alsa, sdl2), rendering from the audio callback, sample-accurately
+// driver that opens (pulseaudio, alsa, sdl2; or "virtual", a simulated card: virtual_card.hpp), rendering from the audio callback, sample-accurately
 // against a song position it owns; a PlaybackClock tells the rest of the player which song time is
 // being heard. Without audio (`--no-audio`, no SoundFont, no sound device) the same clock runs on the
 // host clock and nothing is rendered: one warning says why (none for --no-audio), and nothing else of
@@ -17,6 +17,7 @@
 #include "host/audio/audio_options.hpp"
 #include "host/audio/playback_clock.hpp"
 #include "host/audio/song_synth.hpp"
+#include "host/audio/virtual_card.hpp"
 
 struct _fluid_audio_driver_t;
 
@@ -50,14 +51,22 @@ class AudioPlayer {
   // The clock: song time heard at `t` (now by default), and its inverse.
   std::int64_t song_time_us(TimePoint t = std::chrono::steady_clock::now()) const;
   TimePoint heard_at(std::int64_t song_us) const;
+  // When the sound of a note starting at `song_us` is heard: at FluidSynth's block boundary for its
+  // note-on plus its onset (SongSynth::heard_frame), so a haptic note placed there meets the sound
+  // whatever the block grid. Silent: heard_at(song_us).
+  TimePoint heard_onset_at(std::uint8_t channel, std::uint8_t program, std::uint8_t key, std::int64_t song_us) const;
   // Output latency estimate: period × periods / sample rate, the period being what the driver's
   // callbacks actually ask for (the requested one until the first callback). 0 when silent.
   double output_latency_s() const;
+  // Song µs per host µs the clock has learnt (1 + the card's crystal error, seen from the host).
+  double clock_speed() const;
+  std::uint64_t clock_restarts() const;  // times the clock's line started again (PlaybackClock::restarts)
 
-  bool audible() const { return driver_ != nullptr; }  // a driver runs and a SoundFont is loaded
+  bool audible() const { return driver_ != nullptr || card_ != nullptr; }  // a driver runs, a SoundFont is loaded
   const std::string& driver_name() const { return driver_name_; }  // "pulseaudio", …, or "none"
   const std::string& silence_reason() const { return silence_reason_; }  // empty when audible
   std::uint64_t callbacks() const { return callbacks_.load(); }
+  const VirtualCard* virtual_card() const { return card_.get(); }  // the "virtual" driver, else null
 
  private:
   static int on_audio(void* self, int len, int nfx, float* fx[], int nout, float* out[]);
@@ -71,6 +80,7 @@ class AudioPlayer {
   WarningSink warn_;
   std::unique_ptr<SongSynth> synth_;  // null when silent
   _fluid_audio_driver_t* driver_ = nullptr;
+  std::unique_ptr<VirtualCard> card_;  // instead of driver_ for the "virtual" driver
   bool sdl_acquired_ = false;
   std::string driver_name_ = "none";
   std::string silence_reason_;

@@ -16,6 +16,7 @@ void PlaybackClock::restart_line(std::int64_t song_us, TimePoint heard_at) {
   origin_song_ = song_us;
   offset_ = 0.0;
   reports_.clear();
+  off_line_run_ = 0;
 }
 
 void PlaybackClock::start(std::int64_t song_us, TimePoint heard_at) {
@@ -44,11 +45,19 @@ void PlaybackClock::observe(std::int64_t song_us, TimePoint heard_at) {
   if (!running_) return;
   const double x = micros(heard_at - origin_time_);
   const double y = static_cast<double>(song_us - origin_song_);
-  if (std::fabs(y - (offset_ + slope_ * x)) > static_cast<double>(kRestartUs)) {
+  const double early_us = y - (offset_ + slope_ * x);  // > 0: heard sooner than the line says
+  // A callback can run late, never early: a report sooner than the line means the line is late (or
+  // the stream restarted sooner); one later than the whole buffer means the card ran dry.
+  const bool sooner = early_us > kOffLineUs;
+  const bool underrun = -early_us > std::max(buffer_us_, kOffLineUs);
+  const bool late = -early_us > kOffLineUs;
+  if (sooner || underrun || (late && ++off_line_run_ >= kMinFit)) {
     ++restarts_;
     restart_line(song_us, heard_at);
     return;
   }
+  if (late) return;  // a late callback: the card's buffer covered it, the line stands
+  off_line_run_ = 0;
   reports_.push_back({x, y});
   if (reports_.size() > kWindow) reports_.pop_front();
   if (reports_.size() >= kMinFit) fit();

@@ -7,8 +7,11 @@
 // reports, for each buffer, the song time of its first sample and when that sample will be heard
 // (callback time + output latency). A least-squares line through the last few seconds of such reports
 // gives offset and speed, so the clock follows the card's crystal (a 100 ppm card drifts 6 ms a
-// minute from the host clock); a report far off the line (an underrun, a stalled driver) restarts the
-// fit from that report.
+// minute from the host clock). A callback that runs late (the host was busy) says nothing about when
+// the card plays, as long as the card's buffer covered the delay: such reports are left out of the
+// fit. A report sooner than the line (callbacks are never early, so the line was late), one later
+// than the whole buffer (the card ran dry: an underrun shifted what follows), or a run of late ones
+// (the stream restarted later) restarts the fit from that report.
 #include <chrono>
 #include <cstdint>
 #include <deque>
@@ -21,7 +24,8 @@ class PlaybackClock {
   static constexpr std::size_t kWindow = 1024;         // reports in the fit (5.5 s of 256-frame buffers at 48 kHz)
   static constexpr std::size_t kMinFit = 32;           // reports before the fit replaces the nominal line
   static constexpr double kMaxSpeedError = 1e-3;       // no sound card is off by more than 1000 ppm
-  static constexpr std::int64_t kRestartUs = 20'000;   // a report this far off restarts the fit
+  static constexpr double kOffLineUs = 2'000;           // farther than this off the line: not in the fit
+  static constexpr double kDefaultBufferUs = 20'000;    // the card's buffer until set_buffer_us()
 
   // Playback (re)starts: song time `song_us` is heard at `heard_at`, then time runs at the speed learnt
   // so far (1 at first).
@@ -38,6 +42,8 @@ class PlaybackClock {
   TimePoint heard_at(std::int64_t song_us) const;
   // Report from the audio stream; ignored while paused.
   void observe(std::int64_t song_us, TimePoint heard_at);
+  // The card's buffer (the output latency): a report later than this means an underrun.
+  void set_buffer_us(double us) { buffer_us_ = us; }
   double speed() const { return slope_; }
   std::uint64_t restarts() const { return restarts_; }
 
@@ -57,6 +63,8 @@ class PlaybackClock {
   };
   std::deque<Report> reports_;
   std::uint64_t restarts_ = 0;
+  std::size_t off_line_run_ = 0;  // reports in a row left out of the fit
+  double buffer_us_ = kDefaultBufferUs;
 };
 
 }  // namespace hmp::audio

@@ -76,8 +76,22 @@ std::int64_t SongSynth::onset_lead_frames(std::uint8_t channel, std::uint8_t pro
   return it == onset_lead_.end() ? 0 : it->second;
 }
 
+std::int64_t SongSynth::heard_frame(std::uint8_t channel, std::uint8_t program, std::uint8_t key,
+                                    std::int64_t song_us) const {
+  if (!has_soundfont()) return frame_of(song_us);
+  const std::int64_t applied = frame_of(song_us) - applied_lead(channel, program, key);
+  // dispatch_due(): frame f is applied at the boundary b with b − block/2 ≤ f < b + block/2.
+  const std::int64_t shifted = applied + block_ / 2;
+  const std::int64_t boundary = (shifted >= 0 ? shifted / block_ : -((-shifted + block_ - 1) / block_)) * block_;
+  return boundary + onset_lead_frames(channel, program, key);
+}
+
+std::int64_t SongSynth::applied_lead(std::uint8_t channel, std::uint8_t program, std::uint8_t key) const {
+  return settings_.onset_compensation ? onset_lead_frames(channel, program, key) : 0;
+}
+
 void SongSynth::set_events(const std::vector<AudioEvent>& events) {
-  if (settings_.onset_compensation && has_soundfont()) measure_onsets(events);
+  if (has_soundfont()) measure_onsets(events);
 
   // Each note-off goes with the note-on of its (channel, key) before it: both move by that note's lead.
   events_.clear();
@@ -88,7 +102,7 @@ void SongSynth::set_events(const std::vector<AudioEvent>& events) {
   for (const AudioEvent& e : events) {
     const std::size_t slot = static_cast<std::size_t>(e.channel & 0x0F) * 128 + (e.key & 0x7F);
     if (e.kind == AudioEvent::Kind::note_on) {
-      lead_of_key[slot] = onset_lead_frames(e.channel, e.program, e.key);
+      lead_of_key[slot] = applied_lead(e.channel, e.program, e.key);
       const std::int64_t frame = frame_of(e.time_us) - lead_of_key[slot];
       // A re-struck key whose new lead is larger must not be cut by the previous note's off.
       if (last_off[slot] >= 0) {
@@ -108,13 +122,19 @@ void SongSynth::set_events(const std::vector<AudioEvent>& events) {
 }
 
 void SongSynth::measure_onsets(const std::vector<AudioEvent>& events) {
+  if (!warmed_up_) {
+    warm_up();
+    warmed_up_ = true;
+  }
   for (const AudioEvent& e : events) {
     if (e.kind != AudioEvent::Kind::note_on) continue;
     const std::uint32_t k = sound_key(e.channel, e.program, e.key);
     if (onset_lead_.count(k) == 0) onset_lead_[k] = measure_onset(e.channel, e.program, e.key);
   }
   max_lead_ = 0;
-  for (const auto& [key, lead] : onset_lead_) max_lead_ = std::max(max_lead_, lead);
+  if (settings_.onset_compensation) {
+    for (const auto& [key, lead] : onset_lead_) max_lead_ = std::max(max_lead_, lead);
+  }
 }
 
 void SongSynth::render_scratch(std::size_t frames, float* keep) {
@@ -125,6 +145,22 @@ void SongSynth::render_scratch(std::size_t frames, float* keep) {
   if (keep != nullptr) {
     for (std::size_t i = 0; i < frames; ++i) keep[i] = std::fabs(left[i]) + std::fabs(right[i]);
   }
+}
+
+void SongSynth::warm_up() {
+  // A voice of FluidSynth's pool starts ~0.3 ms late the first time it is used (then never again):
+  // every voice is used once, with a chord of every key on two programs, before anything is measured
+  // or played. Stereo samples take two voices a note.
+  fluid_synth_all_sounds_off(synth_, -1);
+  const int voices = fluid_synth_get_polyphony(synth_);
+  int started = 0;
+  for (int channel = 0; channel < 16 && started < voices; ++channel) {
+    if (channel == midi::kDrumChannel) continue;
+    for (int key = 0; key < 128 && started < voices; ++key, ++started) fluid_synth_noteon(synth_, channel, key, 1);
+  }
+  render_scratch(static_cast<std::size_t>(block_) * 4);
+  fluid_synth_all_sounds_off(synth_, -1);
+  render_scratch(static_cast<std::size_t>(block_));
 }
 
 std::int64_t SongSynth::measure_onset(std::uint8_t channel, std::uint8_t program, std::uint8_t key) {

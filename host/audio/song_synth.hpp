@@ -7,10 +7,13 @@
 //  - FluidSynth starts voices only at the start of one of its internal blocks (64 frames, 1.33 ms at
 //    48 kHz). render() applies each event at the block boundary nearest its time: ≤ half a block off.
 //  - Many GM instruments begin with a few ms of near-silence (sample start, envelope delay: 4.7 ms for
-//    FluidR3's nylon guitar). With onset compensation on, set_events() measures, for every (channel
-//    kind, program, key) the song uses, how long after its note-on the sound first reaches −60 dB of
-//    its peak (dry, one test note at velocity 100), and schedules that note's on and off that much
+//    FluidR3's nylon guitar). set_events() measures, for every (channel kind, program, key) the song
+//    uses, how long after its note-on the sound first reaches −60 dB of its peak (dry, one test note at
+//    velocity 100, after one throw-away note: FluidSynth's very first note starts ~0.3 ms later than
+//    every later one). With onset compensation on, that note's on and off are scheduled that much
 //    earlier, so the sound starts at the note's time — as the haptic note does.
+//  - heard_frame() says where each note is heard (block boundary + onset): the player puts the haptic
+//    note there, so neither the block grid nor the onsets skew sound and vibration.
 //
 // Not thread-safe: the live player serialises render() (audio thread) and the control calls.
 #include <array>
@@ -67,8 +70,13 @@ class SongSynth {
   int block_frames() const { return block_; }
   bool has_soundfont() const { return soundfont_id_ >= 0; }
   const std::string& load_error() const { return load_error_; }
-  // The measured onset delay of a note (0 without compensation or before set_events measured it).
+  // The measured onset delay of a note (0 before set_events measured it, or without a SoundFont).
   std::int64_t onset_lead_frames(std::uint8_t channel, std::uint8_t program, std::uint8_t key) const;
+  // The song frame at which a note starting at `song_us` is first heard (−60 dB of its peak): its
+  // note-on moved earlier by the onset lead, put on the block boundary render() applies it at, plus
+  // the lead again. The haptic note is placed there (not at `song_us`), so the block grid adds no
+  // audio–haptic skew. Without a SoundFont: frame_of(song_us).
+  std::int64_t heard_frame(std::uint8_t channel, std::uint8_t program, std::uint8_t key, std::int64_t song_us) const;
 
   _fluid_hashtable_t* fluid_settings() { return fluid_settings_; }
 
@@ -81,8 +89,10 @@ class SongSynth {
   void measure_onsets(const std::vector<AudioEvent>& events);
   std::int64_t measure_onset(std::uint8_t channel, std::uint8_t program, std::uint8_t key);
   void render_scratch(std::size_t frames, float* keep = nullptr);  // off the song timeline
+  void warm_up();
   void dispatch_due();  // at a block boundary: applies the events nearest to it
   void apply(const AudioEvent& e);
+  std::int64_t applied_lead(std::uint8_t channel, std::uint8_t program, std::uint8_t key) const;
 
   SynthSettings settings_;
   _fluid_hashtable_t* fluid_settings_ = nullptr;
@@ -92,7 +102,8 @@ class SongSynth {
   int block_ = 64;
 
   std::map<std::uint32_t, std::int64_t> onset_lead_;  // sound_key → frames
-  std::int64_t max_lead_ = 0;                         // largest lead in onset_lead_
+  std::int64_t max_lead_ = 0;                         // largest lead applied (0 without compensation)
+  bool warmed_up_ = false;                            // the throw-away first note has been played
   std::vector<Timed> events_;
   std::array<int, 16> channel_program_{};  // what FluidSynth's channels are set to (its default: 0)
   std::size_t next_ = 0;                   // first event not applied yet

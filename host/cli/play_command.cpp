@@ -133,7 +133,10 @@ int run_play(const PlayOptions& o) {
 
   OpenedLink opened = open_link(o.device, haptic.tick_hz);
   if (!opened.note.empty()) std::fprintf(stderr, "%s\n", opened.note.c_str());
-  player::DeviceLink link(*opened.transport);
+  player::DeviceLink::Options link_options;
+  // An emulator boots first, and on a busy host that can take a while.
+  if (opened.qemu) link_options.hello_timeout = std::chrono::milliseconds(3000);
+  player::DeviceLink link(*opened.transport, link_options);
   protocol::HelloReply hello;
   try {
     hello = link.connect();

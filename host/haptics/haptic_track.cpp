@@ -154,6 +154,7 @@ HapticTrack build_haptic_track(const midi::Song& song, std::uint32_t track, cons
     HapticNote h;
     h.key = n.key;
     h.channel = n.channel;
+    h.program = n.program;
     const std::int64_t start_us = song.start_us(n), end_us = song.end_us(n);
     h.start_s = static_cast<double>(start_us) * 1e-6;
     h.end_s = static_cast<double>(end_us) * 1e-6;

@@ -39,6 +39,7 @@ struct HapticNote {
   synth::Note note;         // ticks, Q12.20 frequency, Q16 amplitude, preset slot
   std::uint8_t key = 0;
   std::uint8_t channel = 0;
+  std::uint8_t program = 0;  // the GM program it plays with (its sound's onset, audio_player.hpp)
   double freq_hz = 0;       // mapped, before quantisation
   double amplitude = 0;     // mapped, linear
   double start_s = 0, end_s = 0;

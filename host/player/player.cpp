@@ -69,8 +69,8 @@ void Player::send_transport(protocol::TransportOp op, std::uint64_t tick) {
 
 std::int64_t Player::song_now() const { return paused_ ? paused_at_us_ : audio_.song_time_us(); }
 
-std::uint64_t Player::tick_of_song(std::int64_t song_us) const {
-  return link_.tick_at(to_us(audio_.heard_at(song_us))).value_or(0);
+std::uint64_t Player::tick_of_sound(const NoteSound& s) const {
+  return link_.tick_at(to_us(audio_.heard_onset_at(s.channel, s.program, s.key, s.start_us))).value_or(0);
 }
 
 std::uint64_t Player::extend(std::uint32_t low) const {
@@ -174,7 +174,7 @@ void Player::schedule() {
   const auto stale = static_cast<std::uint64_t>(std::llround(options_.stale_s * tick_hz_));
   const std::uint64_t horizon = device_now + lookahead;
   const std::uint64_t stale_tick = device_now > stale ? device_now - stale : 0;
-  const auto tick_of = [this](std::int64_t song_us) { return tick_of_song(song_us); };
+  const auto tick_of = [this](const NoteSound& sound) { return tick_of_sound(sound); };
 
   while (link_.credit() >= 1) {
     PendingReport report;

@@ -127,7 +127,7 @@ class Player {
   void update_snapshot();
   void message(const std::string& text) const;
   std::int64_t song_now() const;
-  std::uint64_t tick_of_song(std::int64_t song_us) const;
+  std::uint64_t tick_of_sound(const NoteSound& sound) const;  // where the haptic note meets its sound
   std::uint64_t extend(std::uint32_t low) const;
   std::optional<std::uint16_t> send(const protocol::Message& m);
   void send_transport(protocol::TransportOp op, std::uint64_t tick = 0);

@@ -14,28 +14,28 @@ void Scheduler::load(const haptics::HapticTrack& track, std::int64_t song_us) {
   for (const haptics::HapticNote& n : track.notes) {
     const std::int64_t start = seconds_to_us(n.start_s);
     if (start < from_us_ || start >= to_us_) continue;
-    notes_.push_back({start, seconds_to_us(n.end_s), n.note, n.key, n.start_s});
+    notes_.push_back({{start, n.channel, n.program, n.key}, seconds_to_us(n.end_s), n.note, n.start_s});
     last_end_us_ = std::max(last_end_us_, notes_.back().end_us);
   }
   // build_haptic_track sorts by tick; the same order by µs (ticks are rounded µs), ties kept.
-  std::stable_sort(notes_.begin(), notes_.end(), [](const Entry& a, const Entry& b) { return a.start_us < b.start_us; });
+  std::stable_sort(notes_.begin(), notes_.end(), [](const Entry& a, const Entry& b) { return a.sound.start_us < b.sound.start_us; });
   seek(song_us);
 }
 
 void Scheduler::seek(std::int64_t song_us) {
   const std::int64_t at = std::max(song_us, from_us_);
   cursor_ = static_cast<std::size_t>(
-      std::lower_bound(notes_.begin(), notes_.end(), at, [](const Entry& e, std::int64_t t) { return e.start_us < t; }) -
+      std::lower_bound(notes_.begin(), notes_.end(), at, [](const Entry& e, std::int64_t t) { return e.sound.start_us < t; }) -
       notes_.begin());
 }
 
 std::optional<PendingReport> Scheduler::next(std::uint64_t horizon, std::uint64_t stale_tick,
-                                             const std::function<std::uint64_t(std::int64_t)>& tick_of) {
+                                             const std::function<std::uint64_t(const NoteSound&)>& tick_of) {
   std::vector<DeviceNote> batch;
   PendingReport report;
   while (cursor_ < notes_.size() && batch.size() < protocol::kNotesPerBatch) {
     const Entry& e = notes_[cursor_];
-    std::uint64_t tick = tick_of(e.start_us);
+    std::uint64_t tick = tick_of(e.sound);
     if (tick > horizon) break;
     if (tick + e.note.duration_ticks < stale_tick) {
       ++skipped_;
@@ -55,7 +55,7 @@ std::optional<PendingReport> Scheduler::next(std::uint64_t horizon, std::uint64_
       if (make_report(trial, m) != trial.size()) break;
     }
     batch.push_back(d);
-    report.notes.push_back({track_, e.key, e.start_s, tick, d.duration_ticks});
+    report.notes.push_back({track_, e.sound.key, e.start_s, tick, d.duration_ticks});
     ++cursor_;
     if (d.duration_ticks > protocol::kMaxCompactDuration) break;  // a LongNote travels alone
   }

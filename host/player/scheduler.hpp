@@ -22,6 +22,13 @@ struct NoteOrigin {
   std::uint32_t duration_ticks = 1;
 };
 
+// What places a note in time: its start and the sound it has in the song's audio (whose onset the
+// haptic note meets, AudioPlayer::heard_onset_at).
+struct NoteSound {
+  std::int64_t start_us = 0;
+  std::uint8_t channel = 0, program = 0, key = 0;
+};
+
 // One note report about to be sent: the message (seq still 0) and the notes it carries, by slot.
 struct PendingReport {
   protocol::Message message;
@@ -38,10 +45,10 @@ class Scheduler {
   // The next note to send is the first starting at or after `song_us` (and not before the window).
   void seek(std::int64_t song_us);
 
-  // The next report, made of notes whose device tick (tick_of(start µs)) is ≤ horizon. Notes that ended
+  // The next report, made of notes whose device tick (tick_of(the note's sound)) is ≤ horizon. Notes that ended
   // before `stale_tick` (a long stall: playing them now would only be noise) are skipped and counted.
   std::optional<PendingReport> next(std::uint64_t horizon, std::uint64_t stale_tick,
-                                    const std::function<std::uint64_t(std::int64_t)>& tick_of);
+                                    const std::function<std::uint64_t(const NoteSound&)>& tick_of);
 
   bool finished() const { return cursor_ >= notes_.size(); }
   std::size_t size() const { return notes_.size(); }  // notes in the window
@@ -53,9 +60,9 @@ class Scheduler {
 
  private:
   struct Entry {
-    std::int64_t start_us, end_us;
+    NoteSound sound;
+    std::int64_t end_us;
     synth::Note note;  // start_tick: song tick (replaced by the device tick when sent)
-    std::uint8_t key;
     double start_s;
   };
   std::int64_t from_us_, to_us_;

@@ -41,6 +41,12 @@ std::uint64_t SimTransport::due_tick(SteadyClock::time_point now) const {
   return start_tick_ + (elapsed / 1'000'000'000u) * hz + (elapsed % 1'000'000'000u) * hz / 1'000'000'000u;
 }
 
+SimTransport::SteadyClock::time_point SimTransport::tick_due_at(std::uint64_t tick) const {
+  const auto ticks = static_cast<std::int64_t>(tick) - static_cast<std::int64_t>(start_tick_);
+  const std::int64_t hz = options_.tick_hz;
+  return start_time_ + std::chrono::nanoseconds(ticks / hz * 1'000'000'000 + ticks % hz * 1'000'000'000 / hz);
+}
+
 std::uint32_t SimTransport::subtick(SteadyClock::time_point now) const {
   const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(now - start_time_).count();
   const double position = static_cast<double>(ns) * 1e-9 * options_.tick_hz + static_cast<double>(start_tick_);

@@ -48,6 +48,9 @@ class SimTransport final : public Transport {
 
   Pacing pacing() const { return options_.pacing; }
   std::uint32_t tick_hz() const { return options_.tick_hz; }
+  // real_time: the host time at which tick `tick` is due (the device's own clock, for measurements;
+  // its thread runs the tick then, or a little later when the host is busy).
+  std::chrono::steady_clock::time_point tick_due_at(std::uint64_t tick) const;
   // virtual_time: runs `ticks` device ticks now (their reports wait for receive()). real_time: no-op.
   void advance(std::uint64_t ticks);
   // Runs fn(device) with the device's clock held still: inspection, log echo, output recording.

@@ -42,11 +42,11 @@ const std::vector<TestNote> kNotes = {
 constexpr std::int64_t kNoteLengthUs = 300'000;
 constexpr std::int64_t kSongEndUs = 5'000'000;
 
-std::vector<AudioEvent> events_without(std::size_t skip) {
+std::vector<AudioEvent> events_without(std::size_t skip, const std::vector<TestNote>& notes = kNotes) {
   std::vector<AudioEvent> ev;
-  for (std::size_t i = 0; i < kNotes.size(); ++i) {
+  for (std::size_t i = 0; i < notes.size(); ++i) {
     if (i == skip) continue;
-    const TestNote& n = kNotes[i];
+    const TestNote& n = notes[i];
     ev.push_back({n.start_us, Kind::note_on, n.channel, n.key, 100, n.program});
     ev.push_back({n.start_us + kNoteLengthUs, Kind::note_off, n.channel, n.key, 0, n.program});
   }
@@ -60,6 +60,19 @@ struct Stereo {
   std::vector<float> left, right;
 };
 
+// The first frame of `sound` at −60 dB of its peak over the 100 ms after `note_s`, searched from 30 ms
+// before it so that a sound starting early is seen as early; −1 for silence.
+std::int64_t onset_frame(const std::vector<float>& sound, double note_s, int rate) {
+  const auto from = static_cast<std::size_t>(std::max(0.0, note_s - 0.030) * rate);
+  const std::size_t end = std::min(sound.size(), static_cast<std::size_t>((note_s + 0.100) * rate));
+  float peak = 0;
+  for (std::size_t i = from; i < end; ++i) peak = std::max(peak, std::fabs(sound[i]));
+  if (peak <= 0) return -1;
+  std::size_t i = from;
+  while (i < end && std::fabs(sound[i]) < 1e-3f * peak) ++i;
+  return static_cast<std::int64_t>(i);
+}
+
 Stereo render(SongSynth& synth, const std::vector<AudioEvent>& ev) {
   synth.set_events(ev);
   const auto frames = static_cast<std::size_t>(synth.frame_of(kSongEndUs));
@@ -68,38 +81,41 @@ Stereo render(SongSynth& synth, const std::vector<AudioEvent>& ev) {
   return s;
 }
 
-// First frame of `sound` at −60 dB of its peak over the 100 ms after the nominal onset (the test's
-// definition of "the sound starts here"), searched from 30 ms before the note so that a sound starting
-// early is seen as early.
 double onset_seconds(const std::vector<float>& sound, double note_s, int rate) {
-  const auto from = static_cast<std::size_t>(std::max(0.0, note_s - 0.030) * rate);
-  const std::size_t end = std::min(sound.size(), static_cast<std::size_t>((note_s + 0.100) * rate));
-  float peak = 0;
-  for (std::size_t i = from; i < end; ++i) peak = std::max(peak, std::fabs(sound[i]));
-  if (peak <= 0) return -1;
-  std::size_t i = from;
-  while (i < end && std::fabs(sound[i]) < 1e-3f * peak) ++i;
-  return static_cast<double>(i) / rate;
+  return static_cast<double>(onset_frame(sound, note_s, rate)) / rate;
 }
 
-// The note's own sound (left + right, absolute) = full song − song without it. Effects off, so the two
-// renders differ by this note's voices alone.
-std::vector<double> onset_errors_ms(bool compensate) {
-  SynthSettings settings;
-  settings.reverb = false;
-  settings.chorus = false;
-  settings.onset_compensation = compensate;
-  SongSynth synth(settings, *hmp::audio::find_soundfont());
-  const Stereo full = render(synth, events_without(kNotes.size()));
-  std::vector<double> errors;
-  for (std::size_t k = 0; k < kNotes.size(); ++k) {
-    const Stereo rest = render(synth, events_without(k));
+// Where each note's own sound starts (frames): its own sound (left + right, absolute) is the full song
+// minus the song without it. Effects off, so the two renders differ by this note's voices alone.
+std::vector<std::int64_t> own_onset_frames(SongSynth& synth, const std::vector<TestNote>& notes) {
+  const Stereo full = render(synth, events_without(notes.size(), notes));
+  std::vector<std::int64_t> onsets;
+  for (std::size_t k = 0; k < notes.size(); ++k) {
+    const Stereo rest = render(synth, events_without(k, notes));
     std::vector<float> own(full.left.size());
     for (std::size_t i = 0; i < own.size(); ++i) {
       own[i] = std::fabs(full.left[i] - rest.left[i]) + std::fabs(full.right[i] - rest.right[i]);
     }
+    onsets.push_back(onset_frame(own, static_cast<double>(notes[k].start_us) * 1e-6, synth.sample_rate()));
+  }
+  return onsets;
+}
+
+SynthSettings dry(bool compensate) {
+  SynthSettings settings;
+  settings.reverb = false;
+  settings.chorus = false;
+  settings.onset_compensation = compensate;
+  return settings;
+}
+
+std::vector<double> onset_errors_ms(bool compensate) {
+  SongSynth synth(dry(compensate), *hmp::audio::find_soundfont());
+  const std::vector<std::int64_t> onsets = own_onset_frames(synth, kNotes);
+  std::vector<double> errors;
+  for (std::size_t k = 0; k < kNotes.size(); ++k) {
     const double t = static_cast<double>(kNotes[k].start_us) * 1e-6;
-    errors.push_back((onset_seconds(own, t, synth.sample_rate()) - t) * 1e3);
+    errors.push_back((static_cast<double>(onsets[k]) / synth.sample_rate() - t) * 1e3);
   }
   return errors;
 }
@@ -124,6 +140,35 @@ TEST(AudioRender, WithoutOnsetCompensationTheGuitarIsLate) {
   EXPECT_GT(err[4], 1.5);
   // The piano starts at once: only FluidSynth's block rounding (±0.67 ms at 48 kHz) and its attack.
   EXPECT_LE(std::fabs(err[0]), 1.0);
+}
+
+TEST(AudioRender, HeardFramePredictsWhereEveryNoteSoundsOnEveryBlockPhase) {
+  if (!have_soundfont()) GTEST_SKIP() << "no GM SoundFont installed";
+  // The haptic note is placed on SongSynth::heard_frame, so that frame must be where the sound starts,
+  // whatever the note's place between FluidSynth's block boundaries (64 frames): the notes are shifted
+  // by fractions of a block, with and without onset compensation.
+  for (const bool compensate : {true, false}) {
+    SongSynth synth(dry(compensate), *hmp::audio::find_soundfont());
+    std::int64_t worst_nominal = 0;
+    for (const std::int64_t shift_us : {0, 271, 604, 979}) {
+      std::vector<TestNote> notes = kNotes;
+      for (TestNote& n : notes) n.start_us += shift_us;
+      const std::vector<std::int64_t> onsets = own_onset_frames(synth, notes);
+      for (std::size_t k = 0; k < notes.size(); ++k) {
+        const TestNote& n = notes[k];
+        const std::int64_t predicted = synth.heard_frame(n.channel, n.program, n.key, n.start_us);
+        // A few frames of play: a voice's start depends a little on the synthesizer's state (FluidR3's
+        // piano at middle C starts 8 or 12 frames after its note-on).
+        EXPECT_LE(std::llabs(onsets[k] - predicted), 6)
+            << "note " << k << " (program " << int(n.program) << ") shifted " << shift_us << " µs, compensation "
+            << compensate << ": heard at frame " << onsets[k] << ", predicted " << predicted;
+        worst_nominal = std::max<std::int64_t>(worst_nominal, std::llabs(onsets[k] - synth.frame_of(n.start_us)));
+      }
+    }
+    // The prediction is worth having: the note's own time is off by a good part of a block (and by the
+    // guitar's late sample without compensation).
+    EXPECT_GE(worst_nominal, 16) << "compensation " << compensate;
+  }
 }
 
 TEST(AudioRender, SilentBeforeTheFirstNoteAndSoundingAfter) {

@@ -153,7 +153,7 @@ TEST(PlayerScheduler, HandsOutTheWindowOnceInOrderWithinTheHorizon) {
   for (const double t : starts) expected += (t >= 2.0 && t < 9.0) ? 1 : 0;
   EXPECT_EQ(s.size(), expected);
   // Device tick = song ms + 5000; the horizon walks in 50-tick steps.
-  const auto tick_of = [](std::int64_t us) { return static_cast<std::uint64_t>(us / 1000 + 5000); };
+  const auto tick_of = [](const hmp::player::NoteSound& n) { return static_cast<std::uint64_t>(n.start_us / 1000 + 5000); };
   std::vector<hmp::player::NoteOrigin> got;
   for (std::uint64_t horizon = 5000; !s.finished(); horizon += 50) {
     while (auto r = s.next(horizon, 0, tick_of)) {
@@ -178,7 +178,7 @@ TEST(PlayerScheduler, HandsOutTheWindowOnceInOrderWithinTheHorizon) {
 TEST(PlayerScheduler, SeekStartsAtTheFirstNoteAtOrAfterThePosition) {
   hmp::player::Scheduler s(0, INT64_MAX);
   s.load(track_of({1.0, 2.0, 2.0, 3.0}), 0);
-  const auto tick_of = [](std::int64_t us) { return static_cast<std::uint64_t>(us / 1000); };
+  const auto tick_of = [](const hmp::player::NoteSound& n) { return static_cast<std::uint64_t>(n.start_us / 1000); };
   s.seek(2'000'000);
   auto r = s.next(1'000'000, 0, tick_of);
   ASSERT_TRUE(r);
@@ -195,7 +195,7 @@ TEST(PlayerScheduler, SeekStartsAtTheFirstNoteAtOrAfterThePosition) {
 TEST(PlayerScheduler, NotesThatEndedLongAgoAreSkippedAndCounted) {
   hmp::player::Scheduler s(0, INT64_MAX);
   s.load(track_of({1.0, 1.5, 5.0}), 0);
-  const auto tick_of = [](std::int64_t us) { return static_cast<std::uint64_t>(us / 1000); };
+  const auto tick_of = [](const hmp::player::NoteSound& n) { return static_cast<std::uint64_t>(n.start_us / 1000); };
   // Stale before tick 1601: notes ending at 1100 and 1600 are skipped, the one at 5000 is sent.
   auto r = s.next(10'000, 1601, tick_of);
   ASSERT_TRUE(r);

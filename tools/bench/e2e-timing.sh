@@ -5,13 +5,14 @@
 #   - host CPU of the hmp process while playing with --no-audio (utime + stime from /proc, over the
 #     wall time): on sim it includes the simulated device's 1 kHz thread, on qemu it is the player alone
 #     (the emulator is another process);
-#   - the clock-sync error against the simulated device's own tick counter and the audio-haptic skew
-#     bound from it (bench_e2e_timing).
+#   - the clock-sync error against the simulated device's own tick counter (bench_e2e_timing);
+#   - the audio-haptic skew of every note, measured end to end with the player's real audio path on a
+#     simulated sound card (bench_audio_haptic_skew; E2E_SKEW_NOTES notes, default 60, 1.5 s each).
 # Run by scripts/bench with the build directory as $1. E2E_SECONDS limits the sim run (default: the
 # whole song, 310 s); E2E_QEMU_SECONDS the QEMU passage (default 60); E2E_SYNC_SECONDS the clock run (60).
 set -euo pipefail
 build=$1
-cmake --build "$build" -j2 --target hmp bench_e2e_timing >&2
+cmake --build "$build" -j2 --target hmp bench_e2e_timing bench_audio_haptic_skew >&2
 song=examples/bach-bwv1050-brandenburg5-mvt3-allegro.mid
 hmp="$build/bin/hmp"
 tmp=$(mktemp -d)
@@ -67,3 +68,4 @@ else
   echo "e2e-timing: no QEMU image at $image: qemu part skipped" >&2
 fi
 "$build/bench/bench_e2e_timing" "$song" 1 "${E2E_SYNC_SECONDS:-60}"
+"$build/bench/bench_audio_haptic_skew" "${E2E_SKEW_NOTES:-60}"
