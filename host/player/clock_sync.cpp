@@ -2,10 +2,17 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 #include <vector>
 
 namespace hmp::player {
+
+namespace {
+
+// Two readings of the device clock agree when the lines through their uncertainty intervals come
+// within this much: far below any step worth the name, far above the host's timing noise.
+constexpr double kAgreeTicks = 1.0;
+
+}  // namespace
 
 ClockSync::ClockSync(const Options& options) : options_(options) {
   if (options_.tick_hz == 0) options_.tick_hz = 1000;
@@ -17,6 +24,7 @@ ClockSync::ClockSync(const Options& options) : options_(options) {
 void ClockSync::clear() {
   // The rate stays: it belongs to the device's oscillator, which a step or a restart does not change.
   samples_.clear();
+  held_.reset();
   max_residual_ = 0.0;
 }
 
@@ -24,93 +32,165 @@ ClockSync::Point ClockSync::to_point(const SyncSample& s) const {
   const double fraction = static_cast<double>(s.subtick) * 0x1p-32;
   const double round_trip = static_cast<double>(s.received_us - s.sent_us);
   const double hold = options_.reply_at_next_tick ? (1.0 - fraction) / nominal_rate() : 0.0;
-  // Of the round trip, the part spent on the wire (both ways) is split evenly: the Sync arrived half
-  // the transit after it left.
+  // What is left of the round trip was spent on the link, both ways: the Sync arrived no earlier than it
+  // left and no later than that much after.
   const double transit = std::max(0.0, round_trip - hold);
   Point p;
-  p.host_us = static_cast<double>(s.sent_us - ref_host_us_) + transit / 2.0;
+  p.sent_us = static_cast<double>(s.sent_us - ref_host_us_);
+  p.late_us = p.sent_us + transit;
   p.position = static_cast<double>(static_cast<std::int64_t>(s.tick - ref_tick_)) + fraction;
-  p.transit_us = transit;
+  p.overdue = s.subtick == kOverdueSubtick;
   return p;
 }
 
-ClockSync::Verdict ClockSync::add(const SyncSample& s) {
-  Verdict verdict = Verdict::used;
-  if (!samples_.empty()) {
-    if (s.tick < last_tick_) {
-      verdict = Verdict::reset;  // a tick counter only goes back when the device restarted
-      ++resets_;
-    } else if (ready()) {
-      const Point p = to_point(s);
-      const double predicted = offset_ + rate_ * p.host_us;
-      // The arrival time is known to ± half the transit: only a jump beyond that (and the threshold)
-      // says the clock is not the one fitted.
-      const double slack = options_.step_ticks + rate_ * p.transit_us / 2.0;
-      if (std::fabs(p.position - predicted) > slack) {
-        verdict = Verdict::step;
-        ++steps_;
-      }
-    }
-    if (verdict != Verdict::used) clear();
-  }
-  if (samples_.empty()) {
-    ref_host_us_ = s.sent_us;
-    ref_tick_ = s.tick;
-  }
-  last_tick_ = s.tick;
+void ClockSync::restart_from(const SyncSample& s) {
+  clear();
+  ref_host_us_ = s.sent_us;
+  ref_tick_ = s.tick;
+  push(s);
+}
+
+void ClockSync::push(const SyncSample& s) {
   samples_.push_back(to_point(s));
   while (samples_.size() > options_.window) samples_.pop_front();
+}
+
+std::size_t ClockSync::exact_samples() const {
+  return static_cast<std::size_t>(std::count_if(samples_.begin(), samples_.end(), [](const Point& p) { return !p.overdue; }));
+}
+
+double ClockSync::miss_ticks(const Point& p) const {
+  // The reading was taken somewhere between the send and the latest arrival: the line must pass through
+  // [line(sent), line(late)] at that position. How far it misses, 0 when it does not.
+  const double at_sent = offset_ + rate_ * p.sent_us;
+  const double at_late = offset_ + rate_ * p.late_us;
+  return std::max({0.0, at_sent - p.position, p.position - at_late});
+}
+
+bool ClockSync::agree(const Point& a, const Point& b) const {
+  // The offsets (at the present rate) each reading allows: [position − rate·late, position − rate·sent].
+  const double low = std::max(a.position - rate_ * a.late_us, b.position - rate_ * b.late_us);
+  const double high = std::min(a.position - rate_ * a.sent_us, b.position - rate_ * b.sent_us);
+  return low - high <= kAgreeTicks;
+}
+
+ClockSync::Verdict ClockSync::add(const SyncSample& s) {
+  if (samples_.empty()) {
+    last_tick_ = s.tick;
+    restart_from(s);
+    fit();
+    return s.subtick == kOverdueSubtick ? Verdict::overdue : Verdict::used;
+  }
+  if (s.tick < last_tick_) {
+    // A tick counter only goes back when the device restarted: nothing of the old clock applies.
+    ++resets_;
+    last_tick_ = s.tick;
+    restart_from(s);
+    fit();
+    return Verdict::reset;
+  }
+  const Point p = to_point(s);
+  // Only an exact reading can say the clock stepped: an overdue one is low by however late the device's
+  // tick interrupt ran. And only against a line that exact readings made.
+  if (!p.overdue && exact_samples() >= options_.min_samples) {
+    const double miss = miss_ticks(p);
+    if (miss > options_.step_ticks) {
+      if (held_ && agree(to_point(*held_), p)) {
+        ++steps_;
+        const SyncSample first = *held_;
+        last_tick_ = s.tick;
+        restart_from(first);
+        push(s);
+        fit();
+        return Verdict::step;
+      }
+      // One sample off the line may be a glitch: it waits outside the fit for the next one (and its
+      // tick does not count as the device's latest until confirmed).
+      held_ = s;
+      return Verdict::held;
+    }
+    // On the line, and not where the held sample said the clock went: the held one was wrong. (A wide
+    // sample that allows both decides nothing.)
+    if (held_ && miss <= kAgreeTicks && !agree(to_point(*held_), p)) held_.reset();
+  }
+  last_tick_ = s.tick;
+  push(s);
   fit();
-  return verdict;
+  return p.overdue ? Verdict::overdue : Verdict::used;
 }
 
 void ClockSync::fit() {
-  // The samples that crossed the link fastest carry the least timing noise: those within a small margin
-  // of the quickest transit (at least min_samples of them). Ties all count, so that the chosen samples
-  // spread over the window rather than depend on the sorting.
-  std::vector<const Point*> best;
-  best.reserve(samples_.size());
-  for (const Point& p : samples_) best.push_back(&p);
-  std::sort(best.begin(), best.end(), [](const Point* a, const Point* b) { return a->transit_us < b->transit_us; });
-  const double quickest = best.front()->transit_us;
-  const std::size_t at_least = std::min(best.size(), options_.min_samples);
-  const double limit = std::max(quickest + std::max(options_.transit_margin_us, 0.25 * quickest), best[at_least - 1]->transit_us);
-  std::size_t keep = 0;
-  while (keep < best.size() && best[keep]->transit_us <= limit) ++keep;
-  best.resize(keep);
-
-  double x_min = best.front()->host_us, x_max = x_min;
-  double x_mean = 0.0, y_mean = 0.0;
-  for (const Point* p : best) {
-    x_min = std::min(x_min, p->host_us);
-    x_max = std::max(x_max, p->host_us);
-    x_mean += p->host_us;
-    y_mean += p->position;
+  // Exact readings only; overdue ones (lower bounds) only while nothing better exists.
+  std::vector<const Point*> chosen;
+  chosen.reserve(samples_.size());
+  for (const Point& p : samples_) {
+    if (!p.overdue) chosen.push_back(&p);
   }
-  x_mean /= static_cast<double>(keep);
-  y_mean /= static_cast<double>(keep);
+  if (chosen.empty()) {
+    for (const Point& p : samples_) chosen.push_back(&p);
+  }
+  // Of those, the ones that crossed the link fastest: within a margin of the lower quartile of the
+  // transits (at least min_samples). A busy host delays some exchanges by milliseconds, on either leg;
+  // they stay out, so their one-sided errors cannot tilt the line.
+  std::sort(chosen.begin(), chosen.end(), [](const Point* a, const Point* b) { return a->transit_us() < b->transit_us(); });
+  const double quartile = chosen[(chosen.size() - 1) / 4]->transit_us();
+  const std::size_t at_least = std::min(chosen.size(), options_.min_samples);
+  const double limit = std::max(quartile + std::max(options_.transit_margin_us, 0.25 * quartile), chosen[at_least - 1]->transit_us());
+  std::size_t keep = 0;
+  while (keep < chosen.size() && chosen[keep]->transit_us() <= limit) ++keep;
+  chosen.resize(keep);
 
-  bool fitted = false;
-  if (keep >= 3 && x_max - x_min >= options_.min_drift_span_s * 1e6) {
-    double sxx = 0.0, sxy = 0.0;
-    for (const Point* p : best) {
-      sxx += (p->host_us - x_mean) * (p->host_us - x_mean);
-      sxy += (p->host_us - x_mean) * (p->position - y_mean);
+  // Each sample's arrival is uncertain by half its transit (plus the timing floor): weights 1/σ².
+  // `age_drift` widens older samples when the rate is not known (what an unknown drift does to them by now).
+  double newest = chosen.front()->arrival_us(), oldest = newest;
+  for (const Point* p : chosen) {
+    newest = std::max(newest, p->arrival_us());
+    oldest = std::min(oldest, p->arrival_us());
+  }
+  struct Moments {
+    double x_mean = 0.0, y_mean = 0.0, sxx = 0.0, sxy = 0.0;
+  };
+  auto moments = [&](double age_drift) {
+    Moments m;
+    double total = 0.0;
+    std::vector<double> weights;
+    weights.reserve(chosen.size());
+    for (const Point* p : chosen) {
+      const double sigma = options_.timing_floor_us + 0.5 * p->transit_us() + age_drift * (newest - p->arrival_us());
+      weights.push_back(1.0 / (sigma * sigma));
+      total += weights.back();
+      m.x_mean += weights.back() * p->arrival_us();
+      m.y_mean += weights.back() * p->position;
     }
-    const double rate = sxy / sxx;
+    m.x_mean /= total;
+    m.y_mean /= total;
+    for (std::size_t i = 0; i < chosen.size(); ++i) {
+      const double dx = chosen[i]->arrival_us() - m.x_mean;
+      m.sxx += weights[i] * dx * dx;
+      m.sxy += weights[i] * dx * (chosen[i]->position - m.y_mean);
+    }
+    return m;
+  };
+
+  const Moments m = moments(0.0);
+  bool fitted = false;
+  if (chosen.size() >= 3 && newest - oldest >= options_.min_drift_span_s * 1e6 && m.sxx > 0.0) {
+    const double rate = m.sxy / m.sxx;
     if (std::isfinite(rate) && std::fabs(rate / nominal_rate() - 1.0) <= options_.max_drift) {
       rate_ = rate;
       fitted = true;
     }
   }
   // Too short a span to see drift: keep the last fitted rate (a crystal's rate does not change), or the
-  // nominal one; only the offset is fitted.
+  // nominal one; only the offset is fitted, from the recent samples more than the old ones while the
+  // rate is only assumed.
   if (!fitted && !drift_fitted_) rate_ = nominal_rate();
   drift_fitted_ = drift_fitted_ || fitted;
-  offset_ = y_mean - rate_ * x_mean;
+  const Moments o = drift_fitted_ ? m : moments(options_.unfitted_drift);
+  offset_ = o.y_mean - rate_ * o.x_mean;
 
   max_residual_ = 0.0;
-  for (const Point* p : best) max_residual_ = std::max(max_residual_, std::fabs(p->position - offset_ - rate_ * p->host_us));
+  for (const Point* p : chosen) max_residual_ = std::max(max_residual_, miss_ticks(*p));
 }
 
 std::optional<double> ClockSync::position(std::int64_t host_us) const {
@@ -134,10 +214,13 @@ std::optional<double> ClockSync::host_us_at(double ticks) const {
 }
 
 double ClockSync::best_transit_us() const {
+  // An overdue reading's reply left when the device caught up, not on its next tick: its transit means nothing.
+  const bool any_exact = exact_samples() > 0;
   double best = 0.0;
   bool any = false;
   for (const Point& p : samples_) {
-    if (!any || p.transit_us < best) best = p.transit_us;
+    if (any_exact && p.overdue) continue;
+    if (!any || p.transit_us() < best) best = p.transit_us();
     any = true;
   }
   return best;

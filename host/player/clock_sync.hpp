@@ -1,8 +1,9 @@
 #pragma once
 // Host clock ↔ device tick (SPEC §10). Each Sync exchange gives one sample: the host time the Sync was
 // sent (echoed back by the device), the host time its reply arrived, and the device's position when the
-// Sync arrived (tick + sub-tick). A least-squares line through the samples with the shortest transit
-// gives the device position at any host time: offset and drift. docs/player.md derives the maths.
+// Sync arrived (tick + sub-tick). A weighted least-squares line through the samples with the shortest
+// transit gives the device position at any host time: offset and drift. docs/player.md derives the
+// maths and says why a busy host cannot bend the line.
 //
 // Time bases: host times are µs of std::chrono::steady_clock; device positions are ticks (the tick
 // counter plus the fraction of the tick elapsed). Tick k is processed when the position reaches k, so a
@@ -24,27 +25,45 @@ struct SyncSample {
 
 class ClockSync {
  public:
+  // Sub-tick a board reports when its tick interrupt was overdue as the Sync arrived (firmware/board.hpp):
+  // the device's tick count lagged its own timer, so tick + 1 is only a lower bound of its clock.
+  static constexpr std::uint32_t kOverdueSubtick = 0xFFFFFFFFu;
+
   struct Options {
     std::uint32_t tick_hz = 1000;
     std::size_t window = 64;          // most recent samples kept for the fit
     std::size_t min_samples = 4;      // before this many, ready() is false
-    // The fit uses the samples whose transit is within max(this, 25 %) of the quickest one: their
-    // arrival time is known best (a delay on one leg of the trip shifts the estimate by half of it).
+    // The fit uses the samples whose transit is within max(this, 25 %) of the lower quartile of the
+    // window's transits (at least min_samples of them): their arrival time is known best (a delay on one
+    // leg of the trip shifts the estimate by half of it). A quartile, not the minimum: one lucky
+    // exchange does not shrink the choice to itself.
     double transit_margin_us = 50.0;
-    double min_drift_span_s = 2.0;    // the slope is fitted only over at least this much host time
+    // Host timing noise that even the quickest exchange has (whole-µs timestamps, timer reads): the
+    // floor of every sample's uncertainty, so that near-equal samples weigh near-equally.
+    double timing_floor_us = 10.0;
+    double min_drift_span_s = 2.0;    // the slope is fitted only once the chosen samples span this much host time
     // |fitted rate / nominal − 1| beyond this: keep the nominal rate. Crystals are within 10⁻⁴, but an
     // emulated board (QEMU on a busy host) loses ticks and runs a few % slow.
     double max_drift = 0.05;
-    double step_ticks = 8.0;          // a sample this far off the line (beyond its own uncertainty): the clock stepped
+    // Before the slope is fitted, an older sample says less about now: its position, carried forward at
+    // the assumed rate, may be off by this much per µs of age (a crystal's tolerance).
+    double unfitted_drift = 1e-4;
+    // A sample whose whole uncertainty interval is this far off the line, confirmed by the next sample,
+    // is a step of the device clock.
+    double step_ticks = 8.0;
     // The device answers a Sync when it handles it, at the start of the next tick: the reply waited
     // (1 − sub-tick) ticks on the device, which is not transit time (true of every board of docs/firmware.md).
     bool reply_at_next_tick = true;
   };
 
   enum class Verdict {
-    used,   // the sample is in the fit
-    step,   // the device clock jumped (an emulator that lost ticks): the fit starts again from this sample
-    reset,  // the device clock went backwards: the device restarted; the fit starts again from this sample
+    used,     // the sample is in the fit
+    overdue,  // the device's tick was overdue (saturated sub-tick): kept, but only fitted if nothing better
+    held,     // off the line beyond its uncertainty and the step threshold: set aside until the next
+              // sample says whether the clock stepped (then `step`) or this one was wrong (dropped)
+    step,     // this sample confirms the held one: the device clock jumped (an emulator that lost ticks);
+              // the fit starts again from the two
+    reset,    // the device clock went backwards: the device restarted; the fit starts again from this sample
   };
 
   explicit ClockSync(const Options& options);
@@ -67,24 +86,37 @@ class ClockSync {
   bool drift_fitted() const { return drift_fitted_; }
   // Shortest transit among the samples (round trip minus the device's hold), µs.
   double best_transit_us() const;
-  // Largest |residual| of the samples in the fit, in ticks (how well the line explains them).
+  // How far the line passes outside the uncertainty interval (arrival known to ± half the transit) of
+  // the samples in the fit, at worst, in ticks: 0 when it crosses every one of them.
   double max_residual_ticks() const { return max_residual_; }
   std::uint64_t resets() const { return resets_; }
   std::uint64_t steps() const { return steps_; }
 
  private:
   struct Point {
-    double host_us;     // estimated host time of the Sync's arrival, relative to ref_host_us_
-    double position;    // device position, relative to ref_tick_
-    double transit_us;  // round trip minus hold: the uncertainty of host_us is half of it
+    // Host times relative to ref_host_us_: the Sync left at `sent_us`; it arrived at the latest at
+    // `late_us` (the reply's arrival minus the device's hold), so the transit is late_us − sent_us and
+    // the arrival is taken half-way.
+    double sent_us;
+    double late_us;
+    double position;  // device position, relative to ref_tick_
+    bool overdue;
+    double transit_us() const { return late_us - sent_us; }
+    double arrival_us() const { return 0.5 * (sent_us + late_us); }
   };
   double nominal_rate() const { return static_cast<double>(options_.tick_hz) * 1e-6; }  // ticks per µs
   Point to_point(const SyncSample& s) const;
+  void restart_from(const SyncSample& s);
+  void push(const SyncSample& s);
+  std::size_t exact_samples() const;
+  double miss_ticks(const Point& p) const;
+  bool agree(const Point& a, const Point& b) const;
   void fit();
 
   Options options_;
   std::deque<Point> samples_;
-  std::int64_t ref_host_us_ = 0;  // first sample's arrival (keeps doubles small)
+  std::optional<SyncSample> held_;  // a step candidate waiting for confirmation
+  std::int64_t ref_host_us_ = 0;    // first sample's send time (keeps doubles small)
   std::uint64_t ref_tick_ = 0;
   std::uint64_t last_tick_ = 0;
   // position(h) = offset_ + rate_ × (h − ref_host_us_) + ref_tick_
