@@ -1,34 +1,30 @@
 #include "host/cli/commands.hpp"
 
 #include <cstdio>
-#include <exception>
-
-#include "host/common/error.hpp"
 
 namespace hmp::cli {
 
-std::string version_string() { return "hmp 0.1.0 (protocol 1)"; }
+int Registry::run() const { return action_ ? run_command(action_) : kExitBadInput; }
 
-int Registry::run() const {
-  if (!action_) return kExitBadInput;
+int run_cli(int argc, char** argv, void (*add_commands)(CLI::App&, Registry&)) {
+  CLI::App app{"hmp — Haptic Music Player: feel one instrument of a MIDI song on a SPIDAR-G6 device"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", version_string());
+  Registry registry;
+  add_commands(app, registry);
   try {
-    return action_();
-  } catch (const hmp::BadInput& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::fprintf(stderr, "error: %s (try --help)\n", e.what());
     return kExitBadInput;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return kExitFailure;
   }
-}
-
-void register_all(CLI::App& app, Registry& registry) {
-  register_info(app, registry);
-  register_render(app, registry);
-  register_tone(app, registry);
-  register_devices(app, registry);
-  register_play(app, registry);
-  register_sim(app, registry);
+  return registry.run();
 }
 
 }  // namespace hmp::cli

@@ -1,17 +1,17 @@
 #pragma once
 // Subcommand registration. Each subcommand file defines a register_<name>() that adds its CLI11
-// subcommand and stores the action to run after parsing.
+// subcommand and stores the action to run after parsing. hmp-full (cli/main.cpp) registers every
+// command; run_cli gives it its top-level command line. (The static front `hmp`, cli/front_main.cpp,
+// does without CLI11: it runs `info` through info_report.hpp and hands every other command line to
+// hmp-full.)
 #include <functional>
 #include <string>
 
 #include <CLI/CLI.hpp>
 
-namespace hmp::cli {
+#include "host/cli/run_command.hpp"
 
-// Exit codes (SPEC §3).
-inline constexpr int kExitOk = 0;
-inline constexpr int kExitFailure = 1;   // a run that failed for a reason other than bad input
-inline constexpr int kExitBadInput = 2;  // bad file, bad option: one-line message on stderr
+namespace hmp::cli {
 
 // The action chosen by the command line, run after parsing succeeded.
 class Registry {
@@ -22,8 +22,9 @@ class Registry {
   std::function<int()> action_;
 };
 
-std::string version_string();
-void register_all(CLI::App& app, Registry& registry);
+// Parses the command line with the subcommands `add_commands` registers and runs the chosen one.
+// A parse error is one line on stderr and exit 2 (SPEC §3), whatever CLI11 would have chosen.
+int run_cli(int argc, char** argv, void (*add_commands)(CLI::App&, Registry&));
 
 void register_tone(CLI::App& app, Registry& registry);
 void register_info(CLI::App& app, Registry& registry);

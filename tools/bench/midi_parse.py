@@ -4,7 +4,9 @@
 Usage: midi_parse.py HMP LOADER [--rounds N] [--big-rounds N] FILE...
 
 For each file, in rounds that take turns between the tools (so that load on the machine hits them alike):
-- hmp, whole command: `HMP info --json FILE` to /dev/null, wall time of the process, peak RSS from wait4();
+- hmp, whole command: `HMP info --json FILE` to /dev/null, wall time of the process, peak RSS from wait4()
+  (a floor applies: Linux counts a child's peak from before its exec, i.e. this driver's own, so a figure
+  equal to driver_floor_mb means "at most that"; `/usr/bin/time -f %M` shows the program's own);
 - hmp, in process: `LOADER --repeat 3 FILE` (bench_midi_parse_inprocess), the time of midi::load_song
   (read + parse + pair) measured inside the process: the first load (cold, the figure compared with mido)
   and the best of the 3 (warm);
@@ -13,12 +15,14 @@ For each file, in rounds that take turns between the tools (so that load on the 
   inside the interpreter (start-up and import excluded).
 Each tool's figure is its best round. Like is compared with like: speedup_vs_mido is in-process against
 in-process, speedup_vs_midicsv whole command against whole command. Last, hmp's start-up alone
-(`hmp --version`), which is most of its command's time on small files. Prints the JSON lines of SPEC §2
-on stdout.
+(`hmp --version`), which is most of its command's time on small files, and for reference that of hmp-full
+(the program with every command, which the static front `hmp` runs for commands other than info; it
+links the audio, plot and device libraries). Prints the JSON lines of SPEC §2 on stdout.
 """
 import argparse
 import json
 import os
+import resource
 import subprocess
 import sys
 import time
@@ -105,14 +109,20 @@ def measure(hmp, loader, path, label, rounds):
     line("speedup_vs_midicsv", best["midicsv"] / best["hmp"], "x",
          {**base, "goal": 2, "compares": "whole command vs whole command (hmp info --json; midicsv)"})
     limit = 3 * size / MIB + 20
+    floor = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0  # this driver's peak, inherited
     line("peak_rss_mb", peak_rss, "MiB",
-         {"tool": "hmp", "command": "hmp info --json FILE", **base, "limit_mb": round(limit, 2)})
+         {"tool": "hmp", "command": "hmp info --json FILE", **base, "limit_mb": round(limit, 2),
+          "driver_floor_mb": round(floor, 2)})
 
 
 def startup(hmp, rounds):
-    """hmp's process start-up alone (`hmp --version`): the floor of every hmp figure above."""
-    seconds = min(run_timed([hmp, "--version"])[0] for _ in range(rounds))
-    line("startup_seconds", seconds, "s", {"tool": "hmp", "command": "hmp --version", "rounds": rounds})
+    """hmp's process start-up alone (`hmp --version`): the floor of every hmp figure above; and hmp-full's."""
+    full = os.path.join(os.path.dirname(hmp), "hmp-full")
+    for tool, program in (("hmp", hmp), ("hmp-full", full)):
+        if not os.path.exists(program):
+            continue
+        seconds = min(run_timed([program, "--version"])[0] for _ in range(rounds))
+        line("startup_seconds", seconds, "s", {"tool": tool, "command": f"{tool} --version", "rounds": rounds})
 
 
 def main():

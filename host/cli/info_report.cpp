@@ -1,0 +1,133 @@
+// hmp info: what is in a song (SPEC §3), the table or the JSON object. See info_report.hpp.
+#include "host/cli/info_report.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "host/cli/run_command.hpp"
+#include "host/haptics/haptic_track.hpp"
+#include "host/midi/smf_reader.hpp"
+#include "host/midi/gm.hpp"
+
+namespace hmp::cli {
+
+namespace {
+
+std::string channels_text(const midi::Track& t) {
+  std::string out;
+  for (std::uint8_t c = 0; c < 16; ++c) {
+    if (t.has_channel(c)) out += (out.empty() ? "" : ",") + std::to_string(c + 1);
+  }
+  return out.empty() ? "-" : out;
+}
+
+std::string key_name(int key) {
+  static const char* names[] = {"C", "C#", "D", "D#", "E", "F", "F#", "G", "G#", "A", "A#", "B"};
+  return key < 0 ? "-" : fmt::format("{}{}", names[key % 12], key / 12 - 1);
+}
+
+// JND steps the track's keys span under the `rank` mapping with the default ranges (SPEC §5).
+double rank_jnd_steps(const midi::Track& t) {
+  return mapping::Mapper(mapping::Mode::rank, mapping::Ranges{}, t.keys).jnd_steps();
+}
+
+nlohmann::json track_json(const midi::Track& t, const haptics::HapticOptions& opts) {
+  nlohmann::json channels = nlohmann::json::array();
+  for (std::uint8_t c = 0; c < 16; ++c) {
+    if (t.has_channel(c)) channels.push_back(c + 1);
+  }
+  nlohmann::json programs = nlohmann::json::array();
+  for (const midi::ProgramUse& p : t.programs) {
+    programs.push_back({{"channel", p.channel + 1}, {"program", p.program},
+                        {"name", midi::gm_instrument_name(p.program, p.channel)}, {"notes", p.notes}});
+  }
+  return {{"index", t.index},
+          {"name", t.name},
+          {"channels", channels},
+          {"program", t.program()},
+          {"instrument", midi::gm_instrument_name(t.program(), t.channel())},
+          {"programs", programs},
+          {"note_count", t.note_count},
+          {"key_min", t.key_min()},
+          {"key_max", t.key_max()},
+          {"distinct_keys", t.distinct_keys()},
+          {"envelope", t.note_count ? haptics::auto_preset_name(opts, t.program(), t.channel()) : ""},
+          {"rank_jnd_steps", rank_jnd_steps(t)},
+          {"jnd_per_key_step", t.distinct_keys() > 1 ? rank_jnd_steps(t) / (t.distinct_keys() - 1) : 0.0},
+          {"end_s", static_cast<double>(t.end_us) * 1e-6}};
+}
+
+}  // namespace
+
+int run_info(const InfoOptions& o) {
+  const midi::ReadResult r = midi::load_song(o.song);
+  const midi::Song& s = r.song;
+  const haptics::HapticOptions opts;  // the envelope column shows what `auto` picks by default
+
+  if (o.json) {
+    nlohmann::json j;
+    j["file"] = o.song;
+    j["format"] = s.format;
+    j["division"] = s.division.smpte ? nlohmann::json{{"smpte_fps", s.division.fps}, {"ticks_per_frame", s.division.ticks_per_frame}}
+                                     : nlohmann::json{{"ticks_per_quarter", s.division.ticks_per_quarter}};
+    j["duration_s"] = s.duration_s();
+    j["tracks"] = nlohmann::json::array();
+    for (const midi::Track& t : s.tracks) j["tracks"].push_back(track_json(t, opts));
+    j["tempo_changes"] = nlohmann::json::array();
+    for (const midi::TempoChange& c : s.tempo_changes) {
+      j["tempo_changes"].push_back({{"tick", c.tick}, {"time_s", static_cast<double>(c.us) * 1e-6}, {"bpm", c.bpm()}});
+    }
+    j["warnings"] = nlohmann::json::array();
+    for (const midi::Warning& w : r.warnings) j["warnings"].push_back(w.message);
+    if (o.notes) {
+      j["notes"] = nlohmann::json::array();
+      for (const midi::Note& n : s.notes) {
+        j["notes"].push_back({{"track", n.track}, {"channel", n.channel + 1}, {"key", n.key}, {"velocity", n.velocity},
+                              {"start_s", s.start_s(n)}, {"end_s", s.end_s(n)}});
+      }
+    }
+    fmt::print("{}\n", j.dump());
+    return kExitOk;
+  }
+
+  fmt::print("{}\n", o.song);
+  fmt::print("  format {}, {}, duration {:.3f} s, {} track(s), {} note(s)\n", s.format,
+             s.division.smpte ? fmt::format("SMPTE {} fps × {} ticks", s.division.fps, s.division.ticks_per_frame)
+                              : fmt::format("{} ticks per quarter", s.division.ticks_per_quarter),
+             s.duration_s(), s.tracks.size(), s.notes.size());
+  fmt::print("\n  {:>3}  {:<24} {:<8} {:<26} {:>6}  {:<9} {:>4}  {:<12} {:>8}\n", "#", "name", "channel",
+             "instrument (GM program)", "notes", "keys", "kε", "envelope", "JND/step");
+  for (const midi::Track& t : s.tracks) {
+    const std::string instrument =
+        t.note_count ? fmt::format("{} ({})", midi::gm_instrument_name(t.program(), t.channel()), t.program()) : "-";
+    const std::string keys = t.note_count ? key_name(t.key_min()) + "–" + key_name(t.key_max()) : "-";
+    fmt::print("  {:>3}  {:<24.24} {:<8} {:<26.26} {:>6}  {:<9} {:>4}  {:<12} {:>8.2f}\n", t.index, t.name,
+               channels_text(t), instrument, t.note_count, keys, t.distinct_keys(),
+               t.note_count ? haptics::auto_preset_name(opts, t.program(), t.channel()) : "-",
+               t.distinct_keys() > 1 ? rank_jnd_steps(t) / (t.distinct_keys() - 1) : 0.0);
+  }
+  fmt::print("\n  tempo:");
+  const std::size_t shown = std::min<std::size_t>(s.tempo_changes.size(), 8);
+  for (std::size_t i = 0; i < shown; ++i) {
+    fmt::print(" {:.4g} bpm at {:.3f} s{}", s.tempo_changes[i].bpm(), static_cast<double>(s.tempo_changes[i].us) * 1e-6,
+               i + 1 < shown ? ";" : "");
+  }
+  if (s.tempo_changes.size() > shown) fmt::print(" … ({} changes in all)", s.tempo_changes.size());
+  if (s.tempo_changes.empty()) fmt::print(" none (SMPTE time)");
+  fmt::print("\n");
+  if (!r.warnings.empty()) {
+    fmt::print("\n  {} warning(s):\n", r.warnings.size());
+    for (const midi::Warning& w : r.warnings) fmt::print("    {}\n", w.message);
+  }
+  fmt::print("\n  JND/step: frequency just-noticeable differences (18 %) between adjacent keys under --mapping rank\n"
+             "  (below 1: neighbouring keys feel alike; the full 50–250 Hz range spans {:.1f} JND).\n",
+             std::log(250.0 / 50.0) / std::log(1.18));
+  return kExitOk;
+}
+
+}  // namespace hmp::cli

@@ -1,0 +1,23 @@
+#pragma once
+// `hmp info`'s work, apart from its command line: load a song and print what is in it (SPEC §3). Both
+// programs run it: hmp-full after CLI11 parsed `info` (info_command.cpp), the static front directly
+// (front_main.cpp). No CLI11 here, so the front links none of it.
+#include <string>
+
+namespace hmp::cli {
+
+// The flags of `hmp info`, spelled once for the CLI11 registration and for the front's recogniser.
+inline constexpr const char* kInfoJsonFlag = "--json";
+inline constexpr const char* kInfoNotesFlag = "--notes";
+
+struct InfoOptions {
+  std::string song;
+  bool json = false;
+  bool notes = false;  // with json: every note of every track
+};
+
+// Prints the song's summary (a table, or one JSON object) on stdout; returns kExitOk. Throws BadInput
+// for a file it cannot read.
+int run_info(const InfoOptions& options);
+
+}  // namespace hmp::cli

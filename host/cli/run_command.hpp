@@ -1,0 +1,21 @@
+#pragma once
+// What every hmp program shares around running a command: exit codes, the version, and turning an
+// exception into the one-line message of SPEC §3. Free of CLI11, so the static front (front_main.cpp)
+// can use it without linking the command-line parser.
+#include <functional>
+#include <string>
+
+namespace hmp::cli {
+
+// Exit codes (SPEC §3).
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitFailure = 1;   // a run that failed for a reason other than bad input
+inline constexpr int kExitBadInput = 2;  // bad file, bad option: one-line message on stderr
+
+std::string version_string();
+
+// Runs the action; BadInput → "error: …" on stderr and kExitBadInput, any other exception → "error: …"
+// and kExitFailure.
+int run_command(const std::function<int()>& action);
+
+}  // namespace hmp::cli
