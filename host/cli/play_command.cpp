@@ -34,6 +34,8 @@ struct PlayOptions {
   std::optional<std::string> track;
   std::string device = "auto";
   bool no_audio = false;
+  std::optional<std::string> audio_driver;
+  std::optional<std::string> soundfont;
   bool no_view = false;
   std::optional<double> from_s, to_s;
   std::optional<std::string> log;
@@ -155,8 +157,14 @@ int run_play(const PlayOptions& o) {
 
   audio::AudioOptions audio_options;
   audio_options.enabled = !o.no_audio;
+  if (o.audio_driver) audio_options.drivers = {*o.audio_driver};
+  if (o.soundfont) audio_options.soundfont = *o.soundfont;
   audio::AudioPlayer audio(audio_options);
   audio.set_events(audio::audio_events(song));
+  if (audio.audible()) {
+    std::fprintf(stderr, "audio: %s, output latency %.1f ms (compensated)\n", audio.driver_name().c_str(),
+                 audio.output_latency_s() * 1e3);
+  }
   if (o.log) log = player::PlayLog(*o.log, true);  // checked above; it did not exist or --force was given
 
   const bool tty = isatty(STDERR_FILENO) && isatty(STDOUT_FILENO);
@@ -220,6 +228,14 @@ void register_play(CLI::App& app, Registry& registry) {
   cmd->add_option("--device", o->device, "auto (HID, else the simulated device), sim, qemu, hid[:VID:PID], serial:PATH")
       ->capture_default_str();
   cmd->add_flag("--no-audio", o->no_audio, "No sound: no audio device is opened");
+  // FluidSynth's drivers that take a callback (its `file` driver does not); `virtual` is the simulated
+  // sound card the skew benchmark measures with: it plays to nowhere, in real time.
+  cmd->add_option("--audio-driver", o->audio_driver,
+                  "Audio output: pulseaudio, alsa, sdl2, jack, oss, pipewire or virtual (default: the first of "
+                  "pulseaudio, alsa, sdl2 that opens)")
+      ->check(CLI::IsMember({"pulseaudio", "alsa", "sdl2", "jack", "oss", "pipewire", "virtual"}));
+  cmd->add_option("--soundfont", o->soundfont, "SoundFont (.sf2/.sf3) for the song's audio (default: the GM one installed)")
+      ->check(CLI::ExistingFile);
   cmd->add_flag("--no-view", o->no_view, "No animation window");
   cmd->add_option("--from", o->from_s, "Start of the passage in seconds of the song");
   cmd->add_option("--to", o->to_s, "End of the passage in seconds of the song");

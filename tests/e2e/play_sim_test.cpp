@@ -112,6 +112,45 @@ TEST(PlaySim, BadWindowIsBadInput) {
   }
 }
 
+TEST(PlaySim, BadAudioOptionsAreBadInput) {
+  for (const std::string option : {"--audio-driver bogus", "--soundfont /nonexistent/hmp-test.sf2"}) {
+    const test::CommandResult r =
+        test::run_command(test::kHmp + " play '" + test::kDemo + "' --device sim --to 1 " + option + " </dev/null");
+    EXPECT_EQ(r.status, 2) << option << ": " << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << option << ": " << r.err;
+  }
+}
+
+TEST(PlaySim, WithSoundOnTheVirtualCardEveryNoteIsOnItsTick) {
+  // The whole audio path (FluidSynth, the audio clock, haptic notes placed where their sound starts)
+  // on the simulated sound card: the notes still all start on their scheduled ticks, spaced as the song.
+  const double from = 130, to = 134;
+  const auto expected = test::passage_notes(kFlute, from, to);
+  ASSERT_GT(expected.size(), 10u);
+  const std::string log_path = temp_path("virtual.jsonl");
+  std::filesystem::remove(log_path);
+  const test::CommandResult r =
+      test::run_command(test::kHmp + " play '" + test::kDemo + "' --track flute --audio-driver virtual --device sim --from 130 --to 134 --log " +
+                        log_path + " </dev/null");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const test::ParsedLog log = test::parse_log(log_path);
+  std::filesystem::remove(log_path);
+  ASSERT_EQ(log.notes.size(), expected.size());
+  const test::LogEntry* first = &log.notes.front();
+  for (const test::LogEntry& e : log.notes) {
+    if (e.start_s < first->start_s) first = &e;
+  }
+  for (const test::LogEntry& e : log.notes) {
+    EXPECT_EQ(e.actual, e.scheduled) << "key " << e.key << " at " << e.start_s;
+    // Each note follows its own sound: its block of 64 frames (±0.67 ms) and the flute's measured onset
+    // (the same for every key within a few frames), so spacing stays within 2 ticks of the song's.
+    const double song_ms = (e.start_s - first->start_s) * 1000.0;
+    EXPECT_LE(std::fabs(static_cast<double>(e.scheduled - first->scheduled) - song_ms), 2.0) << e.start_s;
+  }
+  ASSERT_TRUE(log.summary.has_value());
+  EXPECT_EQ(log.summary->at("late").get<int>(), 0);
+}
+
 // The device state, read with its clock held still.
 struct DeviceView {
   hmp::protocol::State state;
