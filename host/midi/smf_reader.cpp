@@ -4,11 +4,13 @@
 
 #include <algorithm>
 #include <cerrno>
-#include <cstdio>
 #include <cstring>
 #include <memory>
 #include <string_view>
-#include <system_error>
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "host/common/error.hpp"
 #include "host/midi/smf_detail.hpp"
@@ -213,7 +215,7 @@ class SmfReader {
 
 }  // namespace
 
-detail::ParseState::ParseState(std::size_t file_size) : slots(16 * 128) {
+detail::ParseState::ParseState(std::size_t file_size) {
   // A note needs at least 3 bytes (delta, key, velocity under running status), so up to a few million
   // notes this never grows (no copy, no doubling); pages that are never written cost no memory.
   constexpr std::size_t kReserveCap = std::size_t{1} << 22;
@@ -223,18 +225,36 @@ detail::ParseState::ParseState(std::size_t file_size) : slots(16 * 128) {
 ReadResult read_smf(std::span<const std::uint8_t> bytes) { return SmfReader(bytes).read(); }
 
 ReadResult load_song(const std::filesystem::path& path) {
-  std::error_code ec;
-  const auto status = std::filesystem::status(path, ec);
-  if (ec || !std::filesystem::exists(status)) throw BadInput("cannot open '" + path.string() + "': no such file");
-  if (!std::filesystem::is_regular_file(status)) throw BadInput("'" + path.string() + "' is not a regular file");
-  const std::uintmax_t size = std::filesystem::file_size(path, ec);
-  if (ec) throw BadInput("cannot read '" + path.string() + "': " + ec.message());
+  // One open, fstat and read into a buffer that is not zero-filled first: on a small song the reading is
+  // a good part of `hmp info`'s own time (docs/performance.md, MIDI parsing). O_NONBLOCK so that a FIFO
+  // is refused as "not a regular file" instead of blocking the open; it changes nothing for regular files.
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
+  if (fd < 0) {
+    const int err = errno;
+    if (err == ENOENT || err == ENOTDIR) throw BadInput("cannot open '" + path.string() + "': no such file");
+    throw BadInput("cannot open '" + path.string() + "': " + std::strerror(err));
+  }
+  struct Closer {
+    int fd;
+    ~Closer() { ::close(fd); }
+  } const closer{fd};
+  struct stat info {};
+  if (::fstat(fd, &info) != 0) throw BadInput("cannot read '" + path.string() + "': " + std::strerror(errno));
+  if (!S_ISREG(info.st_mode)) throw BadInput("'" + path.string() + "' is not a regular file");
+  const auto size = static_cast<std::uint64_t>(info.st_size);
   if (size > kMaxFileBytes) throw BadInput("'" + path.string() + "' is too large for a MIDI file");
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
-  if (!f) throw BadInput("cannot open '" + path.string() + "': " + std::strerror(errno));
-  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(size));
-  const std::size_t got = bytes.empty() ? 0 : std::fread(bytes.data(), 1, bytes.size(), f.get());
-  if (got != bytes.size()) throw BadInput("cannot read '" + path.string() + "': short read");
+  const auto length = static_cast<std::size_t>(size);
+  const auto buffer = std::make_unique_for_overwrite<std::uint8_t[]>(length);
+  std::size_t got = 0;
+  while (got < length) {
+    const ::ssize_t n = ::read(fd, buffer.get() + got, length - got);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) throw BadInput("cannot read '" + path.string() + "': " + std::strerror(errno));
+    if (n == 0) break;
+    got += static_cast<std::size_t>(n);
+  }
+  if (got != length) throw BadInput("cannot read '" + path.string() + "': short read");
+  const std::span<const std::uint8_t> bytes(buffer.get(), length);
   try {
     return read_smf(bytes);
   } catch (const BadInput& e) {

@@ -52,6 +52,10 @@ class TrackStats {
     ++t.note_count;
     t.keys.add(n.key);
     t.channels = static_cast<std::uint16_t>(t.channels | (1u << n.channel));
+    if ((cleared_channels_ & (1u << n.channel)) == 0) {
+      std::fill_n(generation_of_.get() + n.channel * 128u, 128, 0u);
+      cleared_channels_ = static_cast<std::uint16_t>(cleared_channels_ | (1u << n.channel));
+    }
     const std::size_t pair = n.channel * 128u + n.program;
     if (generation_of_[pair] != generation_) {
       generation_of_[pair] = generation_;
@@ -63,9 +67,13 @@ class TrackStats {
 
  private:
   std::uint32_t chunk_ = 0xFFFFFFFFu;
-  std::uint32_t generation_ = 0;
-  std::array<std::uint32_t, 16 * 128> generation_of_{};
-  std::array<std::uint32_t, 16 * 128> use_of_{};
+  std::uint32_t generation_ = 0;  // 0 is no chunk's
+  // 16 KiB for every (channel, program) pair, of which a song uses a few channels: a channel's generations
+  // are cleared on its first note only, and a use_of_ entry is read only once its generation is set, so
+  // the pages of unused channels are never touched (each first touch is a page fault).
+  std::uint16_t cleared_channels_ = 0;
+  std::unique_ptr<std::uint32_t[]> generation_of_ = std::make_unique_for_overwrite<std::uint32_t[]>(16 * 128);
+  std::unique_ptr<std::uint32_t[]> use_of_ = std::make_unique_for_overwrite<std::uint32_t[]>(16 * 128);
 };
 
 TempoMap build_tempo_map(const Division& d, std::vector<TempoMap::Point> tempos) {
@@ -87,10 +95,10 @@ void finish_song(ParseState& st, Song& song) {
 
   song.tracks = std::move(st.tracks);
   const ProgramLookup programs(st.program_changes);
-  auto stats = std::make_unique<TrackStats>();
+  TrackStats stats;
   for (Note& n : st.notes) {
     n.program = programs.at(n.channel, n.start_tick);
-    stats->add(song.tracks[n.track], n);
+    stats.add(song.tracks[n.track], n);
   }
   song.notes = std::move(st.notes);
 

@@ -194,7 +194,7 @@ class TrackParser {
     const auto index = static_cast<std::uint32_t>(st_.notes.size());
     // Sounding, the last of its key so far; the program is filled in by finish_song.
     st_.notes.push_back(Note{tick_, sounding_link(kNoNext), track, channel, key, velocity, 0});
-    ParseState::Slot& slot = st_.slots[channel * 128u + key];
+    ParseState::Slot& slot = st_.slot(channel, key);
     if (slot.generation != st_.generation || slot.head == kNone) {
       slot = ParseState::Slot{st_.generation, index, index};
     } else {
@@ -205,7 +205,7 @@ class TrackParser {
 
   // Ends the oldest sounding note of the key (first in, first out).
   void note_off(std::uint8_t channel, std::uint8_t key, std::size_t at) {
-    ParseState::Slot& slot = st_.slots[channel * 128u + key];
+    ParseState::Slot& slot = st_.slot(channel, key);
     if (slot.generation != st_.generation || slot.head == kNone) {
       orphan_offs_.hit(at);
       return;

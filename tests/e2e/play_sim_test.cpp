@@ -27,6 +27,21 @@ std::string temp_path(const std::string& name) {
   return (std::filesystem::temp_directory_path() / ("hmp-e2e-" + std::to_string(::getpid()) + "-" + name)).string();
 }
 
+// Every note of the log started on its scheduled tick, and the ticks are spaced as the song's times
+// (1 kHz: 1 tick per ms) within `spacing_ticks`.
+void expect_on_tick_and_spaced(const test::ParsedLog& log, double spacing_ticks) {
+  ASSERT_FALSE(log.notes.empty());
+  const test::LogEntry* first = &log.notes.front();
+  for (const test::LogEntry& e : log.notes) {
+    if (e.start_s < first->start_s) first = &e;
+  }
+  for (const test::LogEntry& e : log.notes) {
+    EXPECT_EQ(e.actual, e.scheduled) << "key " << e.key << " at " << e.start_s;
+    const double song_ms = (e.start_s - first->start_s) * 1000.0;
+    EXPECT_LE(std::fabs(static_cast<double>(e.scheduled - first->scheduled) - song_ms), spacing_ticks) << e.start_s;
+  }
+}
+
 template <class F>
 bool wait_until(F done, std::chrono::milliseconds limit) {
   const auto deadline = std::chrono::steady_clock::now() + limit;
@@ -66,17 +81,9 @@ TEST(PlaySim, FlutePassageEveryNoteOnItsTick) {
     EXPECT_NEAR(got[i].second, want[i].second, 1e-9) << i;
   }
 
-  // On its tick, and the ticks spaced as the song's times (1 kHz: 1 tick per ms; the sync may put the
-  // whole passage a rounding away, never a note on its own).
-  const test::LogEntry* first = &log.notes.front();
-  for (const test::LogEntry& e : log.notes) {
-    if (e.start_s < first->start_s) first = &e;
-  }
-  for (const test::LogEntry& e : log.notes) {
-    EXPECT_EQ(e.actual, e.scheduled) << "key " << e.key << " at " << e.start_s;
-    const double song_ms = (e.start_s - first->start_s) * 1000.0;
-    EXPECT_LE(std::fabs(static_cast<double>(e.scheduled - first->scheduled) - song_ms), 1.0) << e.start_s;
-  }
+  // On its tick, and the ticks spaced as the song's times (the sync may put the whole passage a
+  // rounding away, never a note on its own).
+  expect_on_tick_and_spaced(log, 1.0);
 
   ASSERT_TRUE(log.summary.has_value());
   EXPECT_EQ(log.lines_after_summary, 0);
@@ -136,17 +143,9 @@ TEST(PlaySim, WithSoundOnTheVirtualCardEveryNoteIsOnItsTick) {
   const test::ParsedLog log = test::parse_log(log_path);
   std::filesystem::remove(log_path);
   ASSERT_EQ(log.notes.size(), expected.size());
-  const test::LogEntry* first = &log.notes.front();
-  for (const test::LogEntry& e : log.notes) {
-    if (e.start_s < first->start_s) first = &e;
-  }
-  for (const test::LogEntry& e : log.notes) {
-    EXPECT_EQ(e.actual, e.scheduled) << "key " << e.key << " at " << e.start_s;
-    // Each note follows its own sound: its block of 64 frames (±0.67 ms) and the flute's measured onset
-    // (the same for every key within a few frames), so spacing stays within 2 ticks of the song's.
-    const double song_ms = (e.start_s - first->start_s) * 1000.0;
-    EXPECT_LE(std::fabs(static_cast<double>(e.scheduled - first->scheduled) - song_ms), 2.0) << e.start_s;
-  }
+  // Each note follows its own sound: its block of 64 frames (±0.67 ms) and the flute's measured onset
+  // (the same for every key within a few frames), so spacing stays within 2 ticks of the song's.
+  expect_on_tick_and_spaced(log, 2.0);
   ASSERT_TRUE(log.summary.has_value());
   EXPECT_EQ(log.summary->at("late").get<int>(), 0);
 }

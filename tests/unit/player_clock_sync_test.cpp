@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <initializer_list>
 #include <random>
 #include <vector>
 
@@ -334,36 +335,27 @@ void expect_clock_kept(const LoadedRun& run) {
   EXPECT_NEAR(run.drift * 1e6, 80.0, 8.0);
 }
 
-TEST(PlayerClockSync, BusyHostKeepsTheClockWithinATenthOfATick) {
-  for (const unsigned seed : {11u, 12u, 13u}) {
+// Three seeds of a loaded host with only the named disturbances on; each run keeps the clock.
+void expect_kept_for_seeds(std::initializer_list<unsigned> seeds, bool host_delays, bool overdue_ticks) {
+  for (const unsigned seed : seeds) {
     SCOPED_TRACE(seed);
     LoadedHost host;
     host.rng.seed(seed);
+    host.host_delays = host_delays;
+    host.overdue_ticks = overdue_ticks;
     const LoadedRun run = run_loaded(host);
     expect_clock_kept(run);
-    EXPECT_EQ(run.held, 1);  // only the first sample after the step waited
+    if (host_delays && overdue_ticks) {
+      EXPECT_EQ(run.held, 1);  // only the first sample after the step waited
+    }
   }
 }
 
-TEST(PlayerClockSync, DelaysOnEitherLegAloneDoNotMoveTheClock) {
-  for (const unsigned seed : {21u, 22u, 23u}) {
-    SCOPED_TRACE(seed);
-    LoadedHost host;
-    host.rng.seed(seed);
-    host.overdue_ticks = false;
-    expect_clock_kept(run_loaded(host));
-  }
-}
+TEST(PlayerClockSync, BusyHostKeepsTheClockWithinATenthOfATick) { expect_kept_for_seeds({11u, 12u, 13u}, true, true); }
 
-TEST(PlayerClockSync, OverdueTicksAloneAreNeverReadAsTheClock) {
-  for (const unsigned seed : {31u, 32u, 33u}) {
-    SCOPED_TRACE(seed);
-    LoadedHost host;
-    host.rng.seed(seed);
-    host.host_delays = false;
-    expect_clock_kept(run_loaded(host));
-  }
-}
+TEST(PlayerClockSync, DelaysOnEitherLegAloneDoNotMoveTheClock) { expect_kept_for_seeds({21u, 22u, 23u}, true, false); }
+
+TEST(PlayerClockSync, OverdueTicksAloneAreNeverReadAsTheClock) { expect_kept_for_seeds({31u, 32u, 33u}, false, true); }
 
 TEST(PlayerClockSync, OverdueReadingsAreSetAsideEvenWhenTheyAgree) {
   // Ten Syncs in a row meet the device 9 ticks behind with its tick interrupt overdue: the same reading
