@@ -61,9 +61,7 @@ TEST(FirmwareFlow, QueueFreeCountsNoteReportsAndABatchThatDoesNotFitIsRefusedWho
 TEST(FirmwareFlow, GreedyHostThatResendsRefusedReportsLosesNothing) {
   sim::SimDevice dev;
   HostLink host(dev);
-  host.hello();
-  host.settings(exact_settings());
-  host.play();
+  host.open_exact();
   dev.advance(1);
   const std::uint64_t t0 = dev.tick() + 200;
   std::deque<std::vector<TestNote>> to_send;
@@ -115,9 +113,7 @@ TEST(FirmwareFlow, GreedyHostThatResendsRefusedReportsLosesNothing) {
 TEST(FirmwareFlow, HostThatFollowsQueueFreeIsNeverRefused) {
   sim::SimDevice dev;
   HostLink host(dev);
-  host.hello();
-  host.settings(exact_settings());
-  host.play();
+  host.open_exact();
   dev.advance(1);
   const std::uint64_t t0 = dev.tick() + 100;
   std::size_t next = 0, started = 0;

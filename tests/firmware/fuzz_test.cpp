@@ -231,9 +231,7 @@ TEST(FirmwareFuzz, MillionHostileReportsAreCountedAndNeverPushOutputPastLimits) 
               static_cast<unsigned long long>(dev.tick()), static_cast<unsigned long long>(sounding_ticks));
 
   // Still a working device: a new session plays a note exactly like the engine.
-  host.hello();
-  host.settings(exact_settings());
-  host.play();
+  host.open_exact();
   dev.advance(2);
   const TestNote n{dev.tick() + 5, 300, 100.0, 0.5};
   host.notes({n});

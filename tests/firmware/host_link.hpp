@@ -78,6 +78,9 @@ class HostLink {
     return send(m);
   }
   std::uint16_t play() { return transport(p::TransportOp::play); }
+  // The usual opening of a test: Hello, exact_settings() (no ramp-in, gain 1: output comparable
+  // with the engine sample for sample), Transport play.
+  void open_exact();
   std::uint16_t estop() { return send(p::make(p::Type::estop, 0)); }
   std::uint16_t preset(std::uint8_t slot, const envelope::Adsr& adsr) {
     p::Message m = p::make(p::Type::preset, 0);
@@ -186,6 +189,12 @@ inline p::Settings exact_settings(p::PolicyCode policy = p::PolicyCode::sum) {
   s.ramp_in_ms = 0;
   s.gain = 1.0f;
   return s;
+}
+
+inline void HostLink::open_exact() {
+  hello();
+  settings(exact_settings());
+  play();
 }
 
 // The reference: the shared Engine driven directly, starting each note on its tick, one sample per tick

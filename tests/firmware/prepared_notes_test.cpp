@@ -64,9 +64,7 @@ TEST_P(PreparedNotes, BackgroundPreparedStartsEqualTheEngineAndCostTheTickNoSetU
   const std::uint32_t hz = GetParam();
   sim::SimDevice dev(hz);
   HostLink host(dev);
-  host.hello();
-  host.settings(exact_settings());
-  host.play();
+  host.open_exact();
   dev.advance(5);
   host.collect();
   const std::vector<TestNote> notes = passage(dev.tick() + hz / 2, hz, 7);
@@ -83,9 +81,7 @@ TEST_P(PreparedNotes, WithoutBackgroundTheTickSetsUpEveryNoteOnItsTick) {
   sim::SimDevice dev(hz);
   dev.set_prepare_voices(false);
   HostLink host(dev);
-  host.hello();
-  host.settings(exact_settings());
-  host.play();
+  host.open_exact();
   dev.advance(5);
   host.collect();
   const std::vector<TestNote> notes = passage(dev.tick() + hz / 2, hz, 11);
@@ -139,9 +135,7 @@ TEST_P(PreparedNotes, NoteForTheNextTickStartsOnItWithoutPreparation) {
   const std::uint32_t hz = GetParam();
   sim::SimDevice dev(hz);
   HostLink host(dev);
-  host.hello();
-  host.settings(exact_settings());
-  host.play();
+  host.open_exact();
   dev.advance(50);
   const TestNote note{dev.tick() + 1, 100, 77.0, 0.6, static_cast<std::uint8_t>(envelope::Preset::cello)};
   host.notes({note});
@@ -196,9 +190,7 @@ TEST_P(PreparedNotes, HandedOverNotesCountAsQueuedAndSeekDropsThem) {
   const std::uint32_t hz = GetParam();
   sim::SimDevice dev(hz);
   HostLink host(dev);
-  host.hello();
-  host.settings(exact_settings());
-  host.play();
+  host.open_exact();
   dev.advance(5);
   const std::uint16_t free_before = host.status().queue_free;
   const std::uint32_t horizon = hz * fw::Core::kPrepareAheadMs / 1000;

@@ -35,9 +35,7 @@ TEST_P(FirmwareWatchdog, HostSilenceFadesOutWithinTwentyMilliseconds) {
   const std::uint32_t hz = GetParam();
   sim::SimDevice dev(hz);
   HostLink host(dev);
-  host.hello();
-  host.settings(exact_settings());
-  host.play();
+  host.open_exact();
   dev.advance(1);
   host.long_note({dev.tick() + 2, 100 * hz, 45.0, 0.8});
   host.run(hz / 2);  // half a second with a live host

@@ -13,9 +13,7 @@ TEST_P(FirmwareTiming, NotesStartOnTheirExactTickAndOutputMatchesTheEngine) {
   const std::uint32_t hz = GetParam();
   sim::SimDevice dev(hz);
   HostLink host(dev);
-  host.hello();
-  host.settings(exact_settings());
-  host.play();
+  host.open_exact();
   dev.advance(5);
   host.collect();
 
@@ -52,9 +50,7 @@ TEST_P(FirmwareTiming, LateNoteStartsAtOnceAndIsCounted) {
   const std::uint32_t hz = GetParam();
   sim::SimDevice dev(hz);
   HostLink host(dev);
-  host.hello();
-  host.settings(exact_settings());
-  host.play();
+  host.open_exact();
   dev.advance(100);
   const std::uint64_t now = dev.tick();
   const TestNote late{now - 30, 200, 90.0, 0.5};
@@ -129,9 +125,7 @@ TEST(FirmwareTiming, BaseTickIsExtendedAcrossThe32BitWrap) {
   const std::uint64_t wrap = std::uint64_t{1} << 32;
   sim::SimDevice dev(1000, wrap - 100);
   HostLink host(dev);
-  host.hello();
-  host.settings(exact_settings());
-  host.play();
+  host.open_exact();
   dev.advance(2);
   const std::vector<TestNote> notes = {{wrap - 20, 60, 70.0, 0.5}, {wrap + 50, 60, 90.0, 0.5},
                                        {wrap + 300, 60, 110.0, 0.5}};

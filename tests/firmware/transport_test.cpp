@@ -189,9 +189,7 @@ TEST(FirmwareTransport, HelloClearsALatchedFault) {
 TEST(FirmwareTransport, NotesNeedAnUploadedPreset) {
   sim::SimDevice dev;
   HostLink host(dev);
-  host.hello();
-  host.settings(exact_settings());
-  host.play();
+  host.open_exact();
   dev.advance(2);
   const std::uint8_t slot = envelope::kFirstUserSlot + 3;
   const std::uint64_t t = dev.tick();
