@@ -197,6 +197,21 @@ inline void HostLink::open_exact() {
   play();
 }
 
+// The device's output equals the reference tick for tick from tick `first` (exactly: both run the same
+// float arithmetic); a failure names the first tick that differs.
+inline ::testing::AssertionResult same_output(const std::vector<float>& got, const std::vector<float>& want,
+                                              std::uint64_t first) {
+  if (got.size() < want.size()) {
+    return ::testing::AssertionFailure() << "device gave " << got.size() << " samples, " << want.size() << " wanted";
+  }
+  for (std::size_t i = 0; i < want.size(); ++i) {
+    if (got[i] != want[i]) {
+      return ::testing::AssertionFailure() << "tick " << first + i << ": device " << got[i] << ", engine " << want[i];
+    }
+  }
+  return ::testing::AssertionSuccess();
+}
+
 // The reference: the shared Engine driven directly, starting each note on its tick, one sample per tick
 // for ticks first … first+count−1.
 inline std::vector<float> reference_output(const std::vector<TestNote>& notes, std::uint64_t first,
