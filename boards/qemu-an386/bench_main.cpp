@@ -269,13 +269,8 @@ extern "C" void UART0_RX_Handler() { g_board->on_uart_rx(); }
 extern "C" void UART0_TX_Handler() { g_board->on_uart_tx(); }
 
 int main() {
-  char cmdline[256];
-  hmp::board::semihost::get_cmdline(cmdline, sizeof cmdline);
-  const hmp::board::Options opt = hmp::board::parse_options(cmdline);
-  if (opt.error != nullptr) {
-    Line().text("bad option: ").text(opt.error).print();
-    return 4;
-  }
+  const hmp::board::Options opt = hmp::board::read_options();
+  if (opt.error != nullptr) return hmp::board::kExitBadOption;
   g_board = new (g_board_storage) An386Board(opt.tick_hz, false);
   g_board->start_link();
   hmp::board::InstructionCounter counter;

@@ -19,7 +19,6 @@ using hmp::board::Line;
 alignas(An386Board) unsigned char g_board_storage[sizeof(An386Board)];
 An386Board* g_board = nullptr;
 
-constexpr int kExitBadOption = 4;
 
 }  // namespace
 
@@ -28,13 +27,8 @@ extern "C" void UART0_RX_Handler() { g_board->on_uart_rx(); }
 extern "C" void UART0_TX_Handler() { g_board->on_uart_tx(); }
 
 int main() {
-  char cmdline[256];
-  hmp::board::semihost::get_cmdline(cmdline, sizeof cmdline);
-  const hmp::board::Options opt = hmp::board::parse_options(cmdline);
-  if (opt.error != nullptr) {
-    Line().text("bad option: ").text(opt.error).text(" (hz=N trace exit-idle-ms=N)").print();
-    return kExitBadOption;
-  }
+  const hmp::board::Options opt = hmp::board::read_options();
+  if (opt.error != nullptr) return hmp::board::kExitBadOption;
   Line().text("HMP qemu-an386 firmware ").u32(hmp::fw::kFirmwareMajor).text(".").u32(hmp::fw::kFirmwareMinor)
       .text(".").u32(hmp::fw::kFirmwarePatch).text(" tick_hz=").u32(opt.tick_hz)
       .text(" trace=").text(opt.trace ? "on" : "off").text(" exit_idle_ms=").u32(opt.exit_idle_ms).print();

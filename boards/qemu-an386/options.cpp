@@ -1,5 +1,7 @@
 #include "options.hpp"
 
+#include "console.hpp"
+#include "semihosting.hpp"
 #include "tick_timer.hpp"
 
 namespace hmp::board {
@@ -60,6 +62,14 @@ Options parse_options(char* cmdline) {
     }
   }
   return o;
+}
+
+Options read_options() {
+  static char cmdline[256];  // Options::error points into it
+  semihost::get_cmdline(cmdline, sizeof cmdline);
+  const Options opt = parse_options(cmdline);
+  if (opt.error != nullptr) Line().text("bad option: ").text(opt.error).text(" (hz=N trace exit-idle-ms=N)").print();
+  return opt;
 }
 
 }  // namespace hmp::board

@@ -19,4 +19,9 @@ struct Options {
 // Parses a command line (modified in place: words are cut out with NULs).
 Options parse_options(char* cmdline);
 
+// What an image's main() does first: reads the semihosting command line and parses it; on a bad word
+// it prints "bad option: WORD (…)" and the image should exit with kExitBadOption.
+Options read_options();
+inline constexpr int kExitBadOption = 4;
+
 }  // namespace hmp::board
