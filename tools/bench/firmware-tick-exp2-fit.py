@@ -12,29 +12,9 @@ polynomial evaluated in float32 (Horner, one rounding per step).
 
 Usage: tools/bench/firmware-tick-exp2-fit.py [DEGREE]   (default 6)
 """
-import struct
 import sys
 
-
-def f32(x):
-    return struct.unpack('f', struct.pack('f', x))[0]
-
-
-def solve(a, b):
-    """Gaussian elimination with partial pivoting (small dense system)."""
-    n = len(b)
-    m = [row[:] + [b[i]] for i, row in enumerate(a)]
-    for col in range(n):
-        piv = max(range(col, n), key=lambda r: abs(m[r][col]))
-        m[col], m[piv] = m[piv], m[col]
-        for r in range(col + 1, n):
-            f = m[r][col] / m[col][col]
-            for k in range(col, n + 1):
-                m[r][k] -= f * m[col][k]
-    x = [0.0] * n
-    for r in reversed(range(n)):
-        x[r] = (m[r][n] - sum(m[r][k] * x[k] for k in range(r + 1, n))) / m[r][r]
-    return x
+from polyfit_common import f32, solve
 
 
 def fit(degree, points=4001, rounds=200):

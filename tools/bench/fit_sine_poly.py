@@ -10,8 +10,9 @@ error is re-measured with the rounded values.
 Usage: tools/bench/fit_sine_poly.py [TERMS]   (default 4 terms: degree 7)
 """
 import math
-import struct
 import sys
+
+from polyfit_common import f32, solve
 
 
 def target(x):
@@ -20,23 +21,6 @@ def target(x):
 
 def poly(c, x):
     return sum(ck * x ** (2 * k + 1) for k, ck in enumerate(c))
-
-
-def solve(a, b):
-    """Gaussian elimination with partial pivoting (small dense system)."""
-    n = len(b)
-    m = [row[:] + [b[i]] for i, row in enumerate(a)]
-    for col in range(n):
-        piv = max(range(col, n), key=lambda r: abs(m[r][col]))
-        m[col], m[piv] = m[piv], m[col]
-        for r in range(col + 1, n):
-            f = m[r][col] / m[col][col]
-            for k in range(col, n + 1):
-                m[r][k] -= f * m[col][k]
-    x = [0.0] * n
-    for r in reversed(range(n)):
-        x[r] = (m[r][n] - sum(m[r][k] * x[k] for k in range(r + 1, n))) / m[r][r]
-    return x
 
 
 def local_extrema(c, grid):
@@ -81,10 +65,6 @@ def remez(terms, iterations=30):
     return c
 
 
-def to_f32(v):
-    return struct.unpack("f", struct.pack("f", v))[0]
-
-
 def max_error(c):
     return max(abs(poly(c, i / 1000000) - target(i / 1000000)) for i in range(1000001))
 
@@ -92,7 +72,7 @@ def max_error(c):
 def main():
     terms = int(sys.argv[1]) if len(sys.argv) > 1 else 4
     c = remez(terms)
-    c32 = [to_f32(v) for v in c]
+    c32 = [f32(v) for v in c]
     print(f"# {terms} terms: max |error| {max_error(c):.3e} (double coefficients), "
           f"{max_error(c32):.3e} (float32 coefficients)")
     for k, v in enumerate(c32):
