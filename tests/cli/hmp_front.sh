@@ -7,7 +7,7 @@ set -u
 hmp="$1"; repo="$2"
 full="$(dirname "$hmp")/hmp-full"
 demo="$repo/examples/bach-bwv1050-brandenburg5-mvt3-allegro.mid"
-corpus="$repo/../shared/midi"
+corpus="$repo/tests/data/midi"
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 fail=0
 

@@ -1,4 +1,4 @@
-// Every MIDI file of the development corpus (../shared/midi, SPEC §4) has a pinned outcome here: its note
+// Every MIDI file of the development corpus (tests/data/midi, SPEC §4) has a pinned outcome here: its note
 // count, logical track count and duration, or the exact start of its error message, and the warning it
 // must produce (or none). A file added to or removed from the corpus without a pin fails the test.
 //
@@ -9,7 +9,7 @@
 //   and the illegal byte comes before the first note, so nothing is left to play.
 // - music21 and classical: note counts and times were checked against an independent reading with
 //   python3-mido 1.2.10 (first-in-first-out pairing, global tempo map: every note's ticks equal and its
-//   times within 1 µs; durations equal to mido's MidiFile.length), and the track line-up against SOURCES.md.
+//   times within 1 µs; durations equal to mido's MidiFile.length), and the track line-up against tests/data/midi/README.md.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -32,7 +32,7 @@ using namespace hmp::midi;
 
 namespace {
 
-const fs::path kCorpus = fs::path(HMP_REFERENCE_DIR) / "midi";
+const fs::path kCorpus = fs::path(HMP_TEST_DATA_DIR) / "midi";
 
 struct Pin {
   int notes = 0;
@@ -178,7 +178,7 @@ const std::map<std::string, Pin>& pins() {
       {"music21/music21/omr/k525MIDIMvt1.mid", ok(6398, 6, 326.265473)},
       {"music21/music21/omr/k525short.mid", ok(211, 6, 16.365546)},
 
-      // ---- classical (SOURCES.md) ----
+      // ---- classical (tests/data/midi/README.md) ----
       {"classical/bach-bwv1050-brandenburg5-mvt3-allegro.mid", ok(6006, 9, 310.0)},
       {"classical/bach-bwv1079-musical-offering-ricercar-a3.mid", ok(2316, 3, 370.0)},
   };

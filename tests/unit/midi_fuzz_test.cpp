@@ -20,7 +20,7 @@ namespace {
 
 std::vector<Bytes> corpus() {
   std::vector<Bytes> files;
-  for (const auto& e : fs::recursive_directory_iterator(fs::path(HMP_REFERENCE_DIR) / "midi")) {
+  for (const auto& e : fs::recursive_directory_iterator(fs::path(HMP_TEST_DATA_DIR) / "midi")) {
     if (!e.is_regular_file()) continue;
     const std::string ext = e.path().extension().string();
     if (ext != ".mid" && ext != ".syx") continue;

@@ -17,7 +17,7 @@ TEST(MidiGm, NamesAreDistinctAndSpotChecked) {
     names.insert(n);
   }
   EXPECT_EQ(names.size(), 128u);
-  // The demo song's line-up (SOURCES.md): Flute 73, Violin 40, Viola 41, Cello 42, Contrabass 43, Harpsichord 6.
+  // The demo song's line-up (tests/data/midi/README.md): Flute 73, Violin 40, Viola 41, Cello 42, Contrabass 43, Harpsichord 6.
   EXPECT_STREQ(gm_program_name(73), "Flute");
   EXPECT_STREQ(gm_program_name(40), "Violin");
   EXPECT_STREQ(gm_program_name(41), "Viola");

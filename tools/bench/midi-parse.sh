@@ -3,7 +3,7 @@
 # load_song timed inside a process too, by bench_midi_parse_inprocess) and midicsv (`midicsv FILE
 # /dev/null` against the whole `hmp info --json` command), side by side on a generated large file
 # (tools/bench/gen_big_midi.py: 12 tracks, 620k notes, ~1000 tempo changes, running status) and on the
-# real songs (examples/*.mid and the Bach files of ../shared/midi/classical; identical files measured
+# real songs (examples/*.mid and the Bach files of tests/data/midi/classical; identical files measured
 # once). Also the peak RSS of `hmp info --json`. Run by scripts/bench with the build directory as $1.
 # Needs midicsv and python3-mido (scripts/packages.txt).
 set -euo pipefail
@@ -26,7 +26,7 @@ fi
 
 files=("generated-big.mid=$big")
 seen=()
-for f in examples/*.mid ../shared/midi/classical/*.mid; do
+for f in examples/*.mid tests/data/midi/classical/*.mid; do
   [ -f "$f" ] || continue
   sum=$(cksum < "$f" | tr " " _)
   if [[ " ${seen[*]-} " == *" $sum "* ]]; then

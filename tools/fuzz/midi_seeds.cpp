@@ -1,4 +1,4 @@
-// Writes the seed corpus of fuzz_midi: every .mid file of the development corpus (HMP_REFERENCE_DIR/midi,
+// Writes the seed corpus of fuzz_midi: every .mid file of the development corpus (tests/data/midi,
 // SPEC §4) plus a few tiny hand-made files for the container and event paths those may not reach in few
 // bytes (format 0 with running status, format 2, SMPTE division, RIFF RMID, sysex, odd header lengths).
 // Small seeds matter: libFuzzer mutates them many times faster than the 50 KB real songs.
@@ -92,7 +92,7 @@ int main(int argc, char** argv) {
   }
   const fs::path dir = argv[1];
   bool ok = hand_made(dir);
-  const fs::path corpus = fs::path(HMP_REFERENCE_DIR) / "midi";
+  const fs::path corpus = fs::path(HMP_TEST_DATA_DIR) / "midi";
   std::error_code ec;
   if (fs::is_directory(corpus, ec)) {
     for (const auto& e : fs::recursive_directory_iterator(corpus)) {
