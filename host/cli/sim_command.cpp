@@ -19,6 +19,7 @@
 #include "host/output/output_file.hpp"
 #include "host/output/trace_plot.hpp"
 #include "host/player/note_batcher.hpp"
+#include "host/transport/host_session.hpp"
 
 namespace hmp::cli {
 
@@ -41,43 +42,32 @@ struct Sample {
   float commanded = 0, actual = 0, reported = 0, min_tension = 0, max_tension = 0;
 };
 
-// A host speaking the protocol to the in-process device: numbered reports, the credit rule of
-// docs/protocol.md (queue_free minus the note reports sent after last_seq), Syncs for the watchdog.
+// A host speaking the protocol to the in-process device: the session rules (numbering, credit) of
+// transport::HostSession, Syncs for the watchdog.
 class Host {
  public:
   explicit Host(sim::SimDevice& dev) : dev_(dev) {}
   void send(protocol::Message m) {
-    m.seq = ++seq_;
     protocol::Report r;
-    if (!protocol::encode(m, r)) throw std::runtime_error(std::string("cannot encode a ") + protocol::name(m.type));
-    if (m.type == protocol::Type::notes || m.type == protocol::Type::long_note) note_seqs_.push_back(m.seq);
+    session_.number(m, r);
     dev_.deliver(r);
   }
-  // Reads what the device said; returns its faults (latched bits) as of the last Status.
+  // Reads what the device said; its Statuses give the room and the processed reports (the device's
+  // faults are read from the core after the run).
   void collect() {
     protocol::Report r;
     while (dev_.poll_report(r)) {
       protocol::Message m;
-      if (protocol::decode(r, m) != protocol::ErrorCode::none) continue;
-      if (m.type == protocol::Type::status) {
-        queue_free_ = m.status.queue_free;
-        last_seq_ = m.status.last_seq;
-        faults_ = m.status.faults;
-        std::erase_if(note_seqs_, [&](std::uint16_t s) { return static_cast<std::int16_t>(s - last_seq_) <= 0; });
-      } else if (m.type == protocol::Type::error) {
-        ++errors_;
+      if (protocol::decode(r, m) == protocol::ErrorCode::none && m.type == protocol::Type::status) {
+        session_.on_status(m.status);
       }
     }
   }
-  int credit() const { return static_cast<int>(queue_free_) - static_cast<int>(note_seqs_.size()); }
-  std::uint32_t faults() const { return faults_; }
-  std::uint32_t errors() const { return errors_; }
+  int credit() const { return session_.credit(); }
 
  private:
   sim::SimDevice& dev_;
-  std::uint16_t seq_ = 0, last_seq_ = 0, queue_free_ = 0;
-  std::vector<std::uint16_t> note_seqs_;  // note reports sent and not yet processed
-  std::uint32_t faults_ = 0, errors_ = 0;
+  transport::HostSession session_;
 };
 
 // The notes overlapping [first, end) (song ticks), clipped to it and moved to start at device tick `base`.

@@ -6,15 +6,6 @@
 
 namespace hmp::player {
 
-namespace {
-
-// Wrap-aware "a is not after b" for 16-bit sequence numbers (numbers in flight are close together).
-bool seq_not_after(std::uint16_t a, std::uint16_t b) { return static_cast<std::int16_t>(static_cast<std::uint16_t>(a - b)) <= 0; }
-
-bool is_note_report(protocol::Type t) { return t == protocol::Type::notes || t == protocol::Type::long_note; }
-
-}  // namespace
-
 std::int64_t steady_us() {
   return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
@@ -24,13 +15,13 @@ DeviceLink::DeviceLink(transport::Transport& link, const Options& options)
 
 DeviceLink::~DeviceLink() { stop_receiver(); }
 
-std::uint16_t DeviceLink::next_seq() {
-  seq_ = static_cast<std::uint16_t>(seq_ == 0xFFFF ? 1 : seq_ + 1);  // 0 never names a report
-  return seq_;
-}
-
 protocol::HelloReply DeviceLink::greet() {
-  const auto id = transport::say_hello(link_, next_seq(), options_.hello_timeout);
+  std::uint16_t hello_seq;
+  {
+    std::lock_guard lock(mutex_);
+    hello_seq = session_.take_seq();
+  }
+  const auto id = transport::say_hello(link_, hello_seq, options_.hello_timeout);
   if (!id) {
     if (!link_.is_open()) throw LinkError(fmt::format("device {}: link closed ({})", link_.name(), link_.closed_reason()));
     throw LinkError(fmt::format("device {}: no answer to Hello within {} ms", link_.name(), options_.hello_timeout.count()));
@@ -44,8 +35,7 @@ protocol::HelloReply DeviceLink::greet() {
   ClockSync::Options c;
   c.tick_hz = id->hello.tick_hz;
   clock_ = ClockSync(c);
-  status_ = id->status;
-  in_flight_.clear();
+  session_.restart(id->status);
   events_ = Events{};
   last_report_us_ = steady_us();
   return id->hello;
@@ -117,13 +107,9 @@ void DeviceLink::on_report(const protocol::Message& m, std::int64_t now) {
       return;
     }
     case protocol::Type::status:
-      if (status_ && m.status.tick < status_->tick) events_.restarted = true;
-      status_ = m.status;
+      if (session_.status() && m.status.tick < session_.status()->tick) events_.restarted = true;
+      session_.on_status(m.status);
       ++statuses_;
-      // last_seq 0: nothing processed yet (0 never names a report).
-      while (m.status.last_seq != 0 && !in_flight_.empty() && seq_not_after(in_flight_.front(), m.status.last_seq)) {
-        in_flight_.pop_front();
-      }
       return;
     case protocol::Type::started:
       for (std::uint8_t i = 0; i < m.started.count; ++i) events_.started.push_back(m.started.entries[i]);
@@ -141,17 +127,14 @@ void DeviceLink::on_report(const protocol::Message& m, std::int64_t now) {
 }
 
 std::optional<std::uint16_t> DeviceLink::send(protocol::Message m) {
-  m.seq = next_seq();
   protocol::Report report;
-  if (!protocol::encode(m, report)) {
-    throw std::logic_error(fmt::format("player built an invalid {} report", protocol::name(m.type)));
-  }
-  if (is_note_report(m.type)) {
+  std::uint16_t seq;
+  {
     std::lock_guard lock(mutex_);
-    in_flight_.push_back(m.seq);  // before sending: a quick Status must already see it
+    seq = session_.number(m, report);  // counted in flight before sending: a quick Status must see it
   }
   if (!link_.send(report)) return std::nullopt;
-  return m.seq;
+  return seq;
 }
 
 std::optional<std::uint16_t> DeviceLink::send_sync() {
@@ -162,18 +145,17 @@ std::optional<std::uint16_t> DeviceLink::send_sync() {
 
 int DeviceLink::credit() const {
   std::lock_guard lock(mutex_);
-  if (!status_) return 0;
-  return static_cast<int>(status_->queue_free) - static_cast<int>(in_flight_.size());
+  return session_.credit();
 }
 
 bool DeviceLink::processed(std::uint16_t seq) const {
   std::lock_guard lock(mutex_);
-  return status_ && status_->last_seq != 0 && seq_not_after(seq, status_->last_seq);
+  return session_.processed(seq);
 }
 
 std::optional<protocol::Status> DeviceLink::status() const {
   std::lock_guard lock(mutex_);
-  return status_;
+  return session_.status();
 }
 
 std::uint64_t DeviceLink::statuses() const {

@@ -1,6 +1,7 @@
 #pragma once
-// The player's side of one device session (docs/protocol.md): numbered host reports, a receiver thread
-// that decodes what the device says, flow-control credit, and the clock sync fed by SyncReplies.
+// The player's side of one device session (docs/protocol.md): a receiver thread that decodes what the
+// device says, the session rules (numbering, flow-control credit: transport::HostSession) shared with the
+// receiver under one lock, and the clock sync fed by SyncReplies.
 //
 // Threads: one thread sends (the player); the receiver thread owned here reads the transport. Every
 // query is safe from the player thread while the receiver runs.
@@ -16,6 +17,7 @@
 #include <vector>
 
 #include "host/player/clock_sync.hpp"
+#include "host/transport/host_session.hpp"
 #include "host/transport/transport.hpp"
 
 namespace hmp::player {
@@ -93,20 +95,17 @@ class DeviceLink {
   void receive_loop();
   void on_report(const protocol::Message& m, std::int64_t now);
   protocol::HelloReply greet();
-  std::uint16_t next_seq();
 
   transport::Transport& link_;
   Options options_;
   protocol::HelloReply hello_{};
-  std::uint16_t seq_ = 0;
 
   mutable std::mutex mutex_;
   std::condition_variable wake_;
   bool woken_ = false;
   ClockSync clock_;
-  std::optional<protocol::Status> status_;
+  transport::HostSession session_;
   std::uint64_t statuses_ = 0;
-  std::deque<std::uint16_t> in_flight_;  // note reports not yet covered by a Status.last_seq
   Events events_;
   std::int64_t last_report_us_ = 0;
   std::string dead_reason_;

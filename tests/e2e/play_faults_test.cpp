@@ -107,6 +107,8 @@ class SlowLink : public Wrapper {
 
 // Announces a queue of only `capacity` note reports (a small device) and checks, from outside, that the
 // host never has more note reports outstanding than the last Status allowed.
+// It keeps its own count of outstanding reports on purpose: an oracle independent of the host's
+// transport::HostSession, which is what it checks.
 class SmallQueueLink : public Wrapper {
  public:
   SmallQueueLink(hmp::transport::Transport& inner, std::uint16_t capacity) : Wrapper(inner), capacity_(capacity) {}

@@ -1,13 +1,14 @@
 #pragma once
-// A minimal host for the firmware tests: builds host reports with increasing sequence numbers, hands
-// them to the simulated device, and sorts what comes back by type. Written against the protocol API
-// only, so the tests see the device exactly as a real host would.
+// A minimal host for the firmware tests: builds host reports, numbers them by the session rules every host
+// follows (transport::HostSession), hands them to the simulated device, and sorts what comes back by
+// type. Written against the protocol API only, so the tests see the device exactly as a real host would.
 #include <gtest/gtest.h>
 
 #include <cstdint>
 #include <vector>
 
 #include "boards/sim/sim_device.hpp"
+#include "host/transport/host_session.hpp"
 #include "shared/protocol/protocol.hpp"
 #include "shared/synth/engine.hpp"
 #include "shared/synth/frequency.hpp"
@@ -48,13 +49,12 @@ class HostLink {
  public:
   explicit HostLink(sim::SimDevice& dev) : dev_(dev) {}
 
-  // Encodes (must succeed), numbers and delivers one report; returns its seq.
+  // Numbers, encodes (must succeed: HostSession throws otherwise) and delivers one report; returns its seq.
   std::uint16_t send(p::Message m) {
-    m.seq = ++seq_;
     p::Report r;
-    EXPECT_TRUE(p::encode(m, r)) << "test built an invalid " << p::name(m.type);
+    const std::uint16_t seq = session_.number(m, r);
     dev_.deliver(r);
-    return m.seq;
+    return seq;
   }
   std::uint16_t hello(std::uint16_t version = p::kProtocolVersion) {
     p::Message m = p::make(p::Type::hello, 0);
@@ -138,7 +138,10 @@ class HostLink {
       switch (m.type) {
         case p::Type::hello_reply: out.hellos.push_back(m.hello_reply); break;
         case p::Type::sync_reply: out.syncs.push_back(m.sync_reply); break;
-        case p::Type::status: out.statuses.push_back(m.status); break;
+        case p::Type::status:
+          out.statuses.push_back(m.status);
+          session_.on_status(m.status);
+          break;
         case p::Type::error: out.errors.push_back(m.error); break;
         case p::Type::started:
           ++out.started_reports;
@@ -175,11 +178,13 @@ class HostLink {
     return out;
   }
 
-  std::uint16_t seq() const { return seq_; }
+  std::uint16_t seq() const { return session_.last_sent(); }
+  // Note reports the device will still accept, as of the Statuses collect() has seen.
+  int credit() const { return session_.credit(); }
 
  private:
   sim::SimDevice& dev_;
-  std::uint16_t seq_ = 0;
+  transport::HostSession session_;
 };
 
 // Settings that make the device output exactly the engine's sample (no ramp-in), for sample comparisons.

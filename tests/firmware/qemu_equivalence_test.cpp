@@ -23,6 +23,7 @@
 #include "host/haptics/haptic_track.hpp"
 #include "host/midi/smf_reader.hpp"
 #include "host/transport/handshake.hpp"
+#include "host/transport/host_session.hpp"
 #include "shared/framing/framing.hpp"
 #include "tests/firmware/qemu_runner.hpp"
 
@@ -110,6 +111,7 @@ SongNotes song_notes(std::uint32_t tick_hz, double from_s, double seconds, std::
 
 // What the device has told the host so far.
 struct DeviceView {
+  transport::HostSession session;  // numbering and credit (fed every Status)
   std::optional<p::Status> status;
   std::vector<p::StartedEntry> started;
   std::vector<p::Error> errors;
@@ -121,7 +123,10 @@ struct DeviceView {
       ++undecodable;
       return;
     }
-    if (m.type == p::Type::status) status = m.status;
+    if (m.type == p::Type::status) {
+      status = m.status;
+      session.on_status(m.status);
+    }
     if (m.type == p::Type::error) errors.push_back(m.error);
     if (m.type == p::Type::started) started.insert(started.end(), m.started.entries, m.started.entries + m.started.count);
   }
@@ -147,11 +152,10 @@ Outcome play_on_qemu(const std::string& image, const std::string& options, doubl
   Outcome o;
   QemuFirmware qemu(image, options);
   transport::SerialTransport& link = qemu.link();
-  std::uint16_t seq = 0;
+  transport::HostSession& session = o.device.session;
   auto send = [&](p::Message m) {
-    m.seq = ++seq;
     p::Report r;
-    EXPECT_TRUE(p::encode(m, r)) << p::name(m.type);
+    session.number(m, r);
     EXPECT_TRUE(link.send(r)) << link.closed_reason();
     std::array<std::uint8_t, p::kReportSize> copy;
     std::copy(std::begin(r), std::end(r), copy.begin());
@@ -159,20 +163,22 @@ Outcome play_on_qemu(const std::string& image, const std::string& options, doubl
     return m.seq;
   };
 
-  const auto id = transport::say_hello(link, ++seq, 10s);
+  const std::uint16_t hello_seq = session.take_seq();
+  const auto id = transport::say_hello(link, hello_seq, 10s);
   if (!id || !id->status) {
     ADD_FAILURE() << "no HelloReply/Status from the image:\n" << qemu.log_text();
     return o;
   }
   {
     p::Report hello;
-    p::encode(p::make(p::Type::hello, seq), hello);
+    p::encode(p::make(p::Type::hello, hello_seq), hello);
     o.sent.push_back({});
     std::copy(std::begin(hello), std::end(hello), o.sent.back().begin());
   }
   EXPECT_EQ(id->hello.board, p::Board::qemu_an386);
   o.tick_hz = id->hello.tick_hz;
   o.device.status = id->status;
+  session.restart(id->status);
 
   p::Message settings = p::make(p::Type::settings, 0);
   settings.settings.watchdog_ms = 60000;  // a slow test machine must not trip it; the host syncs anyway
@@ -184,23 +190,17 @@ Outcome play_on_qemu(const std::string& image, const std::string& options, doubl
   play.transport.op = p::TransportOp::play;
   send(play);
 
-  std::vector<std::uint16_t> note_seqs;  // note reports sent, for the credit rule
   const std::size_t corrupt_before = std::min<std::size_t>(7, o.song.batches.size() - 1);
   std::size_t next = 0;
   auto last_sync = Clock::now();
   const auto give_up = Clock::now() + std::chrono::duration<double>(seconds + 30.0);
   while (Clock::now() < give_up && link.is_open()) {
-    // Credit (docs/protocol.md): queue_free as of last_seq, minus the note reports sent after it.
-    const p::Status& s = *o.device.status;
-    const auto in_flight = std::count_if(note_seqs.begin(), note_seqs.end(), [&](std::uint16_t q) {
-      return static_cast<std::int16_t>(q - s.last_seq) > 0;
-    });
-    for (auto credit = s.queue_free - in_flight; credit > 0 && next < o.song.batches.size(); --credit, ++next) {
+    while (session.credit() > 0 && next < o.song.batches.size()) {
       Batch& b = o.song.batches[next];
       if (next == corrupt_before) {
         // The same report it is about to send, framed, with one byte flipped: it may neither become 0x00
         // (which would split it into two frames) nor leave the frame intact.
-        b.msg.seq = static_cast<std::uint16_t>(seq + 1);
+        b.msg.seq = session.next_seq();
         p::Report r;
         p::encode(b.msg, r);
         std::uint8_t frame[framing::kMaxFrame];
@@ -211,8 +211,8 @@ Outcome play_on_qemu(const std::string& image, const std::string& options, doubl
         EXPECT_EQ(::send(qemu.raw_fd(), frame, len, MSG_NOSIGNAL), static_cast<ssize_t>(len));
       }
       const std::uint16_t q = send(b.msg);
-      note_seqs.push_back(q);
       for (std::size_t i = 0; i < b.starts.size(); ++i) o.scheduled[{q, static_cast<std::uint8_t>(i)}] = b.starts[i];
+      ++next;
     }
     if (Clock::now() - last_sync >= 100ms) {
       p::Message sync = p::make(p::Type::sync, 0);
