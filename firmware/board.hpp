@@ -23,7 +23,8 @@ struct BoardSeam {
   void* ctx = nullptr;  // handed back to every call
 
   // Tick context. The vibration sample for this tick in full-scale units, already clamped to the
-  // configured limit |value| ≤ gain ≤ 1 (later boards turn it into motor duties).
+  // configured limit |value| ≤ gain ≤ 1 (a board without motors shows or logs it; with motors the drive
+  // turns it into duties, below).
   void (*output)(void* ctx, float value) = nullptr;
 
   // Background context (Core::poll). One device→host report. Must not block: return false when there is
