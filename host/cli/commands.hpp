@@ -32,5 +32,6 @@ void register_render(CLI::App& app, Registry& registry);
 void register_devices(CLI::App&, Registry&);
 void register_play(CLI::App& app, Registry& registry);
 void register_sim(CLI::App& app, Registry& registry);
+void register_study(CLI::App& app, Registry& registry);
 
 }  // namespace hmp::cli

@@ -12,6 +12,7 @@
 #include "host/audio/audio_events.hpp"
 #include "host/audio/audio_player.hpp"
 #include "host/cli/commands.hpp"
+#include "host/cli/open_link.hpp"
 #include "host/cli/song_options.hpp"
 #include "host/common/error.hpp"
 #include "host/config/config.hpp"
@@ -62,39 +63,6 @@ std::uint32_t default_track(const midi::Song& song) {
   return *first;
 }
 
-struct OpenedLink {
-  std::unique_ptr<player::QemuDevice> qemu;  // the emulator behind a `--device qemu` link (outlives the link)
-  std::unique_ptr<transport::Transport> transport;
-  std::string note;
-};
-
-OpenedLink open_link(const std::string& text, std::uint32_t tick_hz) {
-  const transport::DeviceSpec spec = transport::parse_device_spec(text);
-  OpenedLink out;
-  transport::SimTransport::Options sim;
-  sim.tick_hz = tick_hz;
-  switch (spec.kind) {
-    case transport::DeviceSpec::Kind::sim:
-      out.transport = std::make_unique<transport::SimTransport>(sim);
-      return out;
-    case transport::DeviceSpec::Kind::qemu:
-      out.qemu = std::make_unique<player::QemuDevice>(player::QemuDevice::Options{tick_hz});
-      out.transport = out.qemu->connect();
-      return out;
-    case transport::DeviceSpec::Kind::automatic: {
-      transport::OpenedDevice opened = transport::open_device(spec);
-      out.note = opened.note;
-      // The fallback simulated device runs at the tick rate asked for.
-      if (!opened.note.empty()) opened.transport = std::make_unique<transport::SimTransport>(sim);
-      out.transport = std::move(opened.transport);
-      return out;
-    }
-    default:
-      out.transport = transport::open_device(spec).transport;
-      return out;
-  }
-}
-
 void check_window(const PlayOptions& o, const midi::Song& song) {
   for (const auto& t : {o.from_s, o.to_s}) {
     if (t && !(std::isfinite(*t) && *t >= 0)) throw BadInput("--from/--to: must be seconds ≥ 0");
@@ -135,21 +103,8 @@ int run_play(const PlayOptions& o) {
 
   OpenedLink opened = open_link(o.device, haptic.tick_hz);
   if (!opened.note.empty()) std::fprintf(stderr, "%s\n", opened.note.c_str());
-  player::DeviceLink::Options link_options;
-  // An emulator boots first, and on a busy host that can take a while.
-  if (opened.qemu) link_options.hello_timeout = std::chrono::milliseconds(3000);
-  player::DeviceLink link(*opened.transport, link_options);
-  protocol::HelloReply hello;
-  try {
-    hello = link.connect();
-  } catch (const player::LinkError& e) {
-    // An emulated board that does not answer is most likely an image of something else.
-    if (!opened.qemu) throw;
-    throw player::LinkError(fmt::format("{} (image {}: is it the qemu-an386 firmware?)", e.what(), opened.qemu->image()));
-  }
-  std::fprintf(stderr, "device %s: board %s, firmware %s, %u Hz, %u voices\n", opened.transport->name().c_str(),
-               transport::board_name(hello.board), transport::firmware_version(hello).c_str(), hello.tick_hz,
-               static_cast<unsigned>(hello.voices));
+  player::DeviceLink link(*opened.transport, link_options_for(opened));
+  const protocol::HelloReply hello = connect_and_describe(link, opened);
   if (o.haptic.tick_hz && *o.haptic.tick_hz != hello.tick_hz) {
     std::fprintf(stderr, "warning: the device ticks at %u Hz, not %u: notes are placed at %u Hz\n", hello.tick_hz,
                  *o.haptic.tick_hz, hello.tick_hz);

@@ -89,6 +89,12 @@ std::optional<Key> RawKeys::poll() {
   return std::nullopt;
 }
 
+std::optional<unsigned char> RawKeys::read_byte() {
+  unsigned char byte = 0;
+  if (active_ && read(STDIN_FILENO, &byte, 1) == 1) return byte;
+  return std::nullopt;
+}
+
 std::string format_time(std::int64_t us) {
   if (us < 0) us = 0;
   const std::int64_t tenths = us / 100'000;

@@ -37,6 +37,7 @@ class RawKeys {
   RawKeys& operator=(const RawKeys&) = delete;
   bool active() const { return active_; }
   std::optional<Key> poll();  // never blocks
+  std::optional<unsigned char> read_byte();  // one raw byte, undecoded (hmp study's keys); never blocks
   void restore();
 
  private:

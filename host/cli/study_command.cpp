@@ -1,0 +1,342 @@
+// hmp study --participant ID [--experiment 1|2|both] [--seed N] [--song FILE] [--out DIR] [--device …]
+// hmp study analyze FILES... [--json] [--out fig.png]
+// — the paper's user study (SPEC §15). The session logic is host/study/ (no I/O); this file is the
+// command line, the files and the terminal front-end: keys in, prompts out, the player driven.
+#include <fcntl.h>
+#include <poll.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "host/audio/audio_events.hpp"
+#include "host/audio/audio_player.hpp"
+#include "host/cli/commands.hpp"
+#include "host/cli/open_link.hpp"
+#include "host/cli/song_options.hpp"
+#include "host/common/error.hpp"
+#include "host/player/live_terminal.hpp"
+#include "host/player/player.hpp"
+#include "host/study/analysis.hpp"
+#include "host/study/figure.hpp"
+#include "host/study/session.hpp"
+
+#ifndef HMP_DEMO_SONG
+#define HMP_DEMO_SONG "examples/bach-bwv1050-brandenburg5-mvt3-allegro.mid"
+#endif
+
+namespace hmp::cli {
+
+namespace {
+
+struct StudyOptions {
+  std::optional<std::string> participant;
+  std::string experiment = "both";
+  std::optional<std::uint64_t> seed;
+  std::string song = HMP_DEMO_SONG;
+  std::string out = ".";
+  std::string device = "sim";
+  bool no_audio = false;
+  std::optional<std::string> audio_driver;
+};
+
+struct AnalyzeOptions {
+  std::vector<std::string> files;
+  bool json = false;
+  std::optional<std::string> figure;
+};
+
+double unix_now() {
+  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+
+std::optional<std::string> read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return std::nullopt;
+  std::ostringstream s;
+  s << in.rdbuf();
+  if (in.bad()) throw BadInput(fmt::format("{}: cannot read", path));
+  return s.str();
+}
+
+// Appends in one write and syncs, so that a crash leaves whole rounds (a round's rows go together).
+void append_text(const std::string& path, const std::string& text) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC, 0644);
+  if (fd < 0) throw BadInput(fmt::format("{}: cannot open for appending", path));
+  const ssize_t n = ::write(fd, text.data(), text.size());
+  const bool synced = ::fsync(fd) == 0;
+  ::close(fd);
+  if (n != static_cast<ssize_t>(text.size()) || !synced) throw std::runtime_error(fmt::format("{}: write failed", path));
+}
+
+// The session journal: the seed and experiments, written before the first round so that a session
+// interrupted before any row was written resumes with the same plan.
+struct Journal {
+  std::uint64_t seed = 0;
+  std::string experiments;
+};
+
+std::optional<Journal> read_journal(const std::string& path) {
+  const auto text = read_text(path);
+  if (!text) return std::nullopt;
+  Journal j;
+  unsigned long long seed = 0;
+  char experiments[16] = {};
+  if (std::sscanf(text->c_str(), "seed=%llu\nexperiments=%15s", &seed, experiments) != 2) {
+    throw BadInput(fmt::format("{}:1: not a study journal (expected seed=N and experiments=…)", path));
+  }
+  j.seed = seed;
+  j.experiments = experiments;
+  return j;
+}
+
+// The demo's track of an instrument: the first track with notes whose name starts with it (the demo
+// has "violin" twice and "harpsichordUp:"/"harpsichordDown:"), else --track's rules.
+std::uint32_t instrument_track(const midi::Song& song, const std::string& instrument) {
+  for (const midi::Track& t : song.tracks) {
+    if (t.note_count == 0 || t.name.size() < instrument.size()) continue;
+    bool same = true;
+    for (std::size_t i = 0; i < instrument.size(); ++i) {
+      same = same && std::tolower(static_cast<unsigned char>(t.name[i])) == instrument[i];
+    }
+    if (same) return t.index;
+  }
+  return select_track(song, instrument);
+}
+
+// The player's name of a study envelope, and its place in the player's `e` cycle (auto → square →
+// triangle): the study switches by posting that many cycle commands, the same path as the `e` key.
+const char* player_envelope(study::Envelope e) { return e == study::Envelope::analogue ? "auto" : study::envelope_name(e); }
+int cycle_index(study::Envelope e) { return e == study::Envelope::analogue ? 0 : e == study::Envelope::square ? 1 : 2; }
+
+// Keys from the terminal (raw mode), or from a pipe: scripted participants type through the same path.
+class KeySource {
+ public:
+  std::optional<char> next() {
+    if (raw_.active()) {
+      const auto b = raw_.read_byte();
+      return b ? std::optional<char>(static_cast<char>(*b)) : std::nullopt;
+    }
+    if (ended_) return std::nullopt;
+    pollfd p{STDIN_FILENO, POLLIN, 0};
+    if (::poll(&p, 1, 0) <= 0) return std::nullopt;
+    char c = 0;
+    const ssize_t n = ::read(STDIN_FILENO, &c, 1);
+    if (n == 1) return c;
+    ended_ = true;  // end of input (or an error): nobody is there to answer
+    return std::nullopt;
+  }
+  bool ended() const { return ended_; }
+  void restore() { raw_.restore(); }
+
+ private:
+  player::RawKeys raw_;
+  bool ended_ = false;
+};
+
+std::vector<int> experiments_of(const std::string& text) {
+  if (text == "1") return {1};
+  if (text == "2") return {2};
+  if (text == "both") return {1, 2};
+  throw BadInput(fmt::format("--experiment {}: 1, 2 or both", text));
+}
+
+std::string round_title(const study::Round& r, std::size_t index, std::size_t total) {
+  if (r.practice) {
+    return fmt::format("Practice {} of 2: {} alone (mapping {}). Feel keys 0, 1, 2; rank them A (best), B, C; Enter.",
+                       r.position, r.instrument, study::mapping_of_experiment(r.experiment));
+  }
+  return fmt::format("Round {} of {} — experiment {} ({} mapping), instrument {} of 4: {}", index + 1, total, r.experiment,
+                     study::mapping_of_experiment(r.experiment), r.position, r.instrument);
+}
+
+int run_study(const StudyOptions& o) {
+  if (!o.participant || !study::valid_participant_id(*o.participant)) {
+    throw BadInput(fmt::format("--participant {}: 1–64 letters, digits, '_', '-' or '.' (required)", o.participant.value_or("")));
+  }
+  const std::string& participant = *o.participant;
+  std::vector<int> experiments = experiments_of(o.experiment);
+  struct stat st {};
+  if (::stat(o.out.c_str(), &st) != 0 || !S_ISDIR(st.st_mode)) throw BadInput(fmt::format("--out {}: not a directory", o.out));
+  const std::string results_path = o.out + "/study-results.csv";
+  const std::string journal_path = o.out + "/study-" + participant + ".journal";
+
+  std::uint64_t seed = 0;
+  if (const auto journal = read_journal(journal_path)) {
+    if (o.seed && *o.seed != journal->seed) {
+      throw BadInput(fmt::format("{}: participant {} began with seed {}, not {} (another id starts afresh)", journal_path,
+                                 participant, journal->seed, *o.seed));
+    }
+    if (journal->experiments != o.experiment) {
+      throw BadInput(fmt::format("{}: participant {} began with --experiment {}", journal_path, participant, journal->experiments));
+    }
+    seed = journal->seed;
+    std::fprintf(stderr, "resuming participant %s (seed %llu)\n", participant.c_str(), static_cast<unsigned long long>(seed));
+  } else {
+    seed = o.seed ? *o.seed : (std::uint64_t{std::random_device{}()} << 32 | std::random_device{}());
+    append_text(journal_path, fmt::format("seed={}\nexperiments={}\n", seed, o.experiment));
+  }
+
+  std::vector<study::ResultRow> existing;
+  const auto results_text = read_text(results_path);
+  if (results_text) existing = study::parse_results(*results_text, results_path);
+  study::Session session({participant, seed, experiments, version_string()}, existing);
+  if (session.done()) {
+    std::printf("participant %s: all %zu rounds are done (%s)\n", participant.c_str(), session.plan().size(), results_path.c_str());
+    return kExitOk;
+  }
+  if (!results_text || results_text->empty()) append_text(results_path, std::string(study::kResultsHeader) + "\n");
+
+  const midi::ReadResult loaded = midi::load_song(o.song);
+  const midi::Song& song = loaded.song;
+  std::map<std::string, std::uint32_t> tracks;
+  for (const char* i : study::kInstruments) tracks[i] = instrument_track(song, i);
+
+  haptics::HapticOptions haptic;
+  OpenedLink opened = open_link(o.device, haptic.tick_hz);
+  if (!opened.note.empty()) std::fprintf(stderr, "%s\n", opened.note.c_str());
+  player::DeviceLink link(*opened.transport, link_options_for(opened));
+  connect_and_describe(link, opened);
+
+  audio::AudioOptions audio_options;
+  audio_options.enabled = !o.no_audio;
+  if (o.audio_driver) audio_options.drivers = {*o.audio_driver};
+  audio::AudioPlayer audio(audio_options);
+
+  KeySource keys;
+  player::install_stop_signals();
+  std::printf("participant %s, seed %llu: %zu of %zu rounds done; results go to %s\n", participant.c_str(),
+              static_cast<unsigned long long>(seed), session.rounds_done(), session.plan().size(), results_path.c_str());
+  std::fflush(stdout);
+
+  std::size_t round_index = session.rounds_done();
+  while (!session.done()) {
+    study::RoundState& round = session.begin_round(unix_now());
+    const study::Round plan = round.round();
+    const std::uint32_t track = tracks.at(plan.instrument);
+    std::printf("\n%s\n%s\n", round_title(plan, round_index, session.plan().size()).c_str(), round.prompt().c_str());
+    std::fflush(stdout);
+    // Practice rounds: the instrument alone; the others' sound is left out.
+    audio.set_events(plan.practice ? audio::audio_events(song.track_notes(track), song.tempo_map) : audio::audio_events(song));
+
+    bool round_over = false, interrupted = false;
+    while (!round_over && !interrupted) {  // the song loops until the round is ranked
+      player::PlayerOptions po;
+      po.track = track;
+      po.haptic = haptic;
+      po.haptic.mapping = plan.experiment == 2 ? mapping::Mode::constant : mapping::Mode::paper;
+      const study::Envelope playing = session.current()->selected_envelope();
+      po.haptic.envelope = player_envelope(playing);
+      po.on_message = [](const std::string&) {};  // the study shows its own prompts, not the player's notices
+      player::Player* running = nullptr;
+      study::Envelope in_player = playing;
+      po.on_idle = [&] {
+        if (player::stop_signal() != 0) {
+          interrupted = true;
+          running->post(player::Command::interrupt);
+          return;
+        }
+        while (!round_over) {
+          const auto c = keys.next();
+          if (!c) break;
+          const auto action = study::action_for_key(*c);
+          if (!action) continue;
+          const study::Reply reply = session.act(*action, unix_now());
+          if (reply.finished) {
+            std::string rows;
+            for (const study::ResultRow& r : session.take_rows()) rows += study::format_row(r) + "\n";
+            append_text(results_path, rows);
+            std::printf("%s\n", reply.message.c_str());
+            round_over = true;
+            running->post(player::Command::quit);
+            break;
+          }
+          std::printf("%s\n%s\n", reply.message.c_str(), session.current()->prompt().c_str());
+          if (reply.envelope_changed) {
+            const study::Envelope next = session.current()->selected_envelope();
+            for (int n = (cycle_index(next) - cycle_index(in_player) + 3) % 3; n > 0; --n) running->post(player::Command::cycle_envelope);
+            in_player = next;
+          }
+        }
+        std::fflush(stdout);
+        if (!round_over && keys.ended()) {
+          interrupted = true;  // input ended mid-round: stop as after Ctrl-C, resumable
+          running->post(player::Command::interrupt);
+        }
+      };
+      player::Player player(link, audio, song, po);
+      running = &player;
+      player.run();
+    }
+    if (interrupted) {
+      keys.restore();
+      std::fprintf(stderr, "study interrupted in round %zu of %zu; the finished rounds are in %s. Run the same command "
+                   "again to resume.\n", round_index + 1, session.plan().size(), results_path.c_str());
+      return 128 + (player::stop_signal() != 0 ? player::stop_signal() : 2);
+    }
+    ++round_index;
+  }
+  keys.restore();
+  std::printf("\nthank you: participant %s has finished all %zu rounds (%s)\n", participant.c_str(), session.plan().size(),
+              results_path.c_str());
+  return kExitOk;
+}
+
+int run_analyze(const AnalyzeOptions& o) {
+  std::vector<study::ResultRow> rows;
+  for (const std::string& file : o.files) {
+    const auto text = read_text(file);
+    if (!text) throw BadInput(fmt::format("{}: cannot open", file));
+    if (text->empty()) throw BadInput(fmt::format("{}:1: empty file (no header)", file));
+    for (study::ResultRow& r : study::parse_results(*text, file)) rows.push_back(std::move(r));
+  }
+  const std::vector<study::GroupAnalysis> groups = study::analyze(rows);
+  if (groups.empty()) throw BadInput("no main-round rows to analyse (practice rows are not analysed)");
+  if (o.json) std::printf("%s\n", study::to_json(groups).dump(2).c_str());
+  else std::printf("%s", study::format_report(groups).c_str());
+  if (o.figure) {
+    study::write_figure(groups, *o.figure);
+    std::fprintf(stderr, "figure: %s\n", o.figure->c_str());
+  }
+  return kExitOk;
+}
+
+}  // namespace
+
+void register_study(CLI::App& app, Registry& registry) {
+  auto o = std::make_shared<StudyOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "study", "Run the paper's user study for one participant (keys 0/1/2 switch, a/b/c rank, u undo, Enter next); "
+               "`study analyze` evaluates results");
+  cmd->add_option("--participant", o->participant, "Participant id (letters, digits, _ - .); required to run a session");
+  cmd->add_option("--experiment", o->experiment, "1 (mapping paper), 2 (mapping constant) or both")
+      ->check(CLI::IsMember({"1", "2", "both"}))
+      ->capture_default_str();
+  cmd->add_option("--seed", o->seed, "Seed of the random orders (default: random; stored with the results)");
+  cmd->add_option("--song", o->song, "The song (default: the demo)")->capture_default_str();
+  cmd->add_option("--out", o->out, "Directory of study-results.csv and the session journals")->capture_default_str();
+  cmd->add_option("--device", o->device, "sim (default), qemu, auto, hid[:VID:PID], serial:PATH")->capture_default_str();
+  cmd->add_flag("--no-audio", o->no_audio, "No sound: no audio device is opened");
+  cmd->add_option("--audio-driver", o->audio_driver, "Audio output, as for play")
+      ->check(CLI::IsMember({"pulseaudio", "alsa", "sdl2", "jack", "oss", "pipewire", "virtual"}));
+
+  auto a = std::make_shared<AnalyzeOptions>();
+  CLI::App* analyze = cmd->add_subcommand(
+      "analyze", "Per experiment and instrument: first-place votes, pairwise majorities, Copeland winners, Friedman, Kendall's W");
+  analyze->add_option("FILES", a->files, "Results files (study-results.csv)")->required();
+  analyze->add_flag("--json", a->json, "JSON instead of the table");
+  analyze->add_option("--out", a->figure, "PNG like the paper's Figure 3");
+  analyze->callback([a, &registry] { registry.set([a] { return run_analyze(*a); }); });
+  cmd->callback([o, cmd, analyze, &registry] {
+    if (analyze->parsed()) return;
+    registry.set([o] { return run_study(*o); });
+  });
+}
+
+}  // namespace hmp::cli

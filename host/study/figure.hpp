@@ -1,0 +1,14 @@
+#pragma once
+// The PNG of `hmp study analyze --out` in the style of the paper's Figure 3: per instrument the
+// first-place votes of each envelope as bars, experiment 1 and 2 side by side, the Copeland winners
+// marked with a star.
+#include <string>
+#include <vector>
+
+#include "host/study/analysis.hpp"
+
+namespace hmp::study {
+
+void write_figure(const std::vector<GroupAnalysis>& groups, const std::string& path);  // throws BadInput on write errors
+
+}  // namespace hmp::study
