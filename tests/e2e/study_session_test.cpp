@@ -1,0 +1,201 @@
+// `hmp study` end to end (SPEC §15): scripted participants type through the same key path as a person
+// (stdin; a pipe instead of a terminal) on the simulated device without audio. Whole sessions for both
+// experiments give exactly 2 × 4 × 3 rows + 6 practice rows each; a session killed (SIGKILL) mid-way
+// and one whose input ends resume where they stopped, without touching the rows already written; the
+// analysis of the pilot names the winners the scripts chose.
+#include <gtest/gtest.h>
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "host/study/plan.hpp"
+#include "play_harness.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+namespace test = hmp::test;
+using hmp::study::Envelope;
+using Preference = std::map<Envelope, char>;  // the letter a scripted participant gives each envelope
+
+const Preference kAnalogueFirst{{Envelope::analogue, 'a'}, {Envelope::triangle, 'b'}, {Envelope::square, 'c'}};
+const Preference kTriangleFirst{{Envelope::triangle, 'a'}, {Envelope::analogue, 'b'}, {Envelope::square, 'c'}};
+
+// The keys of one round, with the detours a person takes: going on too early, a letter already
+// taken, an unknown key, an undo.
+std::string round_keys(const hmp::study::Round& r, const Preference& pref) {
+  std::string k = "\nx";  // Enter before ranking: refused; x: no meaning
+  for (int key = 0; key < 3; ++key) {
+    const char letter = pref.at(r.by_key[static_cast<std::size_t>(key)]);
+    k += static_cast<char>('0' + key);
+    k += letter;
+    if (key == 0) k += "u";          // undo it…
+    if (key == 0) k += letter;       // …and rank again
+    if (key == 1) k += pref.at(r.by_key[0]);  // a letter key 0 holds: refused
+  }
+  return k + "\n";
+}
+
+std::string session_keys(const std::string& participant, std::uint64_t seed, std::size_t from, std::size_t to,
+                         const Preference& exp1, const Preference& exp2) {
+  const auto plan = hmp::study::make_plan(participant, seed, {1, 2});
+  std::string keys;
+  for (std::size_t i = from; i < std::min(to, plan.size()); ++i) {
+    keys += round_keys(plan[i], plan[i].experiment == 1 ? exp1 : exp2);
+  }
+  return keys;
+}
+
+class StudyE2e : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("hmp-study-e2e-" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::string results() const { return slurp(dir_ / "study-results.csv"); }
+  static std::string slurp(const fs::path& p) {
+    std::ifstream in(p);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+  }
+  std::size_t rows_of(const std::string& participant) const {
+    std::size_t n = 0;
+    std::istringstream in(results());
+    for (std::string line; std::getline(in, line);) n += line.rfind(participant + ",", 0) == 0 ? 1 : 0;
+    return n;
+  }
+  test::CommandResult study(const std::string& participant, std::uint64_t seed, const std::string& keys) {
+    const fs::path keys_file = dir_ / ("keys-" + participant);
+    std::ofstream(keys_file) << keys;
+    return test::run_command(test::kHmp + " study --participant " + participant + " --seed " + std::to_string(seed) +
+                             " --device sim --no-audio --out '" + dir_.string() + "' < '" + keys_file.string() + "'");
+  }
+  fs::path dir_;
+};
+
+TEST_F(StudyE2e, TwoParticipantPilotAndItsAnalysis) {
+  const auto a = study("anna", 11, session_keys("anna", 11, 0, 10, kAnalogueFirst, kAnalogueFirst));
+  ASSERT_EQ(a.status, 0) << a.err;
+  const auto b = study("bert", 11, session_keys("bert", 11, 0, 10, kAnalogueFirst, kTriangleFirst));
+  ASSERT_EQ(b.status, 0) << b.err;
+  EXPECT_EQ(rows_of("anna"), 2u * 4u * 3u + 6u);
+  EXPECT_EQ(rows_of("bert"), 2u * 4u * 3u + 6u);
+  // Done participants are not asked again; nothing is appended.
+  const std::string before = results();
+  const auto again = study("anna", 11, "");
+  EXPECT_EQ(again.status, 0) << again.err;
+  EXPECT_EQ(results(), before);
+
+  const auto report = test::run_command(test::kHmp + " study analyze '" + (dir_ / "study-results.csv").string() +
+                                        "' --json --out '" + (dir_ / "fig.png").string() + "'");
+  ASSERT_EQ(report.status, 0) << report.err;
+  const auto json = nlohmann::json::parse(report.out);
+  ASSERT_EQ(json.size(), 8u);
+  for (const auto& g : json) {
+    EXPECT_EQ(g["participants"], 2);
+    if (g["experiment"] == 1) {
+      // Both rank analogue, triangle, square: full agreement.
+      EXPECT_EQ(g["copeland_winners"], nlohmann::json::array({"analogue"}));
+      EXPECT_EQ(g["envelopes"]["analogue"]["first_place_votes"], 2);
+      EXPECT_NEAR(g["kendall_w"].get<double>(), 1.0, 1e-12);
+      EXPECT_NEAR(g["friedman"]["chi2"].get<double>(), 4.0, 1e-12);
+    } else {
+      // Analogue and triangle split 1:1 and both beat square: a tie, stated.
+      EXPECT_EQ(g["copeland_winners"], nlohmann::json::array({"triangle", "analogue"}));
+      EXPECT_EQ(g["copeland_tie"], true);
+      EXPECT_EQ(g["envelopes"]["square"]["copeland_score"], -2);
+      EXPECT_EQ(g["envelopes"]["triangle"]["preferred_over"]["square"], 2);
+    }
+  }
+  EXPECT_GT(fs::file_size(dir_ / "fig.png"), 1000u);
+  const auto text = test::run_command(test::kHmp + " study analyze '" + (dir_ / "study-results.csv").string() + "'");
+  EXPECT_NE(text.out.find("Copeland winner: triangle = analogue (tie of 2)"), std::string::npos) << text.out;
+}
+
+TEST_F(StudyE2e, ResumesAfterAKillAndAfterInputEnds) {
+  const std::string all = session_keys("carl", 3, 0, 10, kAnalogueFirst, kTriangleFirst);
+  const std::string first_part = session_keys("carl", 3, 0, 4, kAnalogueFirst, kTriangleFirst) + "01a";  // + half a round
+  // Run with the keys on a pipe that stays open, as a person still at the keyboard; kill once the
+  // four rounds' rows are written.
+  int in[2];
+  ASSERT_EQ(::pipe(in), 0);
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    ::dup2(in[0], STDIN_FILENO);
+    ::close(in[1]);
+    const int null = ::open("/dev/null", O_WRONLY);
+    ::dup2(null, STDOUT_FILENO);
+    ::dup2(null, STDERR_FILENO);
+    const std::string out = dir_.string();
+    ::execl(test::kHmp.c_str(), "hmp", "study", "--participant", "carl", "--seed", "3", "--device", "sim", "--no-audio",
+            "--out", out.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  ::close(in[0]);
+  ASSERT_EQ(::write(in[1], first_part.data(), first_part.size()), static_cast<ssize_t>(first_part.size()));
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (rows_of("carl") < 12 && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));  // it is in round 5 now, waiting for keys
+  ::kill(pid, SIGKILL);
+  ::waitpid(pid, nullptr, 0);
+  ::close(in[1]);
+  ASSERT_EQ(rows_of("carl"), 12u);
+  const std::string written = results();
+
+  // Input that ends mid-round: the session stops like on Ctrl-C (exit 130), the finished rounds kept.
+  const auto partial = study("carl", 3, session_keys("carl", 3, 4, 6, kAnalogueFirst, kTriangleFirst) + "0");
+  EXPECT_EQ(partial.status, 130) << partial.err;
+  EXPECT_NE(partial.err.find("resume"), std::string::npos) << partial.err;
+  EXPECT_EQ(rows_of("carl"), 18u);
+  EXPECT_EQ(results().substr(0, written.size()), written);  // appended, never rewritten
+
+  // Another seed for the same participant: refused (exit 2), nothing written.
+  const auto wrong = study("carl", 4, "");
+  EXPECT_EQ(wrong.status, 2);
+  EXPECT_NE(wrong.err.find("seed 3"), std::string::npos) << wrong.err;
+
+  const auto rest = study("carl", 3, session_keys("carl", 3, 6, 10, kAnalogueFirst, kTriangleFirst));
+  ASSERT_EQ(rest.status, 0) << rest.err;
+  EXPECT_EQ(rows_of("carl"), 30u);
+  EXPECT_EQ(results().substr(0, written.size()), written);
+  // The same rows as one uninterrupted run gives (ranks per round and envelope).
+  const auto straight = study("dora", 3, all);
+  ASSERT_EQ(straight.status, 0) << straight.err;
+  const auto report = test::run_command(test::kHmp + " study analyze '" + (dir_ / "study-results.csv").string() + "' --json");
+  ASSERT_EQ(report.status, 0) << report.err;
+  EXPECT_EQ(nlohmann::json::parse(report.out).size(), 8u);
+}
+
+TEST_F(StudyE2e, BadInputIsOneLineAndExit2) {
+  const auto no_id = test::run_command(test::kHmp + " study --no-audio --out '" + dir_.string() + "' </dev/null");
+  EXPECT_EQ(no_id.status, 2);
+  EXPECT_NE(no_id.err.find("--participant"), std::string::npos) << no_id.err;
+  const auto bad_dir = test::run_command(test::kHmp + " study --participant x --out /nonexistent/dir </dev/null");
+  EXPECT_EQ(bad_dir.status, 2);
+  std::ofstream(dir_ / "bad.csv") << "participant,experiment\n";
+  const auto bad = test::run_command(test::kHmp + " study analyze '" + (dir_ / "bad.csv").string() + "'");
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.err.find("bad.csv:1:"), std::string::npos) << bad.err;
+  EXPECT_EQ(std::count(bad.err.begin(), bad.err.end(), '\n'), 1);
+  const auto missing = test::run_command(test::kHmp + " study analyze '" + (dir_ / "none.csv").string() + "'");
+  EXPECT_EQ(missing.status, 2);
+}
+
+}  // namespace
