@@ -210,6 +210,7 @@ int run_study(const StudyOptions& o) {
   audio::AudioPlayer audio(audio_options);
 
   KeySource keys;
+  const bool scripted = !isatty(STDIN_FILENO);
   player::install_stop_signals();
   std::printf("participant %s, seed %llu: %zu of %zu rounds done; results go to %s\n", participant.c_str(),
               static_cast<unsigned long long>(seed), session.rounds_done(), session.plan().size(), results_path.c_str());
@@ -220,6 +221,7 @@ int run_study(const StudyOptions& o) {
     study::RoundState& round = session.begin_round(unix_now());
     const study::Round plan = round.round();
     const std::uint32_t track = tracks.at(plan.instrument);
+    if (scripted) std::fprintf(stderr, "study: round %s %d %s; key 0\n", plan.practice ? "practice" : "main", plan.experiment, plan.instrument.c_str());
     std::printf("\n%s\n%s\n", round_title(plan, round_index, session.plan().size()).c_str(), round.prompt().c_str());
     std::fflush(stdout);
     // Practice rounds: the instrument alone; the others' sound is left out.
@@ -233,7 +235,11 @@ int run_study(const StudyOptions& o) {
       po.haptic.mapping = plan.experiment == 2 ? mapping::Mode::constant : mapping::Mode::paper;
       const study::Envelope playing = session.current()->selected_envelope();
       po.haptic.envelope = player_envelope(playing);
-      po.on_message = [](const std::string&) {};  // the study shows its own prompts, not the player's notices
+      // The player's notices name the envelope, which the participant must not see; a script (stdin not a
+      // terminal) gets them on stderr, each after the study's own "study: key K" line, to check the switch.
+      po.on_message = [&](const std::string& text) {
+        if (scripted) std::fprintf(stderr, "player: %s\n", text.c_str());
+      };
       player::Player* running = nullptr;
       study::Envelope in_player = playing;
       po.on_idle = [&] {
@@ -260,8 +266,10 @@ int run_study(const StudyOptions& o) {
           std::printf("%s\n%s\n", reply.message.c_str(), session.current()->prompt().c_str());
           if (reply.envelope_changed) {
             const study::Envelope next = session.current()->selected_envelope();
+            if (scripted) std::fprintf(stderr, "study: key %d\n", session.current()->selected_key());
             for (int n = (cycle_index(next) - cycle_index(in_player) + 3) % 3; n > 0; --n) running->post(player::Command::cycle_envelope);
             in_player = next;
+            break;  // the player switches before the next key is read
           }
         }
         std::fflush(stdout);

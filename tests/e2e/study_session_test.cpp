@@ -17,6 +17,7 @@
 #include <sstream>
 #include <thread>
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "host/study/plan.hpp"
@@ -57,6 +58,40 @@ std::string session_keys(const std::string& participant, std::uint64_t seed, std
   return keys;
 }
 
+
+// Checks, from a scripted run's stderr, that after every switch the player plays what the plan has under
+// that key: the last player notice before the study's next line names the round's track, envelope and
+// mapping ("auto" is the player's name of the analogue envelope).
+void expect_switches_follow_plan(const std::string& err, const std::vector<hmp::study::Round>& plan) {
+  std::istringstream in(err);
+  int round = -1, switches = 0;
+  std::string expected, last_notice;
+  auto check = [&] {
+    if (expected.empty()) return;
+    EXPECT_NE(last_notice.find(expected), std::string::npos) << "expected " << expected << ", player said: " << last_notice;
+    ++switches;
+    expected.clear();
+  };
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("player: ", 0) == 0) {
+      last_notice = line;
+    } else if (line.rfind("study: round", 0) == 0) {
+      check();
+      ++round;
+    } else if (line.rfind("study: key ", 0) == 0) {
+      check();
+      last_notice.clear();
+      const hmp::study::Round& r = plan.at(static_cast<std::size_t>(round));
+      const Envelope e = r.by_key.at(static_cast<std::size_t>(std::stoi(line.substr(11))));
+      expected = fmt::format("envelope {}, mapping {}", e == Envelope::analogue ? "auto" : hmp::study::envelope_name(e),
+                             hmp::study::mapping_of_experiment(r.experiment));
+    }
+  }
+  check();
+  EXPECT_EQ(round + 1, static_cast<int>(plan.size()));
+  EXPECT_EQ(switches, 2 * static_cast<int>(plan.size()));  // keys 1 and 2 of every round
+}
+
 class StudyE2e : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -91,6 +126,7 @@ class StudyE2e : public ::testing::Test {
 TEST_F(StudyE2e, TwoParticipantPilotAndItsAnalysis) {
   const auto a = study("anna", 11, session_keys("anna", 11, 0, 10, kAnalogueFirst, kAnalogueFirst));
   ASSERT_EQ(a.status, 0) << a.err;
+  expect_switches_follow_plan(a.err, hmp::study::make_plan("anna", 11, {1, 2}));
   const auto b = study("bert", 11, session_keys("bert", 11, 0, 10, kAnalogueFirst, kTriangleFirst));
   ASSERT_EQ(b.status, 0) << b.err;
   EXPECT_EQ(rows_of("anna"), 2u * 4u * 3u + 6u);
