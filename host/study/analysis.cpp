@@ -38,8 +38,8 @@ std::vector<GroupAnalysis> analyze(const std::vector<ResultRow>& rows) {
     auto& ranks = tables[{r.experiment, instrument}][r.participant];
     if (ranks.empty()) ranks.assign(3, 0.0);
     if (ranks[index_of(r.envelope)] != 0) {
-      throw BadInput(fmt::format("participant {} has experiment {} {} twice (row of line {}; the same file given twice?)",
-                                 r.participant, r.experiment, r.instrument, r.line));
+      throw BadInput(fmt::format("{}:{}: participant {} has experiment {} {} twice (the same results in two files?)", r.file,
+                                 r.line, r.participant, r.experiment, r.instrument));
     }
     ranks[index_of(r.envelope)] = r.rank;
   }

@@ -69,6 +69,7 @@ ResultRow parse_row(const std::string& text, const std::string& file, int line) 
   const std::vector<std::string> f = split(text);
   if (f.size() != kFields) fail(file, line, fmt::format("{} fields, expected {}", f.size(), kFields));
   ResultRow r;
+  r.file = file;
   r.line = line;
   r.participant = f[0];
   if (!valid_participant_id(r.participant)) fail(file, line, fmt::format("bad participant id \"{}\"", f[0]));

@@ -25,7 +25,8 @@ struct ResultRow {
   double round_started = 0, ranked_at = 0, round_ended = 0;  // Unix time, seconds (UTC in the file)
   std::uint64_t seed = 0;
   std::string version;
-  int line = 0;  // where it was read from (0: not read)
+  std::string file;  // where it was read from (empty, line 0: not read)
+  int line = 0;
 };
 
 extern const char* const kResultsHeader;

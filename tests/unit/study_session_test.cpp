@@ -301,8 +301,14 @@ TEST(StudyAnalysis, GroupsAndDuplicateFiles) {
   EXPECT_EQ(groups[7].experiment, 2);
   EXPECT_EQ(groups[7].instrument, "harpsichord");
   auto twice = all;
+  for (ResultRow& r : all) r.file = "second.csv", r.line = 7;
   twice.insert(twice.end(), all.begin(), all.end());
-  EXPECT_THROW(analyze(twice), hmp::BadInput);
+  try {
+    analyze(twice);
+    ADD_FAILURE() << "no error";
+  } catch (const hmp::BadInput& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("second.csv:7: participant a has experiment 1", 0), 0u) << e.what();
+  }
 }
 
 }  // namespace
