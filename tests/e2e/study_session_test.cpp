@@ -21,6 +21,7 @@
 #include <nlohmann/json.hpp>
 
 #include "host/study/plan.hpp"
+#include "../unit/midi_builder.hpp"
 #include "play_harness.hpp"
 
 namespace {
@@ -217,6 +218,59 @@ TEST_F(StudyE2e, ResumesAfterAKillAndAfterInputEnds) {
   const auto report = test::run_command(test::kHmp + " study analyze '" + (dir_ / "study-results.csv").string() + "' --json");
   ASSERT_EQ(report.status, 0) << report.err;
   EXPECT_EQ(nlohmann::json::parse(report.out).size(), 8u);
+}
+
+TEST_F(StudyE2e, TheSongLoopsUntilTheRoundIsRanked) {
+  // A one-second song with the four instruments (GM programs) on tracks of their names.
+  std::vector<midi_test::Events> tracks;
+  const std::pair<const char*, int> instruments[] = {{"flute", 73}, {"violin", 40}, {"contrabass", 43}, {"harpsichord", 6}};
+  for (int ch = 0; ch < 4; ++ch) {
+    midi_test::Events e;
+    e.name(0, instruments[ch].first).program(0, ch, instruments[ch].second);
+    e.on(0, ch, 60 + ch).off(480, ch, 60 + ch).on(0, ch, 64 + ch).off(480, ch, 64 + ch).end();
+    tracks.push_back(e);
+  }
+  const midi_test::Bytes bytes = midi_test::smf(1, 480, tracks);
+  const fs::path song = dir_ / "short.mid";
+  std::ofstream(song, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+
+  int in[2];
+  ASSERT_EQ(::pipe(in), 0);
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    ::dup2(in[0], STDIN_FILENO);
+    ::close(in[1]);
+    const int null = ::open("/dev/null", O_WRONLY);
+    ::dup2(null, STDOUT_FILENO);
+    ::dup2(null, STDERR_FILENO);
+    const std::string out = dir_.string(), song_path = song.string();
+    ::execl(test::kHmp.c_str(), "hmp", "study", "--participant", "loop", "--seed", "1", "--experiment", "1", "--song",
+            song_path.c_str(), "--device", "sim", "--no-audio", "--out", out.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  ::close(in[0]);
+  std::this_thread::sleep_for(std::chrono::milliseconds(3500));  // three times the song on key 0
+  const std::string keys = "a1b2c\n";
+  ASSERT_EQ(::write(in[1], keys.data(), keys.size()), static_cast<ssize_t>(keys.size()));
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  while (rows_of("loop") < 3 && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  ::close(in[1]);  // input ends: the session stops, resumable
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 130) << status;
+  ASSERT_EQ(rows_of("loop"), 3u);
+  std::istringstream rows(results());
+  std::string line;
+  std::getline(rows, line);  // header
+  std::getline(rows, line);  // key 0's row
+  std::vector<std::string> f;
+  std::stringstream fields(line);
+  for (std::string x; std::getline(fields, x, ',');) f.push_back(x);
+  ASSERT_EQ(f.size(), 16u) << line;
+  EXPECT_EQ(f[7], "0");
+  EXPECT_GE(std::stod(f[9]), 3.0) << line;  // seconds_felt: the player kept going past the song's end
 }
 
 TEST_F(StudyE2e, BadInputIsOneLineAndExit2) {
