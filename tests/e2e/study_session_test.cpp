@@ -93,6 +93,29 @@ void expect_switches_follow_plan(const std::string& err, const std::vector<hmp::
   EXPECT_EQ(switches, 2 * static_cast<int>(plan.size()));  // keys 1 and 2 of every round
 }
 
+// Starts `hmp ARGS…` with stdin on a pipe that stays open (a person still at the keyboard) and its output
+// discarded; returns its pid and the pipe's write end.
+std::pair<pid_t, int> start_hmp_with_keyboard(std::vector<std::string> args) {
+  int in[2];
+  if (::pipe(in) != 0) return {-1, -1};
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    ::dup2(in[0], STDIN_FILENO);
+    ::close(in[1]);
+    const int null = ::open("/dev/null", O_WRONLY);
+    ::dup2(null, STDOUT_FILENO);
+    ::dup2(null, STDERR_FILENO);
+    args.insert(args.begin(), "hmp");
+    std::vector<char*> argv;
+    for (std::string& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    ::execv(test::kHmp.c_str(), argv.data());
+    ::_exit(127);
+  }
+  ::close(in[0]);
+  return {pid, in[1]};
+}
+
 class StudyE2e : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -169,22 +192,10 @@ TEST_F(StudyE2e, ResumesAfterAKillAndAfterInputEnds) {
   const std::string first_part = session_keys("carl", 3, 0, 4, kAnalogueFirst, kTriangleFirst) + "01a";  // + half a round
   // Run with the keys on a pipe that stays open, as a person still at the keyboard; kill once the
   // four rounds' rows are written.
-  int in[2];
-  ASSERT_EQ(::pipe(in), 0);
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    ::dup2(in[0], STDIN_FILENO);
-    ::close(in[1]);
-    const int null = ::open("/dev/null", O_WRONLY);
-    ::dup2(null, STDOUT_FILENO);
-    ::dup2(null, STDERR_FILENO);
-    const std::string out = dir_.string();
-    ::execl(test::kHmp.c_str(), "hmp", "study", "--participant", "carl", "--seed", "3", "--device", "sim", "--no-audio",
-            "--out", out.c_str(), static_cast<char*>(nullptr));
-    ::_exit(127);
-  }
-  ::close(in[0]);
-  ASSERT_EQ(::write(in[1], first_part.data(), first_part.size()), static_cast<ssize_t>(first_part.size()));
+  const auto [pid, keyboard] = start_hmp_with_keyboard({"study", "--participant", "carl", "--seed", "3", "--device", "sim",
+                                                        "--no-audio", "--out", dir_.string()});
+  ASSERT_GT(pid, 0);
+  ASSERT_EQ(::write(keyboard, first_part.data(), first_part.size()), static_cast<ssize_t>(first_part.size()));
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
   while (rows_of("carl") < 12 && std::chrono::steady_clock::now() < deadline) {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
@@ -192,7 +203,7 @@ TEST_F(StudyE2e, ResumesAfterAKillAndAfterInputEnds) {
   std::this_thread::sleep_for(std::chrono::milliseconds(300));  // it is in round 5 now, waiting for keys
   ::kill(pid, SIGKILL);
   ::waitpid(pid, nullptr, 0);
-  ::close(in[1]);
+  ::close(keyboard);
   ASSERT_EQ(rows_of("carl"), 12u);
   const std::string written = results();
 
@@ -234,29 +245,18 @@ TEST_F(StudyE2e, TheSongLoopsUntilTheRoundIsRanked) {
   const fs::path song = dir_ / "short.mid";
   std::ofstream(song, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
 
-  int in[2];
-  ASSERT_EQ(::pipe(in), 0);
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    ::dup2(in[0], STDIN_FILENO);
-    ::close(in[1]);
-    const int null = ::open("/dev/null", O_WRONLY);
-    ::dup2(null, STDOUT_FILENO);
-    ::dup2(null, STDERR_FILENO);
-    const std::string out = dir_.string(), song_path = song.string();
-    ::execl(test::kHmp.c_str(), "hmp", "study", "--participant", "loop", "--seed", "1", "--experiment", "1", "--song",
-            song_path.c_str(), "--device", "sim", "--no-audio", "--out", out.c_str(), static_cast<char*>(nullptr));
-    ::_exit(127);
-  }
-  ::close(in[0]);
+  const auto [pid, keyboard] = start_hmp_with_keyboard({"study", "--participant", "loop", "--seed", "1", "--experiment",
+                                                        "1", "--song", song.string(), "--device", "sim", "--no-audio",
+                                                        "--out", dir_.string()});
+  ASSERT_GT(pid, 0);
   std::this_thread::sleep_for(std::chrono::milliseconds(3500));  // three times the song on key 0
   const std::string keys = "a1b2c\n";
-  ASSERT_EQ(::write(in[1], keys.data(), keys.size()), static_cast<ssize_t>(keys.size()));
+  ASSERT_EQ(::write(keyboard, keys.data(), keys.size()), static_cast<ssize_t>(keys.size()));
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
   while (rows_of("loop") < 3 && std::chrono::steady_clock::now() < deadline) {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
-  ::close(in[1]);  // input ends: the session stops, resumable
+  ::close(keyboard);  // input ends: the session stops, resumable
   int status = 0;
   ::waitpid(pid, &status, 0);
   EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 130) << status;
