@@ -94,6 +94,11 @@ void Core::on_tick() {
   if (estop_pending_.load(std::memory_order_acquire) && estop_pending_.exchange(false, std::memory_order_acq_rel)) {
     emergency_stop();
   }
+  if (link_lost_.load(std::memory_order_acquire) && link_lost_.exchange(false, std::memory_order_acq_rel) &&
+      state_ == State::playing) {
+    log_event("link lost (suspend): fading out at tick ", tick_);
+    fade_out(State::paused);
+  }
   const std::uint32_t lost = inbox_lost_.load(std::memory_order_acquire);
   if (lost != stats_.inbox_full) {
     faults_ |= protocol::fault_queue_overflow;

@@ -98,6 +98,10 @@ class Core {
   static InboxEntry decode_packet(const protocol::Report& report);
   bool on_decoded(const InboxEntry& decoded, std::uint32_t* stamped_tick = nullptr);
   bool inbox_has_room() const { return inbox_.has_room(); }
+  // The link to the host is gone for now (USB suspend): on the next tick, as the host watchdog would but
+  // at once, a playing device fades out (within the fade time, ≤ 20 ms) and pauses, its notes flushed.
+  // Not a fault: the host may come back and play again.
+  void on_link_lost() { link_lost_.store(true, std::memory_order_release); }
 
   // ---- tick context ----
   void on_tick();
@@ -186,6 +190,7 @@ class Core {
   std::uint64_t tick_ = 0;                 // the tick being (or last) processed
   std::atomic<std::uint32_t> tick_lo_{0};  // its low 32 bits, for the transport context
   std::atomic<bool> estop_pending_{false};
+  std::atomic<bool> link_lost_{false};
   std::atomic<std::uint32_t> inbox_lost_{0};  // written by the transport context only
   std::uint64_t last_host_tick_ = 0;       // arrival of the last well-formed host report (watchdog)
   std::uint64_t song_tick_ = 0;            // last seek target (informational, logged)
