@@ -7,7 +7,8 @@
 # and, for every run, an initramfs with busybox-static, those modules, an init that loads them and runs
 # GUEST_SCRIPT, and the extra files given (programs with the shared libraries `ldd` names).
 #
-# usage: guest-image.sh CACHE_DIR OUT_INITRAMFS GUEST_SCRIPT [FILE...]
+# usage: guest-image.sh CACHE_DIR OUT_INITRAMFS GUEST_SCRIPT [PROGRAM | SRC=GUEST_PATH]...
+#   PROGRAM goes to /opt/bin (stripped) with its libraries; SRC=GUEST_PATH copies a data file.
 # Prints nothing on success but what it downloads; exits 1 with one line saying what failed.
 set -euo pipefail
 cache=$1 out=$2 script=$3
@@ -52,10 +53,15 @@ cp "$cache"/modules/*.ko "$root/lib/modules/"
 cp "$script" "$root/guest-test.sh"
 chmod +x "$root/guest-test.sh"
 for f in "$@"; do
+  if [[ $f == *=* ]]; then
+    mkdir -p "$root$(dirname "${f#*=}")"
+    cp "${f%%=*}" "$root${f#*=}"
+    continue
+  fi
   mkdir -p "$root/opt/bin"
-  cp "$f" "$root/opt/bin/"
+  strip -o "$root/opt/bin/$(basename "$f")" "$f"
   # The shared libraries the program needs, at the paths the loader looks for them.
-  ldd "$f" 2>/dev/null | awk '/=> \//{print $3} /^\t\/lib/{print $1}' | while read -r lib; do
+  { ldd "$f" 2>/dev/null || true; } | awk '/=> \//{print $3} /^\t\/lib/{print $1}' | while read -r lib; do
     mkdir -p "$root$(dirname "$lib")"
     cp -L "$lib" "$root$lib"
   done
