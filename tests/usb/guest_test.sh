@@ -11,51 +11,17 @@ set -uo pipefail
 bin=$1 repo=$2 cache=$3
 song="$repo/examples/bach-bwv1050-brandenburg5-mvt3-allegro.mid"
 tmp=$(mktemp -d)
-rig_pid= qemu_pid=
-cleanup() {
-  [ -n "$qemu_pid" ] && kill "$qemu_pid" 2>/dev/null
-  [ -n "$rig_pid" ] && kill "$rig_pid" 2>/dev/null
-  wait 2>/dev/null
-  rm -rf "$tmp"
-}
-trap cleanup EXIT
+trap 'rm -rf "$tmp"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
 
-"$repo/tests/usb/guest-image.sh" "$cache" "$tmp/initramfs" "$repo/tests/usb/guest_checks.sh" \
-  "$bin/hmp" "$bin/hmp-full" "$song=/opt/data/song.mid" || fail "could not make the guest"
-
-"$bin/hmp-usb-sim" --socket "$tmp/usb.sock" 2> "$tmp/rig.log" &
-rig_pid=$!
-for _ in $(seq 50); do [ -S "$tmp/usb.sock" ] && break; sleep 0.1; done
-[ -S "$tmp/usb.sock" ] || { cat "$tmp/rig.log"; fail "hmp-usb-sim did not listen"; }
-
-# Emulation (TCG), even where /dev/kvm exists: nested KVM on CI machines hung the guest; TCG boots in ~5 s.
-accel=(-accel tcg)
-mkfifo "$tmp/console"
-timeout 240 qemu-system-x86_64 -M q35 "${accel[@]}" -m 768 -nographic -no-reboot -monitor none \
-  -kernel "$cache/vmlinuz" -initrd "$tmp/initramfs" \
-  -append "console=ttyS0 quiet loglevel=4 panic=-1" \
-  -device qemu-xhci -chardev socket,id=usbredir,path="$tmp/usb.sock" -device usb-redir,chardev=usbredir \
-  < /dev/null > "$tmp/console" 2>&1 &
-qemu_pid=$!
-
-# Follow the guest: answer its unplug/replug requests, keep every line.
-while IFS= read -r line; do
-  line=${line%$'\r'}
-  printf '%s\n' "$line" >> "$tmp/guest.log"
-  case $line in
-    "guest: unplug now") kill -USR1 "$rig_pid" ;;
-    "guest: replug now") kill -USR2 "$rig_pid" ;;
-  esac
-done < "$tmp/console"
-wait "$qemu_pid"
+"$repo/tests/usb/run-guest.sh" "$bin" "$cache" "$repo/tests/usb/guest_checks.sh" "$tmp/guest.log" \
+  "$bin/hmp" "$bin/hmp-full" "$song=/opt/data/song.mid"
 qemu_rc=$?
-qemu_pid=
 
 # Readable on failure: the guest's lines and the kernel's USB messages, the rig's log.
 grep -a -v "scheduled_tick" "$tmp/guest.log" | tail -80
 echo "--- hmp-usb-sim:"
-cat "$tmp/rig.log"
+cat "$tmp/guest.log.rig"
 [ "$qemu_rc" -eq 0 ] || fail "QEMU exited with $qemu_rc (timeout: 124)"
 # (The console puts terminal escapes before the first line: match anywhere in the line.)
 grep -a -q "guest: done fail=0" "$tmp/guest.log" || fail "a guest check failed (lines above)"
