@@ -22,6 +22,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <deque>
 #include <optional>
 #include <string>
@@ -84,10 +85,13 @@ class UsbSim {
         g_replug = 0;
         plug();
       }
-      const auto now = Clock::now();
-      const auto wait = std::chrono::duration_cast<std::chrono::milliseconds>(next_tick - now).count();
+      // Sleep until the next tick or until QEMU sends something, to the nanosecond: a millisecond timeout
+      // would round the last part of every tick period down to zero and spin a core the guest needs.
+      const auto wait = std::max<Clock::duration>(next_tick - Clock::now(), Clock::duration::zero());
+      const auto wait_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(wait).count();
+      const timespec timeout{static_cast<time_t>(wait_ns / 1'000'000'000), static_cast<long>(wait_ns % 1'000'000'000)};
       pollfd p{fd_, static_cast<short>(POLLIN | (usbredirparser_has_data_to_write(parser_) ? POLLOUT : 0)), 0};
-      if (::poll(&p, 1, wait > 0 ? static_cast<int>(wait) : 0) < 0 && errno != EINTR) die("poll failed");
+      if (::ppoll(&p, 1, &timeout, nullptr) < 0 && errno != EINTR) die("poll failed");
       if (p.revents & (POLLIN | POLLHUP)) {
         if (usbredirparser_do_read(parser_) == usbredirparser_read_io_error) {
           std::fprintf(stderr, "usb-sim: QEMU closed the connection\n");
@@ -97,11 +101,13 @@ class UsbSim {
       // Ticks in real time; a late loop catches up (bounded: at most 50 ticks at once).
       for (int n = 0; Clock::now() >= next_tick && n < 50; ++n) {
         core_.on_tick();
-        while (core_.poll()) {
-        }
-        device_.poll();
         next_tick += tick_period_;
       }
+      // The core drains its inbox between ticks, as the board's main loop does, so a held OUT report is
+      // taken as soon as there is room rather than at the next tick.
+      while (core_.poll()) {
+      }
+      device_.poll();
       if (Clock::now() >= next_tick) next_tick = Clock::now();
       pump();
       if (usbredirparser_has_data_to_write(parser_) && usbredirparser_do_write(parser_) == usbredirparser_write_io_error) {
