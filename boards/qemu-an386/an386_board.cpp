@@ -34,17 +34,25 @@ void An386Board::on_motor_output(void* ctx, const float (&duty)[fw::kMotorCount]
 }
 
 void An386Board::start_link() {
-  SerialLink::Sink sink;
+  Link::Sink sink;
   sink.ctx = this;
   sink.has_room = &An386Board::inbox_has_room;
   sink.deliver = &An386Board::deliver;
-  link_.start(sink);
+  link_.set_sink(sink);
+  // Below the tick (SysTick keeps 0): the UART never delays the tick, and a report's arrival tick is
+  // read consistently (the tick cannot be half-way through when the UART interrupt runs).
+  constexpr std::uint8_t kUartPriority = 0x80;
+  kUart0.init(kCoreHz, 115200);
+  nvic::set_priority(kUart0.rx_irq(), kUartPriority);
+  nvic::set_priority(kUart0.tx_irq(), kUartPriority);
+  nvic::enable(kUart0.rx_irq());
+  nvic::enable(kUart0.tx_irq());
 }
 
 void An386Board::start_tick() {
   // SysTick above everything else (0 = highest); its reset priority is 0 already, set for clarity.
   reg(scb::kShpr3) = reg(scb::kShpr3) & 0x00FFFFFFu;
-  timer_.start(tick_hz_);
+  timer_.start(kCoreHz, tick_hz_);
 }
 
 void An386Board::stop() {
@@ -95,7 +103,7 @@ void An386Board::deliver(void* ctx, const protocol::Report& report) {
 
 void An386Board::print_summary() const {
   const framing::DecoderCounters& f = link_.frame_counters();
-  const SerialLink::Counters& l = link_.counters();
+  const Link::Counters& l = link_.counters();
   const fw::Stats& s = core_.stats();
   Line().text("link: frames=").u32(f.packets).text(" crc_errors=").u32(f.crc_errors)
       .text(" malformed=").u32(f.malformed).text(" oversized=").u32(f.oversized)

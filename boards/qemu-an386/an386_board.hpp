@@ -10,8 +10,9 @@
 
 #include "firmware/core.hpp"
 #include "output_trace.hpp"
-#include "serial_link.hpp"
-#include "tick_timer.hpp"
+#include "boards/cortex-m/serial_link.hpp"
+#include "boards/cortex-m/systick_timer.hpp"
+#include "uart.hpp"
 
 namespace hmp::board {
 
@@ -25,6 +26,7 @@ struct BenchMotors {
 
 class An386Board {
  public:
+  using Link = SerialLink<CmsdkUart>;
   An386Board(std::uint32_t tick_hz, bool trace, BenchMotors* motors = nullptr);
   An386Board(const An386Board&) = delete;
   An386Board& operator=(const An386Board&) = delete;
@@ -47,7 +49,7 @@ class An386Board {
   void print_summary() const;
 
   fw::Core& core() { return core_; }
-  const SerialLink& link() const { return link_; }
+  const Link& link() const { return link_; }
 
  private:
   static fw::BoardSeam make_seam(An386Board* self, bool motors);
@@ -61,7 +63,7 @@ class An386Board {
   static void deliver(void* ctx, const protocol::Report& report);
 
   TickTimer timer_;
-  SerialLink link_{kUart0};
+  Link link_{kUart0};
   OutputTrace trace_;
   std::uint32_t tick_hz_;
   bool tracing_;

@@ -2,7 +2,8 @@
 
 #include "console.hpp"
 #include "semihosting.hpp"
-#include "tick_timer.hpp"
+#include "boards/cortex-m/systick_timer.hpp"
+#include "registers.hpp"
 
 namespace hmp::board {
 namespace {
@@ -36,7 +37,7 @@ bool apply(const char* word, Options& o) {
     o.trace = true;
     return true;
   }
-  if (starts_with(word, "hz=")) return parse_u32(word + 3, o.tick_hz) && TickTimer::valid_rate(o.tick_hz);
+  if (starts_with(word, "hz=")) return parse_u32(word + 3, o.tick_hz) && TickTimer::valid_rate(kCoreHz, o.tick_hz);
   if (starts_with(word, "exit-idle-ms=")) return parse_u32(word + 13, o.exit_idle_ms);
   return false;
 }

@@ -1,5 +1,5 @@
-// Reset path and vector table of the qemu-an386 image: enable the FPU, set up the C++ runtime by hand
-// (-nostartfiles: there is no crt0), run main(), and report faults through semihosting.
+// Reset path and vector table of the qemu-an386 image: enable the FPU, start the C++ runtime
+// (boards/cortex-m), run main(), and report faults through semihosting.
 #include <cstdint>
 
 #include "registers.hpp"
@@ -7,12 +7,7 @@
 
 // Symbols from an386.ld.
 extern "C" {
-extern std::uint32_t __data_start[], __data_end[], __data_load[];
-extern std::uint32_t __bss_start[], __bss_end[];
 extern std::uint32_t __stack_top[];
-using InitFunction = void (*)();
-extern InitFunction __preinit_array_start[], __preinit_array_end[];
-extern InitFunction __init_array_start[], __init_array_end[];
 
 int main();
 void Reset_Handler();
@@ -73,10 +68,7 @@ constexpr std::uint32_t kShcsrFaultsEnabled = (1u << 16) | (1u << 17) | (1u << 1
 
 // Everything after the FPU is on: compiled code here may use floating-point registers freely.
 [[gnu::noinline, noreturn]] void start_runtime() {
-  for (std::uint32_t *src = __data_load, *dst = __data_start; dst < __data_end;) *dst++ = *src++;
-  for (std::uint32_t* dst = __bss_start; dst < __bss_end;) *dst++ = 0;
-  for (InitFunction* f = __preinit_array_start; f < __preinit_array_end; ++f) (*f)();
-  for (InitFunction* f = __init_array_start; f < __init_array_end; ++f) (*f)();
+  hmp::board::init_runtime();
   hmp::board::semihost::exit(main());
 }
 

@@ -37,4 +37,11 @@ bool CmsdkUart::take_rx_overrun() const {
 void CmsdkUart::clear_rx_interrupt() const { reg(base_ + kIntStatus) = kIntRx; }
 void CmsdkUart::clear_tx_interrupt() const { reg(base_ + kIntStatus) = kIntTx; }
 
+void CmsdkUart::pause_rx() const { nvic::disable(rx_irq_); }
+void CmsdkUart::resume_rx() const {
+  nvic::enable(rx_irq_);
+  nvic::set_pending(rx_irq_);  // the waiting byte's interrupt was already cleared
+}
+void CmsdkUart::kick_tx() const { nvic::set_pending(tx_irq_); }
+
 }  // namespace hmp::board

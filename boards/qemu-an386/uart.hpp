@@ -32,6 +32,13 @@ class CmsdkUart {
   void clear_rx_interrupt() const;
   void clear_tx_interrupt() const;
 
+  // The serial link's flow control (boards/cortex-m/serial_link.hpp), through the NVIC: RX and TX have
+  // interrupts of their own here, and a cleared RX interrupt is raised again by hand on resume.
+  void pause_rx() const;
+  void resume_rx() const;
+  void kick_tx() const;
+  void tx_idle() const {}  // the TX interrupt is an edge (buffer went empty): nothing to mask
+
   unsigned rx_irq() const { return rx_irq_; }
   unsigned tx_irq() const { return tx_irq_; }
 

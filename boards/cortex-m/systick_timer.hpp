@@ -1,6 +1,6 @@
 #pragma once
-// The device tick from SysTick on the core clock (25 MHz): one interrupt per tick period, and the
-// sub-tick position the firmware core asks for when a report arrives (BoardSeam::subtick).
+// The device tick from SysTick on the core clock: one interrupt per tick period, and the sub-tick
+// position the firmware core asks for when a report arrives (BoardSeam::subtick).
 #include <cstdint>
 
 namespace hmp::board {
@@ -8,10 +8,10 @@ namespace hmp::board {
 class TickTimer {
  public:
   // The rate must divide the core clock into a whole number of clocks that SysTick's 24-bit reload can
-  // hold (1 Hz is too slow, 25 MHz too fast; 1 kHz and 10 kHz are fine).
-  static bool valid_rate(std::uint32_t tick_hz);
+  // hold (at 25 MHz: 1 Hz is too slow, 25 MHz too fast; 1 kHz and 10 kHz are fine).
+  static bool valid_rate(std::uint32_t core_hz, std::uint32_t tick_hz);
   // SysTick counts from zero and raises its exception every 1/tick_hz s (valid_rate must hold).
-  void start(std::uint32_t tick_hz);
+  void start(std::uint32_t core_hz, std::uint32_t tick_hz);
   void stop();
   // Fraction of the present tick elapsed, 2^32 = one tick. 0xFFFFFFFF when the counter has wrapped but
   // the tick interrupt has not run yet, so that tick + subtick never steps back (board.hpp).
