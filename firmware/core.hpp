@@ -102,6 +102,8 @@ class Core {
   // at once, a playing device fades out (within the fade time, ≤ 20 ms) and pauses, its notes flushed.
   // Not a fault: the host may come back and play again.
   void on_link_lost() { link_lost_.store(true, std::memory_order_release); }
+  // The board's emergency-stop input tripped (any context): acts on the next tick as an Estop report does.
+  void on_estop_input() { estop_pending_.store(true, std::memory_order_release); }
 
   // ---- tick context ----
   void on_tick();

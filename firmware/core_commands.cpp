@@ -69,6 +69,7 @@ void Core::on_hello(const protocol::Message& m) {
   reply.hello_reply.voices = synth::kVoiceCount;
   reply.hello_reply.queue_capacity = kQueueCapacityReports;
   reply.hello_reply.preset_slots = envelope::kSlotCount;
+  reply.hello_reply.board_flags = board_.flags;
   send(reply);
   if (version_locked_) reject(ErrorCode::version_mismatch, m.seq, static_cast<std::uint8_t>(m.type));
 }

@@ -69,6 +69,7 @@ nlohmann::json to_json(const Probe& p) {
   j["voices"] = h.voices;
   j["queue_capacity"] = h.queue_capacity;
   j["preset_slots"] = h.preset_slots;
+  j["board_flags"] = transport::board_flag_names(h.board_flags);
   if (const auto& s = p.identity->status) {
     j["status"] = {{"state", transport::state_name(s->state)}, {"tick", s->tick},
                    {"faults", transport::fault_names(s->faults)}, {"queue_free", s->queue_free},
@@ -94,6 +95,7 @@ void print_text(const Probe& p) {
   }
   fmt::print("  protocol {}, firmware {}, board {}, {} Hz, {} voices, queue {} reports\n", h.protocol_version,
              transport::firmware_version(h), transport::board_name(h.board), h.tick_hz, h.voices, h.queue_capacity);
+  if (h.board_flags != 0) fmt::print("  board: {}\n", transport::board_flag_names(h.board_flags));
   if (const auto& s = p.identity->status) {
     fmt::print("  state {}, faults {}, tick {}\n", transport::state_name(s->state), transport::fault_names(s->faults),
                s->tick);

@@ -76,16 +76,31 @@ const char* state_name(protocol::State state) {
   return "unknown";
 }
 
+namespace {
+
+// "none", or the names of the set bits joined by commas (a bit without a name as "bitN").
+template <std::size_t N>
+std::string bit_names(std::uint32_t bits, const char* const (&names)[N]) {
+  std::string out;
+  for (std::uint32_t bit = 0; bit < 32; ++bit) {
+    if ((bits >> bit & 1u) == 0) continue;
+    if (!out.empty()) out += ',';
+    out += bit < N ? names[bit] : "bit" + std::to_string(bit);
+  }
+  return out.empty() ? "none" : out;
+}
+
+}  // namespace
+
 std::string fault_names(std::uint32_t faults) {
   static const char* const kNames[] = {"estop",          "watchdog",      "output_limit", "queue_overflow",
                                        "qp_infeasible",  "pose_diverged", "encoder_jump", "string_slack"};
-  std::string out;
-  for (std::uint32_t bit = 0; bit < 32; ++bit) {
-    if ((faults >> bit & 1u) == 0) continue;
-    if (!out.empty()) out += ',';
-    out += bit < 8 ? kNames[bit] : "bit" + std::to_string(bit);
-  }
-  return out.empty() ? "none" : out;
+  return bit_names(faults, kNames);
+}
+
+std::string board_flag_names(std::uint8_t flags) {
+  static const char* const kNames[] = {"clock_fallback", "no_usb"};
+  return bit_names(flags, kNames);
 }
 
 std::string firmware_version(const protocol::HelloReply& hello) {

@@ -23,6 +23,7 @@ std::optional<DeviceIdentity> say_hello(Transport& link, std::uint16_t seq, Time
 const char* board_name(protocol::Board board);  // "sim", "qemu-an386", "stm32f407" (HMP_BOARD names)
 const char* state_name(protocol::State state);  // "idle", "playing", …
 std::string fault_names(std::uint32_t faults);  // "none" or "estop,watchdog"
+std::string board_flag_names(std::uint8_t flags);  // "none" or "clock_fallback,no_usb" (protocol::BoardFlag)
 std::string firmware_version(const protocol::HelloReply& hello);  // "0.1.0"
 
 }  // namespace hmp::transport

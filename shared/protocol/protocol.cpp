@@ -178,6 +178,7 @@ void walk(IO& io, Msg& m) {
       io.u8(h.voices);
       io.u16(h.queue_capacity);
       io.u8(h.preset_slots);
+      io.u8(h.board_flags);
       break;
     }
     case Type::sync_reply:
@@ -276,7 +277,7 @@ ErrorCode check(const Transport& t) {
 ErrorCode check(const HelloReply& h) {
   const bool ok = h.protocol_version >= 1 &&
                   static_cast<std::uint8_t>(h.board) <= static_cast<std::uint8_t>(Board::stm32f407) &&
-                  h.tick_hz >= 1 && h.voices >= 1;
+                  h.tick_hz >= 1 && h.voices >= 1 && (h.board_flags & ~kKnownBoardFlags) == 0;
   return ok ? ErrorCode::none : ErrorCode::bad_value;
 }
 

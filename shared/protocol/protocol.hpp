@@ -152,8 +152,16 @@ struct Estop {
 // ---- device → host ----
 enum class Board : std::uint8_t { sim = 0, qemu_an386 = 1, stm32f407 = 2 };
 
+// Conditions of the board itself, set once at start-up (HelloReply). Not faults: the device still plays.
+enum BoardFlag : std::uint8_t {
+  board_clock_fallback = 1u << 0,  // the crystal or the PLL did not start: running on the internal oscillator
+  board_no_usb = 1u << 1,          // USB is off (it needs the crystal's accuracy); the UART link works
+};
+inline constexpr std::uint8_t kKnownBoardFlags = 0x03;
+
 // bytes 3–4 protocol u16 (≥ 1) | 5 fw major | 6 fw minor | 7 fw patch | 8 board | 9–12 tick_hz u32 (≥ 1)
 // | 13 voices (≥ 1) | 14–15 queue capacity u16 (note reports, see Status) | 16 preset slots
+// | 17 board flags (BoardFlag bits; a reply with any other bit set is rejected)
 struct HelloReply {
   std::uint16_t protocol_version = kProtocolVersion;
   std::uint8_t fw_major = 0, fw_minor = 0, fw_patch = 0;
@@ -162,6 +170,7 @@ struct HelloReply {
   std::uint8_t voices = 16;
   std::uint16_t queue_capacity = 0;
   std::uint8_t preset_slots = envelope::kSlotCount;
+  std::uint8_t board_flags = 0;
   friend bool operator==(const HelloReply&, const HelloReply&) = default;
 };
 

@@ -37,7 +37,7 @@ std::size_t documented_end(const Message& m) {
     case Type::settings: return 40;
     case Type::transport: return 12;
     case Type::estop: return 3;
-    case Type::hello_reply: return 17;
+    case Type::hello_reply: return 18;
     case Type::sync_reply: return 23;
     case Type::status: return 45;
     case Type::started: return 4 + 11 * std::size_t{m.started.count};
@@ -132,7 +132,8 @@ class Gen {
       case Type::hello_reply:
         m.hello_reply = HelloReply{static_cast<std::uint16_t>(in(1, 0xFFFF)), u8(), u8(), u8(),
                                    static_cast<Board>(in(0, 2)), static_cast<std::uint32_t>(in(1, 0xFFFFFFFF)),
-                                   static_cast<std::uint8_t>(in(1, 255)), u16(), u8()};
+                                   static_cast<std::uint8_t>(in(1, 255)), u16(), u8(),
+                                   static_cast<std::uint8_t>(in(0, kKnownBoardFlags))};
         break;
       case Type::sync_reply: m.sync_reply = SyncReply{u64(), u64(), u32()}; break;
       case Type::status: {
@@ -419,6 +420,8 @@ std::vector<BadField> bad_fields() {
       E::bad_value);
   add("tick_hz 0", Type::hello_reply, 9, le(0, 4), [](Message& m) { m.hello_reply.tick_hz = 0; }, E::bad_value);
   add("voices 0", Type::hello_reply, 13, le(0, 1), [](Message& m) { m.hello_reply.voices = 0; }, E::bad_value);
+  add("board flag 0x04", Type::hello_reply, 17, le(0x04, 1),
+      [](Message& m) { m.hello_reply.board_flags = 0x04; }, E::bad_value);
 
   add("state 5", Type::status, 35, le(5, 1), [](Message& m) { m.status.state = static_cast<State>(5); },
       E::bad_value);

@@ -98,6 +98,10 @@ TEST(TransportSim, NamesOfStatesAndFaults) {
   EXPECT_EQ(hmp::transport::fault_names(0), "none");
   EXPECT_EQ(hmp::transport::fault_names(hmp::protocol::fault_estop | hmp::protocol::fault_string_slack),
             "estop,string_slack");
+  EXPECT_EQ(hmp::transport::board_flag_names(0), "none");
+  EXPECT_EQ(hmp::transport::board_flag_names(hmp::protocol::board_clock_fallback | hmp::protocol::board_no_usb),
+            "clock_fallback,no_usb");
+  EXPECT_EQ(hmp::transport::board_flag_names(0x80), "bit7");
 }
 
 }  // namespace
