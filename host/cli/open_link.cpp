@@ -56,6 +56,10 @@ protocol::HelloReply connect_and_describe(player::DeviceLink& link, const Opened
   std::fprintf(stderr, "device %s: board %s, firmware %s, %u Hz, %u voices\n", opened.transport->name().c_str(),
                transport::board_name(hello.board), transport::firmware_version(hello).c_str(), hello.tick_hz,
                static_cast<unsigned>(hello.voices));
+  if (hello.board_flags != 0) {
+    std::fprintf(stderr, "device %s: board condition %s (docs/boards.md)\n", opened.transport->name().c_str(),
+                 transport::board_flag_names(hello.board_flags).c_str());
+  }
   return hello;
 }
 
