@@ -99,7 +99,7 @@ std::string fault_names(std::uint32_t faults) {
 }
 
 std::string board_flag_names(std::uint8_t flags) {
-  static const char* const kNames[] = {"clock_fallback", "no_usb"};
+  static const char* const kNames[] = {"clock_fallback", "no_usb", "watchdog_reset", "no_drive"};
   return bit_names(flags, kNames);
 }
 

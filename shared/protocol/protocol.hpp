@@ -156,8 +156,10 @@ enum class Board : std::uint8_t { sim = 0, qemu_an386 = 1, stm32f407 = 2 };
 enum BoardFlag : std::uint8_t {
   board_clock_fallback = 1u << 0,  // the crystal or the PLL did not start: running on the internal oscillator
   board_no_usb = 1u << 1,          // USB is off (it needs the crystal's accuracy); the UART link works
+  board_watchdog_reset = 1u << 2,  // the last reset was the watchdog's (a stuck tick or main loop)
+  board_no_drive = 1u << 3,        // no motor board detected: the SPIDAR drive is off, the vibration is computed
 };
-inline constexpr std::uint8_t kKnownBoardFlags = 0x03;
+inline constexpr std::uint8_t kKnownBoardFlags = 0x0F;
 
 // bytes 3–4 protocol u16 (≥ 1) | 5 fw major | 6 fw minor | 7 fw patch | 8 board | 9–12 tick_hz u32 (≥ 1)
 // | 13 voices (≥ 1) | 14–15 queue capacity u16 (note reports, see Status) | 16 preset slots

@@ -420,8 +420,8 @@ std::vector<BadField> bad_fields() {
       E::bad_value);
   add("tick_hz 0", Type::hello_reply, 9, le(0, 4), [](Message& m) { m.hello_reply.tick_hz = 0; }, E::bad_value);
   add("voices 0", Type::hello_reply, 13, le(0, 1), [](Message& m) { m.hello_reply.voices = 0; }, E::bad_value);
-  add("board flag 0x04", Type::hello_reply, 17, le(0x04, 1),
-      [](Message& m) { m.hello_reply.board_flags = 0x04; }, E::bad_value);
+  add("board flag 0x10", Type::hello_reply, 17, le(0x10, 1),
+      [](Message& m) { m.hello_reply.board_flags = 0x10; }, E::bad_value);
 
   add("state 5", Type::status, 35, le(5, 1), [](Message& m) { m.status.state = static_cast<State>(5); },
       E::bad_value);
