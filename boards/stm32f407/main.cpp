@@ -16,6 +16,8 @@ using stm32::Stm32Board;
 // known. The handlers run only after start() has enabled the interrupts.
 alignas(Stm32Board) unsigned char g_board_storage[sizeof(Stm32Board)];
 Stm32Board* g_board = nullptr;
+stm32::OtgMmio g_otg_registers;
+stm32::UsbController g_usb{g_otg_registers};
 
 void clear_exti(unsigned line) { hmp::board::reg(stm32::exti::kPr) = 1u << line; }
 
@@ -30,17 +32,19 @@ void EXTI1_IRQHandler() { clear_exti(1), g_board->on_encoder_edge(6); }
 void EXTI2_IRQHandler() { clear_exti(2), g_board->on_encoder_edge(7); }
 void EXTI3_IRQHandler() { clear_exti(3), g_board->on_encoder_edge(7); }
 void EXTI9_5_IRQHandler() { g_board->on_estop_edge(); }
+void OTG_FS_IRQHandler() { g_board->on_usb(); }
 }
 
 int main() {
   const bool watchdog_reset = stm32::Watchdog::take_reset_flag();
   const stm32::Clocks clocks = stm32::setup_clocks();
-  std::uint8_t flags = hmp::protocol::board_no_usb;  // until the USB device driver is in this image
+  const bool usb = stm32::start_usb_controller(g_usb, clocks);
+  std::uint8_t flags = usb ? 0 : hmp::protocol::board_no_usb;
   if (clocks.source != stm32::ClockSource::hse_pll) flags |= hmp::protocol::board_clock_fallback;
   if (watchdog_reset) flags |= hmp::protocol::board_watchdog_reset;
   if (!stm32::motor_board_present()) flags |= hmp::protocol::board_no_drive;
 
-  g_board = new (g_board_storage) Stm32Board(clocks, flags);
+  g_board = new (g_board_storage) Stm32Board(clocks, flags, usb ? &g_usb : nullptr);
   g_board->start();
   stm32::Watchdog::start();
 

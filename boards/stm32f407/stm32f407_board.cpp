@@ -12,8 +12,11 @@ constexpr unsigned kEncoderIrqs[4] = {exti::kIrqLine0, exti::kIrqLine1, exti::kI
 
 }  // namespace
 
-Stm32Board::Stm32Board(const Clocks& clocks, std::uint8_t board_flags)
-    : clocks_(clocks), core_(make_seam(this, clocks, board_flags), fw::kDefaultTickHz) {
+Stm32Board::Stm32Board(const Clocks& clocks, std::uint8_t board_flags, UsbController* usb)
+    : clocks_(clocks),
+      usb_controller_(usb),
+      core_(make_seam(this, clocks, board_flags), fw::kDefaultTickHz),
+      usb_(usb != nullptr ? usb->dcd() : fw::usb::Dcd{}, core_, serial_) {
   motors_.init(clocks_);  // first: the enable pin driven low before anything else can go wrong
 }
 
@@ -72,6 +75,14 @@ void Stm32Board::start() {
   nvic::set_priority(usart2::kIrq, kUartPriority);
   nvic::enable(usart2::kIrq);
 
+  if (usb_controller_ != nullptr) {
+    unique_id_string(serial_);
+    usb_controller_->attach(usb_);
+    nvic::set_priority(otg::kIrq, kUartPriority);
+    nvic::enable(otg::kIrq);
+    usb_.start();
+  }
+
   reg(scb::kShpr3) = (reg(scb::kShpr3) & 0x00FFFFFFu) | std::uint32_t{kTickPriority} << 24;
   timer_.start(clocks_.core_hz, fw::kDefaultTickHz);
   motors_.enable(motors_allowed());
@@ -105,6 +116,7 @@ void Stm32Board::show_state() {
   pin_set(pins::kLedGreen, (ticks_ / 500u) % 2u == 0);  // heartbeat: the tick runs
   pin_set(pins::kLedOrange, !clocks_.usb_clock_ok);
   pin_set(pins::kLedRed, core_.faults() != 0 || !motors_.enabled());
+  pin_set(pins::kLedBlue, usb_controller_ != nullptr && usb_.configuration() != 0);
 }
 
 void Stm32Board::on_read_encoders(void* ctx, std::int32_t (&counts)[fw::kMotorCount]) {
@@ -115,8 +127,26 @@ void Stm32Board::on_motor_output(void* ctx, const float (&duty)[fw::kMotorCount]
   static_cast<Stm32Board*>(ctx)->motors_.set(duty);
 }
 
+// Main loop: the core's background work (it sends through on_send), then the USB stack's own (arming
+// the OUT endpoint again, starting the next IN report) with the USB interrupt masked: the stack runs in
+// one context at a time (firmware/usb/device.hpp).
+bool Stm32Board::poll() {
+  const bool any = core_.poll();
+  if (usb_controller_ != nullptr) {
+    nvic::disable(otg::kIrq);
+    usb_.poll();
+    nvic::enable(otg::kIrq);
+  }
+  return any;
+}
+
 bool Stm32Board::on_send(void* ctx, const protocol::Report& report) {
-  return static_cast<Stm32Board*>(ctx)->link_.queue_report(report);
+  auto* self = static_cast<Stm32Board*>(ctx);
+  if (self->usb_controller_ == nullptr || self->usb_.configuration() == 0) return self->link_.queue_report(report);
+  nvic::disable(otg::kIrq);
+  const bool queued = self->usb_.queue_report(report);
+  nvic::enable(otg::kIrq);
+  return queued;
 }
 
 std::uint32_t Stm32Board::on_subtick(void* ctx) { return static_cast<Stm32Board*>(ctx)->timer_.subtick(); }

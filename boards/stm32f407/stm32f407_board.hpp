@@ -4,8 +4,11 @@
 // and the interrupt handlers (startup.cpp's vector table) call in here.
 //
 // Priorities (lower number = more urgent): the software encoders' pin interrupts 0x00 (an edge must be
-// taken before the next), the emergency stop 0x00, the tick 0x40, USART2 0x80. The main loop (thread
-// mode) runs the core's background work, feeds the watchdog and sleeps in `wfi`.
+// taken before the next), the emergency stop 0x00, the tick 0x40, USART2 and USB 0x80. The main loop
+// (thread mode) runs the core's background work, feeds the watchdog and sleeps in `wfi`.
+//
+// Two links to the host: USB HID when the controller started, USART2 always. Reports from either reach
+// the core; the core's reports go to USB while the host has it configured, else to the UART.
 #include <cstdint>
 
 #include "boards/cortex-m/serial_link.hpp"
@@ -13,8 +16,10 @@
 #include "clocks.hpp"
 #include "encoders.hpp"
 #include "firmware/core.hpp"
+#include "firmware/usb/device.hpp"
 #include "motors.hpp"
 #include "usart.hpp"
+#include "usb_controller.hpp"
 
 namespace hmp::board::stm32 {
 
@@ -23,7 +28,8 @@ class Stm32Board {
   using Link = SerialLink<Usart2>;
   static constexpr std::uint32_t kUartBaud = 460'800;
 
-  Stm32Board(const Clocks& clocks, std::uint8_t board_flags);
+  // `usb`: the started USB controller, or null (no USB: the UART only).
+  Stm32Board(const Clocks& clocks, std::uint8_t board_flags, UsbController* usb);
   Stm32Board(const Stm32Board&) = delete;
   Stm32Board& operator=(const Stm32Board&) = delete;
 
@@ -36,10 +42,11 @@ class Stm32Board {
     link_.on_tx_interrupt();
   }
   void on_estop_edge();
+  void on_usb() { usb_controller_->on_interrupt(); }
   void on_encoder_edge(int encoder) { encoders_.on_pin_edge(encoder); }
 
   // Main loop: the core's background work; true if there was any.
-  bool poll() { return core_.poll(); }
+  bool poll();
   std::uint32_t ticks() const { return ticks_; }
   void show_state();  // LEDs
 
@@ -62,7 +69,10 @@ class Stm32Board {
   Motors motors_;
   Encoders encoders_;
   volatile std::uint32_t ticks_ = 0;
-  fw::Core core_;  // last: its seam points at the members above
+  UsbController* usb_controller_;
+  char serial_[25] = {};
+  fw::Core core_;  // after what its seam points at
+  fw::usb::Device usb_;
 };
 
 }  // namespace hmp::board::stm32
