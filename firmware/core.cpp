@@ -134,20 +134,64 @@ void Core::on_tick() {
 }
 
 void Core::run_drive() {
-  std::int32_t counts[kMotorCount];
-  board_.read_encoders(board_.ctx, counts);
   // Safe state (docs/spidar.md): the drive cannot trust what it senses, so it holds every string at t_min
   // with plain stall duties. After an emergency stop or the watchdog the sensing is fine: the drive goes
   // on rendering, with the vibration at zero, so the strings' force returns to the bias cleanly.
   constexpr std::uint32_t kSensingFaults = protocol::fault_qp_infeasible | protocol::fault_pose_diverged |
                                            protocol::fault_encoder_jump | protocol::fault_string_slack;
   const bool safe = (faults_ & kSensingFaults) != 0;
+  if (drive_.split()) {
+    run_split_drive(safe);
+    return;
+  }
+  std::int32_t counts[kMotorCount];
+  board_.read_encoders(board_.ctx, counts);
   const DriveTick t = drive_.tick(last_output_, safe, counts, duty_);
   board_.motor_output(board_.ctx, duty_);
   if (t.flags & spidar::flag::saturated) ++stats_.drive_saturated;
   if (t.flags & spidar::flag::not_converged) ++stats_.drive_not_converged;
   force_n_ = t.force_n;
   if (t.faults != 0) drive_fault(t.faults);
+}
+
+// The split drive's tick: every ticks_per_plan() ticks a plan is asked for (with this tick's counts), and
+// every tick renders from the newest plan; the faults a plan found are taken once.
+void Core::run_split_drive(bool safe) {
+  if (plan_countdown_ == 0) {
+    plan_countdown_ = drive_.ticks_per_plan();
+    if (plan_wanted_.load(std::memory_order_acquire)) {
+      ++stats_.drive_plan_late;
+    } else {
+      board_.read_encoders(board_.ctx, plan_in_.counts);  // only when a plan needs them
+      plan_in_.safe = safe;
+      drive_.close_speed_window();
+      plan_wanted_.store(true, std::memory_order_release);
+    }
+  }
+  --plan_countdown_;
+  const DrivePlan& plan = plans_[plan_front_.load(std::memory_order_acquire)];
+  const std::uint32_t seq = plan_seq_.load(std::memory_order_acquire);
+  const bool fresh = plan_seen_ != seq;
+  if (fresh) drive_.take_plan_speeds(plan);
+  const DriveTick t = drive_.render(last_output_, safe, plan, duty_);
+  board_.motor_output(board_.ctx, duty_);
+  if (t.flags & spidar::flag::saturated) ++stats_.drive_saturated;
+  if (t.flags & spidar::flag::not_converged) ++stats_.drive_not_converged;
+  force_n_ = t.force_n;
+  if (fresh) {
+    plan_seen_ = seq;
+    if (plan.faults != 0) drive_fault(plan.faults);
+  }
+}
+
+bool Core::plan_drive() {
+  if (!drive_.split() || !plan_wanted_.load(std::memory_order_acquire)) return false;
+  const std::uint8_t back = static_cast<std::uint8_t>(1u - plan_front_.load(std::memory_order_relaxed));
+  drive_.plan(plan_in_, plans_[back]);
+  plan_front_.store(back, std::memory_order_release);
+  plan_seq_.fetch_add(1, std::memory_order_release);
+  plan_wanted_.store(false, std::memory_order_release);
+  return true;
 }
 
 // The drive cannot trust what it senses: no vibration from now on, the strings held at t_min (the drive

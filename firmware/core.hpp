@@ -49,6 +49,7 @@ struct Stats {
   std::uint32_t started_in_tick = 0;  // of `started`, notes whose voice the tick set up itself (not prepared in time)
   std::uint32_t drive_saturated = 0;      // drive ticks with a motor duty clamped to ±1
   std::uint32_t drive_not_converged = 0;  // drive ticks whose QP ran out of iterations (bounded answer)
+  std::uint32_t drive_plan_late = 0;      // split drive: a plan was due but the last one was not done yet
 };
 
 // One received report, decoded in the transport context (the tick only acts on it), with its arrival time.
@@ -112,11 +113,13 @@ class Core {
   // Sends the reports the tick queued, then prepares the voices of the notes due next. Returns whether
   // there was anything to do. Call it whenever the tick may have queued work; it never blocks.
   bool poll() {
+    const bool planned = plan_drive();  // first: the coming ticks render from it
     const bool sent = send_reports();
-    return prepare_voices() || sent;
+    return prepare_voices() || sent || planned;
   }
-  bool send_reports();    // the first half of poll(): false if there were none
-  bool prepare_voices();  // the second half: false if there was nothing to prepare
+  bool send_reports();    // the first part of poll(): false if there were none
+  bool prepare_voices();  // the second: false if there was nothing to prepare
+  bool plan_drive();      // the split drive's slow part, when the tick asked for it (false: it did not)
 
   // ---- inspection (tick stopped) ----
   std::uint32_t tick_hz() const { return tick_hz_; }
@@ -144,6 +147,7 @@ class Core {
   void check_watchdog();
   void send_periodic_reports();
   void run_drive();
+  void run_split_drive(bool safe);
   void drive_fault(std::uint32_t faults);
   std::uint64_t rx_tick64(std::uint32_t rx_tick) const;
   // core_commands.cpp: one handler per host report type
@@ -182,6 +186,16 @@ class Core {
   std::uint32_t outbox_full_ = 0;                // reports the tick had no room for
   std::atomic<std::uint32_t> send_failed_{0};   // written by the background only
   Drive drive_;
+  // The split drive's hand-over (drive.hpp): the tick asks for a plan every ticks_per_plan() ticks with
+  // the encoder counts; the background computes it into the buffer the tick is not reading and flips
+  // plan_front_. A tick never holds a plan across ticks, and the background never interrupts the tick.
+  PlanInput plan_in_{};
+  std::atomic<bool> plan_wanted_{false};
+  DrivePlan plans_[2]{};
+  std::atomic<std::uint8_t> plan_front_{0};
+  std::atomic<std::uint32_t> plan_seq_{0};  // plans made (written by the background)
+  std::uint32_t plan_seen_ = 0;             // the last plan whose faults the tick took
+  std::uint32_t plan_countdown_ = 0;
   float duty_[kMotorCount]{};
   float force_n_ = 0.0f;  // the drive's achieved force along the direction (N)
   bool has_drive_ = false;

@@ -10,6 +10,7 @@
 // gone slack, a QP that has no sound answer. Such a tick is reported to the core, which latches the fault
 // and silences the vibration; the drive then holds every string at t_min with plain stall duties (the
 // safe state) until the core lets it go. Freestanding, float, no allocation.
+#include <atomic>
 #include <cstdint>
 
 #include "firmware/drive_model.hpp"
@@ -53,6 +54,12 @@ struct DriveParams {
   PlantModel plant{};
   CompensatorConfig compensator{};
   DriveLimits limits{};
+  // The split drive (below): the rate of its slow part, which must divide the tick rate. 0: no split,
+  // the whole drive in every tick.
+  std::uint32_t plan_hz = 0;
+  // The split drive plans tensions for forces up to this many times the peak force (the pre-emphasis
+  // lifts the request above the peak at high frequencies).
+  float plan_headroom = 2.0f;
 };
 
 // What one tick of the drive tells the core.
@@ -62,19 +69,60 @@ struct DriveTick {
   spidar::Flags flags = 0;   // pose, QP and motor flags of this tick (saturated, not_converged, ...)
 };
 
+// The split drive. At a fast tick (10 kHz on the STM32F407) the whole drive does not fit a tick, but only
+// part of it has to run that fast. The slow part, plan() — encoders, the sensing checks, the pose and the
+// tension QP — runs at plan_hz outside the tick; it solves the QP for the bias and for the largest force
+// either way along the direction and leaves the three tension sets in a DrivePlan. The fast part,
+// render() — every tick — turns this tick's vibration into its force, takes the tensions on the line
+// between the bias and the planned set of that sign (the QP's answer is linear in the force while the
+// same strings sit at their bounds, and clamped to [t_min, t_max] where it is not), and runs the dynamics
+// compensation and the motor duties. docs/spidar.md, "Split drive".
+struct PlanInput {
+  std::int32_t counts[spidar::kStrings]{};
+  bool safe = false;  // hold every string at t_min (a latched fault)
+};
+
+struct DrivePlan {
+  std::uint32_t faults = 0;     // sensing or QP faults found by this plan
+  spidar::Flags flags = 0;      // pose and QP flags
+  bool hold = true;             // render holds the strings at t_min with stall duties
+  float hold_duty = 0.0f;
+  float force_max = 0.0f;       // N: the force of the `up`/`down` sets (0: no plan yet)
+  float base[spidar::kStrings]{};  // tensions of the bias (zero force)
+  float up[spidar::kStrings]{};    // tensions for +force_max along the direction, minus base
+  float down[spidar::kStrings]{};  // tensions for −force_max, minus base
+  float applied_up = 0.0f, applied_down = 0.0f;  // the force those make along the direction, beyond the bias
+  float along[spidar::kStrings]{};  // u_i · d
+  float speed[spidar::kStrings]{};  // winding speed measured over the last plan period (rad/s)
+};
+
 class Drive {
  public:
   static constexpr int kMotors = spidar::kStrings;
 
   explicit Drive(std::uint32_t tick_hz, const DriveParams& params = {});
 
-  // Direction, peak force and the tension bounds (the protocol has checked their ranges).
+  // Direction, peak force and the tension bounds (the protocol has checked their ranges). The split drive
+  // takes them at its next plan (they are staged: a plan in progress never sees half of them).
   void apply(const protocol::Settings& settings);
 
   // One tick. `vibration`: this tick's output value (full scale, already limited). `safe`: hold every
   // string at t_min with stall duties (a latched fault). The first call calibrates: the grip is at the
   // centre in its rest orientation (SPEC §11).
   DriveTick tick(float vibration, bool safe, const std::int32_t (&counts)[kMotors], float (&duty)[kMotors]);
+
+  // The split drive (params().plan_hz ≠ 0). plan(): the slow part, outside the tick (it owns the pose,
+  // the QP and their warm starts); render(): every tick (it owns the compensator). The two never touch
+  // the same state; settings reach plan() through apply() only between plans (the core's job).
+  bool split() const { return params_.plan_hz != 0; }
+  std::uint32_t ticks_per_plan() const { return ticks_per_plan_; }
+  void plan(const PlanInput& in, DrivePlan& out);
+  // `safe`: hold at t_min now, without waiting for the next plan (a fault latched since).
+  DriveTick render(float vibration, bool safe, const DrivePlan& plan, float (&duty)[kMotors]);
+  // The tick the plan's counts are read: the speed window closes. The tick a new plan is first used: its
+  // measured speeds correct the model's (DriveCompensator::correct).
+  void close_speed_window();
+  void take_plan_speeds(const DrivePlan& plan);
 
   // ---- inspection ----
   bool calibrated() const { return calibrated_; }
@@ -84,11 +132,16 @@ class Drive {
   const DriveCompensator& compensator() const { return compensator_; }
 
  private:
-  std::uint32_t check_sensing(const std::int32_t (&counts)[kMotors], float (&speed)[kMotors]);
+  std::uint32_t check_sensing(const std::int32_t (&counts)[kMotors], float (&speed)[kMotors], float rate_hz);
+  void calibrate_once(const std::int32_t (&counts)[kMotors]);
+  void apply_now(const protocol::Settings& settings);
+  void take_staged_settings();
   void hold(float (&duty)[kMotors]);
 
   DriveParams params_;
   float tick_hz_;
+  float sense_hz_;  // the rate check_sensing runs at: the tick's, or the plan's
+  std::uint32_t ticks_per_plan_ = 1;
   spidar::MotorModel<float> motor_;
   spidar::LengthCalibration<float> calibration_{};
   spidar::PoseEstimator<float> pose_{};
@@ -104,6 +157,10 @@ class Drive {
   float tension_[kMotors]{};
   bool calibrated_ = false;
   bool holding_ = true;  // the compensator is reset when the drive leaves the safe state
+  // Settings for the split drive's next plan: written by the tick, read by plan() with a sequence check.
+  protocol::Settings staged_{};
+  std::atomic<std::uint32_t> staged_seq_{0};
+  std::uint32_t taken_seq_ = 0;
 };
 
 }  // namespace hmp::fw

@@ -79,7 +79,20 @@ class DriveCompensator {
   // last tick (rad/s). Out: the force each motor must exert at its pulley (N, may be negative) and the
   // winding speed for its back-EMF (rad/s), both averaged over the coming tick.
   void step(const float (&tension)[kStrings], float applied, const float (&along)[kStrings],
-            const float (&measured_speed)[kStrings], float (&motor_force)[kStrings], float (&speed)[kStrings]);
+            const float (&measured_speed)[kStrings], float (&motor_force)[kStrings], float (&speed)[kStrings]) {
+    advance(tension, applied, along, &measured_speed, motor_force, speed);
+  }
+
+  // The split drive (drive.hpp): the encoders' speed comes once a plan period, averaged over it, so it is
+  // compared with the model's speed averaged over the same ticks. step_between() is step() without a
+  // measurement (the model's speeds are summed); close_window() ends a measurement window (the tick the
+  // plan's counts are read); correct(measured) takes the plan's speeds for the window closed last.
+  void step_between(const float (&tension)[kStrings], float applied, const float (&along)[kStrings],
+                    float (&motor_force)[kStrings], float (&speed)[kStrings]) {
+    advance(tension, applied, along, nullptr, motor_force, speed);
+  }
+  void close_window();
+  void correct(const float (&measured_speed)[kStrings], std::uint32_t ticks_per_window);
 
   bool enabled() const { return config_.enabled; }
   float emphasis() const { return alpha_; }
@@ -95,7 +108,12 @@ class DriveCompensator {
     float last_tension = 0.0f;
     float model_speed = 0.0f;  // the model's winding speed averaged over the last tick (rad/s)
     float correction = 0.0f;   // low-passed (encoder − model) speed (rad/s)
+    float window_sum = 0.0f;   // split drive: model speeds summed since the window opened
+    float window_mean = 0.0f;  // … and their mean over the window closed last
   };
+
+  void advance(const float (&tension)[kStrings], float applied, const float (&along)[kStrings],
+               const float (*measured_speed)[kStrings], float (&motor_force)[kStrings], float (&speed)[kStrings]);
 
   CompensatorConfig config_{};
   LinearStepper<3> string_{};
@@ -107,6 +125,8 @@ class DriveCompensator {
   StringState strings_[kStrings];
   float alpha_ = 0.0f, last_request_ = 0.0f, chain_gain_ = 1.0f;
   float blend_ = 1.0f;              // speed-correction low-pass coefficient per tick
+  float blend_hz_ = 0.0f, tick_hz_ = 1000.0f;
+  std::uint32_t window_ticks_ = 0;
   float speed_per_metre_ = 200.0f;  // 1/r
 };
 

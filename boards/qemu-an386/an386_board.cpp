@@ -5,8 +5,8 @@
 
 namespace hmp::board {
 
-An386Board::An386Board(std::uint32_t tick_hz, bool trace, BenchMotors* motors)
-    : tick_hz_(tick_hz), tracing_(trace), motors_(motors), core_(make_seam(this, motors != nullptr), tick_hz) {}
+An386Board::An386Board(std::uint32_t tick_hz, bool trace, BenchMotors* motors, const fw::DriveParams& drive)
+    : tick_hz_(tick_hz), tracing_(trace), motors_(motors), core_(make_seam(this, motors != nullptr), tick_hz, 0, drive) {}
 
 fw::BoardSeam An386Board::make_seam(An386Board* self, bool motors) {
   fw::BoardSeam seam;

@@ -27,7 +27,7 @@ struct BenchMotors {
 class An386Board {
  public:
   using Link = SerialLink<CmsdkUart>;
-  An386Board(std::uint32_t tick_hz, bool trace, BenchMotors* motors = nullptr);
+  An386Board(std::uint32_t tick_hz, bool trace, BenchMotors* motors = nullptr, const fw::DriveParams& drive = {});
   An386Board(const An386Board&) = delete;
   An386Board& operator=(const An386Board&) = delete;
 

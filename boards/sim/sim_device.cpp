@@ -121,6 +121,8 @@ void SimDevice::advance(std::uint64_t ticks, float* record) {
   for (std::uint64_t i = 0; i < ticks; ++i) {
     core_.on_tick();
     if (plant_) step_plant();
+    // The background's parts, as the board's main loop runs them between ticks (Core::poll).
+    core_.plan_drive();
     core_.send_reports();
     if (prepare_voices_) core_.prepare_voices();
   }

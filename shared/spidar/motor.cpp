@@ -24,7 +24,7 @@ T MotorModel<T>::duty(T tension, T omega, Flags& flags) const {
 }
 
 template <class T>
-T MotorModel<T>::duty_for_force(T force, T omega, Flags& flags) const {
+T MotorModel<T>::duty_checked(T force, T omega, Flags& flags) const {
   if (!std::isfinite(force)) {
     flags |= flag::invalid_input;
     return 0;

@@ -37,14 +37,21 @@ class MotorModel {
   T duty(T tension, T omega, Flags& flags) const;
   // The same with a signed force at the pulley instead of a string tension: the firmware drive's
   // feed-forward asks the motor for its tension plus what accelerates its own rotor, which may be negative
-  // (a motor braking its inertia). Clamping and flags as duty().
-  T duty_for_force(T force, T omega, Flags& flags) const;
+  // (a motor braking its inertia). Clamping and flags as duty(). Inline for the common case (the firmware
+  // calls it for eight motors every tick): an in-range duty needs both inputs finite, so anything else —
+  // saturation, NaN, infinities — goes the checked way.
+  T duty_for_force(T force, T omega, Flags& flags) const {
+    const T d = force * duty_per_newton_ + omega * duty_per_rad_s_;
+    if (d >= static_cast<T>(-1) && d <= static_cast<T>(1)) return d;
+    return duty_checked(force, omega, flags);
+  }
 
   // Winding speed from one tick's encoder change (counts grow as string pays out, hence the minus sign).
   T winding_speed(std::int32_t delta_counts, T tick_hz) const {
     return -static_cast<T>(delta_counts) * radians_per_count_ * tick_hz;
   }
   T metres_per_count() const { return metres_per_count_; }
+  T duty_checked(T force, T omega, Flags& flags) const;
   // Largest tension the supply can hold at standstill (N).
   T stall_tension() const { return static_cast<T>(1) / duty_per_newton_; }
 

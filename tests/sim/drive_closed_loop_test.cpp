@@ -80,8 +80,8 @@ struct StopResult {
 };
 
 template <class StopFn>
-StopResult stop_and_watch(std::uint32_t tick_hz, StopFn stop) {
-  DriveRig rig(tick_hz, 1);
+StopResult stop_and_watch(std::uint32_t tick_hz, StopFn stop, sim::SimOptions options = {}) {
+  DriveRig rig(tick_hz, 1, options);
   const protocol::Settings s = exact_settings();
   rig.start(s);
   rig.trace.on = true;
@@ -130,6 +130,42 @@ TEST(DriveClosedLoop, EmergencyStopBringsTheForceToTheBiasWithin20ms) {
     EXPECT_TRUE(r.faults & protocol::fault_estop);
     EXPECT_LT(r.worst_after_20ms, 0.02);
   }
+}
+
+// The split drive (firmware/drive.hpp; the STM32F407's 10 kHz tick): pose and QP at 1 kHz outside the
+// tick, tensions along the planned lines, compensation and duties every 0.1 ms. Issue goal: within 2% at
+// 500 Hz and 1 kHz, which a 1 kHz drive cannot reach at all (its output stops at 500 Hz). 0.5 N: at 1 N and
+// 1 kHz a string goes slack from the 0.3 N bias — whole or split (docs/spidar.md, "Split drive").
+TEST(DriveClosedLoop, SplitDriveAt10kHzFollowsUpTo1kHz) {
+  sim::SimOptions split;
+  split.drive.plan_hz = 1000;
+  for (double hz : {50.0, 250.0, 500.0, 1000.0}) {
+    const ToneResult r = measure_tone(10000, hz, 0.5, split);
+    print_tone("split, 10 kHz tick", hz, r);
+    EXPECT_NEAR(r.commanded, 0.5, 1e-3);
+    EXPECT_LE(std::fabs(r.error), 0.02) << hz << " Hz";
+    EXPECT_TRUE(r.taut) << hz << " Hz";
+    EXPECT_EQ(r.faults, 0u);
+    EXPECT_FALSE(r.unstable);
+  }
+}
+
+TEST(DriveClosedLoop, SplitDriveStopsWithin20ms) {
+  sim::SimOptions split;
+  split.drive.plan_hz = 1000;
+  const StopResult w = stop_and_watch(10000, [](DriveRig& rig) {
+    while (rig.dev.core().state() != protocol::State::fault) rig.dev.advance(1);
+    return rig.dev.plant()->time();
+  }, split);
+  EXPECT_TRUE(w.faults & protocol::fault_watchdog);
+  EXPECT_LT(w.worst_after_20ms, 0.02);
+  const StopResult e = stop_and_watch(10000, [](DriveRig& rig) {
+    const double t = rig.dev.plant()->time();
+    rig.host.estop();
+    return t;
+  }, split);
+  EXPECT_TRUE(e.faults & protocol::fault_estop);
+  EXPECT_LT(e.worst_after_20ms, 0.02);
 }
 
 }  // namespace
