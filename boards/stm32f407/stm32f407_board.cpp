@@ -10,12 +10,20 @@ namespace {
 constexpr std::uint8_t kEdgePriority = 0x00, kTickPriority = 0x40, kUartPriority = 0x80;
 constexpr unsigned kEncoderIrqs[4] = {exti::kIrqLine0, exti::kIrqLine1, exti::kIrqLine2, exti::kIrqLine3};
 
+// At a tick above 1 kHz the drive is split: pose and QP planned at 1 kHz by the main loop, the rest in the
+// tick (firmware/drive.hpp; docs/performance.md "Split drive": 2,384 instructions per 10 kHz tick at most).
+fw::DriveParams drive_params() {
+  fw::DriveParams p;
+  if (fw::kDefaultTickHz > 1000) p.plan_hz = 1000;
+  return p;
+}
+
 }  // namespace
 
 Stm32Board::Stm32Board(const Clocks& clocks, std::uint8_t board_flags, UsbController* usb)
     : clocks_(clocks),
       usb_controller_(usb),
-      core_(make_seam(this, clocks, board_flags), fw::kDefaultTickHz),
+      core_(make_seam(this, clocks, board_flags), fw::kDefaultTickHz, 0, drive_params()),
       usb_(usb != nullptr ? usb->dcd() : fw::usb::Dcd{}, core_, serial_) {
   motors_.init(clocks_);  // first: the enable pin driven low before anything else can go wrong
 }
