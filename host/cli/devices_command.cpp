@@ -12,6 +12,7 @@
 
 #include "host/cli/commands.hpp"
 #include "host/common/error.hpp"
+#include "host/flash/usb_scan.hpp"
 #include "host/transport/handshake.hpp"
 #include "host/transport/hid_transport.hpp"
 
@@ -110,12 +111,23 @@ int run_devices(const DevicesOptions& o) {
   std::vector<Probe> probes;
   for (const transport::HidDeviceInfo& info : transport::enumerate_hid(id)) probes.push_back(probe(info, o.timeout_ms));
 
+  // Boards that are not our HID device yet: an STM32 in its DFU bootloader, an ST-LINK probe (libusb).
+  const flash::ScanResult usb = flash::scan_usb();
+
   if (o.json) {
     nlohmann::json list = nlohmann::json::array();
     for (const Probe& p : probes) list.push_back(to_json(p));
-    std::printf("%s\n", nlohmann::json{{"id", transport::to_string(id)}, {"devices", list}}.dump().c_str());
+    nlohmann::json flashable = nlohmann::json::array();
+    for (const flash::FoundProbe& f : usb.found) {
+      flashable.push_back({{"kind", f.kind == flash::ProbeKind::stm32_dfu ? "stm32_dfu" : "stlink"},
+                           {"name", f.name}, {"bus", f.bus}, {"address", f.address}});
+    }
+    nlohmann::json out{{"id", transport::to_string(id)}, {"devices", list}, {"flashable", flashable}};
+    if (!usb.unavailable.empty()) out["usb_scan_error"] = usb.unavailable;
+    std::printf("%s\n", out.dump().c_str());
     return kExitOk;
   }
+  for (const flash::FoundProbe& f : usb.found) fmt::print("{}\n", flash::describe(f));
   if (probes.empty()) {
     fmt::print("no HID device {} found (the simulated device needs none: hmp play --device sim)\n",
                transport::to_string(id));
@@ -126,6 +138,15 @@ int run_devices(const DevicesOptions& o) {
 }
 
 }  // namespace
+
+int print_hid_devices(int timeout_ms) {
+  int n = 0;
+  for (const transport::HidDeviceInfo& info : transport::enumerate_hid(transport::HidId{})) {
+    print_text(probe(info, timeout_ms));
+    ++n;
+  }
+  return n;
+}
 
 void register_devices(CLI::App& app, Registry& registry) {
   auto opts = std::make_shared<DevicesOptions>();

@@ -10,6 +10,7 @@ void register_all(CLI::App& app, hmp::cli::Registry& registry) {
   hmp::cli::register_render(app, registry);
   hmp::cli::register_tone(app, registry);
   hmp::cli::register_devices(app, registry);
+  hmp::cli::register_flash(app, registry);
   hmp::cli::register_play(app, registry);
   hmp::cli::register_sim(app, registry);
   hmp::cli::register_study(app, registry);

@@ -1,0 +1,84 @@
+#!/usr/bin/env bash
+# `hmp flash` without a board (SPEC §3, §13; docs/flashing.md): --dry-run prints each method's command as
+# boards/stm32f407/README.md documents it, for a given image and its sibling of the other kind; bad options
+# exit 2 with one line; a missing tool names its Debian package, exit 1; no board found (a CI machine has
+# none) says how to enter DFU mode, exit 1; the udev rule compiled into hmp is the repository's file, and
+# every rule grants uaccess to one VID:PID; --install-udev-rule asks first and, with no terminal, installs
+# nothing.
+set -u
+hmp="$1"; repo="$2"
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+fail=0
+check() {  # check WHAT EXPECTED ACTUAL
+  if [ "$2" != "$3" ]; then echo "FAIL: $1: expected [$2], got [$3]"; fail=1; fi
+}
+run() {  # run ARGS...: stdout, stderr, exit code into $out $err $rc
+  "$hmp" "$@" >"$tmp/out" 2>"$tmp/err"; rc=$?
+  out=$(<"$tmp/out"); err=$(<"$tmp/err")
+}
+
+img="$tmp/my fw"  # a space: the printed command must quote it
+: >"$img.elf"; : >"$img.bin"
+run flash --dry-run --method dfu --firmware "$img.elf"
+check "dfu dry run" "dfu-util -d 0483:df11 -a 0 -s 0x08000000:leave -D '$img.bin'" "$out"; check "dfu rc" 0 "$rc"
+run flash --dry-run --method stlink --firmware "$img.bin"
+check "stlink dry run" "st-flash --reset write '$img.bin' 0x8000000" "$out"
+run flash --dry-run --method openocd --firmware "$img.bin"
+check "openocd dry run" "openocd -f board/stm32f4discovery.cfg -c 'program $img.elf verify reset exit'" "$out"
+
+rm "$img.elf"
+run flash --dry-run --method openocd --firmware "$img.bin"
+check "openocd without a .elf: rc" 2 "$rc"
+check "openocd without a .elf: one line" 1 "$(wc -l <<<"$err")"
+run flash --board uno
+check "bad board rc" 2 "$rc"; check "bad board message" "error: --board uno: unknown board (known: stm32f407)" "$err"
+run flash --method jtag
+check "bad method rc" 2 "$rc"; check "bad method message" "error: --method jtag: expected dfu, stlink or openocd" "$err"
+run flash --firmware "$tmp/none.bin"
+check "missing image rc" 2 "$rc"
+: >"$tmp/fw.hex"
+run flash --firmware "$tmp/fw.hex"
+check "wrong kind rc" 2 "$rc"
+run flash --timeout-s -1 --firmware "$img.bin"
+check "bad timeout rc" 2 "$rc"
+
+# No tool on PATH: the package to install.
+PATH="$tmp/empty" run flash --method stlink --firmware "$img.bin"
+check "no st-flash rc" 1 "$rc"
+check "no st-flash message" "error: st-flash not found — install it: sudo apt install stlink-tools" "$err"
+# Tools there (fake ones, so nothing real could ever be flashed here), no board: how to get one ready.
+mkdir -p "$tmp/bin"
+for t in dfu-util st-flash openocd; do printf '#!/bin/sh\necho "FAKE %s RAN"; exit 0\n' "$t" >"$tmp/bin/$t"; chmod +x "$tmp/bin/$t"; done
+if "$hmp" devices --json | grep -q '"kind":"stm32_dfu"'; then
+  echo "note: an STM32 in DFU mode is plugged in: the no-board checks are skipped"
+else
+  PATH="$tmp/bin:$PATH" run flash --method dfu --firmware "$img.bin"
+  check "no DFU board rc" 1 "$rc"
+  grep -q "no STM32 in DFU mode found (0483:df11).*BOOT0" <<<"$err" || { echo "FAIL: no-board hint: [$err]"; fail=1; }
+  grep -q "FAKE" <<<"$out" && { echo "FAIL: a tool ran without a board"; fail=1; }
+fi
+if ! "$hmp" devices --json | grep -q '"kind":"stlink"'; then
+  PATH="$tmp/bin:$PATH" run flash --method openocd --firmware "$img.bin"
+  # (openocd wants the .elf, which is gone: bad input first)
+  check "openocd no elf rc" 2 "$rc"
+  : >"$img.elf"
+  PATH="$tmp/bin:$PATH" run flash --method stlink --firmware "$img.bin"
+  check "no ST-LINK rc" 1 "$rc"
+  grep -q "no ST-LINK probe found" <<<"$err" || { echo "FAIL: no-probe hint: [$err]"; fail=1; }
+fi
+
+# The udev rule.
+run flash --print-udev-rule
+if ! cmp -s "$tmp/out" "$repo/host/flash/70-hmp.rules"; then echo "FAIL: the compiled-in rule differs from host/flash/70-hmp.rules"; fail=1; fi
+bad=$(grep -v '^#' "$repo/host/flash/70-hmp.rules" | grep -v '^$' |
+      grep -v -E '^SUBSYSTEM=="(usb|hidraw)", ATTRS\{idVendor\}=="[0-9a-f]{4}", ATTRS\{idProduct\}=="[0-9a-f]{4}", TAG\+="uaccess"$')
+check "malformed rule lines" "" "$bad"
+for id in 1209:0001 0483:df11 0483:3748 0483:374b 0483:374e; do
+  grep -q "idVendor}==\"${id%:*}\", ATTRS{idProduct}==\"${id#*:}\"" "$repo/host/flash/70-hmp.rules" || { echo "FAIL: no rule for $id"; fail=1; }
+done
+run flash --install-udev-rule </dev/null
+check "install without a terminal rc" 1 "$rc"
+grep -q "from a terminal" <<<"$err" || { echo "FAIL: install without a terminal: [$err]"; fail=1; }
+
+[ $fail -eq 0 ] && echo "PASS"
+exit $fail
