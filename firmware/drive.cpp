@@ -69,14 +69,24 @@ void Drive::apply_now(const protocol::Settings& s) {
   qp_.t_max = s.t_max_n;
 }
 
-void Drive::hold(float (&duty)[kMotors]) {
+float Drive::hold_duty() const {
   Flags ignored = 0;
-  const float d = motor_.duty(qp_.t_min, 0.0f, ignored);  // no back-EMF term: the motors also damp
+  return motor_.duty(qp_.t_min, 0.0f, ignored);  // no back-EMF term: the motors also damp
+}
+
+void Drive::hold(float d, float (&duty)[kMotors]) {
   for (int i = 0; i < kMotors; ++i) {
     duty[i] = d;
     tension_[i] = qp_.t_min;
   }
   holding_ = true;
+}
+
+// Leaving the safe state: the compensator starts again from strings at rest at t_min.
+void Drive::resume() {
+  if (!holding_) return;
+  compensator_.reset(qp_.t_min);
+  holding_ = false;
 }
 
 // Encoders → speeds, pose, and the sensing checks. Returns new fault bits.
@@ -125,13 +135,10 @@ DriveTick Drive::tick(float vibration, bool safe, const std::int32_t (&counts)[k
   float measured[kMotors];
   out.faults = check_sensing(counts, measured, tick_hz_);
   if (safe || out.faults != 0) {
-    hold(duty);
+    hold(hold_duty(), duty);
     return out;
   }
-  if (holding_) {
-    compensator_.reset(qp_.t_min);
-    holding_ = false;
-  }
+  resume();
 
   // The force: the vibration along the direction, on top of the bias tensions, pre-emphasised for what
   // the tick rate costs (drive_model.hpp). The warm-start bank is keyed by the force asked of the QP: its
@@ -144,7 +151,7 @@ DriveTick Drive::tick(float vibration, bool safe, const std::int32_t (&counts)[k
   out.flags = qp.flags;
   if (qp.flags & kQpBroken) {
     out.faults |= protocol::fault_qp_infeasible;
-    hold(duty);
+    hold(hold_duty(), duty);
     return out;
   }
   // What the tensions make along the direction: the QP's force (the bias alone makes ~1 mN, the
@@ -168,8 +175,7 @@ void Drive::plan(const PlanInput& in, DrivePlan& out) {
   calibrate_once(in.counts);
   out.faults = check_sensing(in.counts, out.speed, sense_hz_);
   out.flags = 0;
-  Flags ignored = 0;
-  out.hold_duty = motor_.duty(qp_.t_min, 0.0f, ignored);
+  out.hold_duty = hold_duty();
   out.hold = in.safe || out.faults != 0;
   if (out.hold) return;
   const spidar::StringGeometry<float>& strings = pose_.strings();
@@ -207,17 +213,10 @@ DriveTick Drive::render(float vibration, bool safe, const DrivePlan& plan, float
   DriveTick out;
   out.flags = plan.flags;
   if (safe || plan.hold || !(plan.force_max > 0.0f)) {
-    for (int i = 0; i < kMotors; ++i) {
-      duty[i] = plan.hold_duty;
-      tension_[i] = qp_.t_min;
-    }
-    holding_ = true;
+    hold(plan.hold_duty, duty);  // the plan's: no motor model in the tick
     return out;
   }
-  if (holding_) {
-    compensator_.reset(qp_.t_min);
-    holding_ = false;
-  }
+  resume();
   const float requested = vibration * peak_n_;
   const float emphasised = compensator_.emphasise(requested);
   // Where on the planned line: s ∈ [−1, 1] of force_max (beyond it the set is clamped: saturated).

@@ -136,7 +136,9 @@ class Drive {
   void calibrate_once(const std::int32_t (&counts)[kMotors]);
   void apply_now(const protocol::Settings& settings);
   void take_staged_settings();
-  void hold(float (&duty)[kMotors]);
+  float hold_duty() const;                      // the stall duty of t_min
+  void hold(float d, float (&duty)[kMotors]);  // the safe state: every motor at d, tensions at t_min
+  void resume();
 
   DriveParams params_;
   float tick_hz_;

@@ -2,6 +2,7 @@
 // (boards/cortex-m), run main(), and report faults through semihosting.
 #include <cstdint>
 
+#include "boards/cortex-m/vector_table.hpp"
 #include "registers.hpp"
 #include "semihosting.hpp"
 
@@ -28,31 +29,22 @@ void UART0_TX_Handler() __attribute__((weak, alias("Default_Handler")));
 
 namespace {
 
-using Handler = void (*)();
-
+namespace ex = hmp::board::exception;
 // AN386 wires 32 external interrupts (QEMU: num-irq 32). UART0 RX/TX are IRQ 0/1.
-constexpr unsigned kExternalIrqs = 32;
-
-struct VectorTable {
-  const void* initial_sp;
-  Handler system[15];  // Reset … SysTick (exception numbers 1 … 15)
-  Handler irq[kExternalIrqs];
-};
+using VectorTable = hmp::board::VectorTable<32>;
 
 constexpr VectorTable make_vector_table() {
   VectorTable t{__stack_top, {}, {}};
-  t.system[0] = Reset_Handler;
-  t.system[1] = NMI_Handler;
-  t.system[2] = HardFault_Handler;
-  t.system[3] = MemManage_Handler;
-  t.system[4] = BusFault_Handler;
-  t.system[5] = UsageFault_Handler;
-  // 7 … 10 reserved (nullptr)
-  t.system[10] = SVC_Handler;
-  t.system[11] = DebugMon_Handler;
-  // 13 reserved
-  t.system[13] = PendSV_Handler;
-  t.system[14] = SysTick_Handler;
+  t.system[ex::kReset] = Reset_Handler;
+  t.system[ex::kNmi] = NMI_Handler;
+  t.system[ex::kHardFault] = HardFault_Handler;
+  t.system[ex::kMemManage] = MemManage_Handler;
+  t.system[ex::kBusFault] = BusFault_Handler;
+  t.system[ex::kUsageFault] = UsageFault_Handler;
+  t.system[ex::kSvc] = SVC_Handler;
+  t.system[ex::kDebugMon] = DebugMon_Handler;
+  t.system[ex::kPendSv] = PendSV_Handler;
+  t.system[ex::kSysTick] = SysTick_Handler;
   for (auto& h : t.irq) h = Default_Handler;
   t.irq[0] = UART0_RX_Handler;
   t.irq[1] = UART0_TX_Handler;
@@ -63,7 +55,6 @@ constexpr VectorTable make_vector_table() {
 
 using hmp::board::reg;
 namespace scb = hmp::board::scb;
-constexpr std::uint32_t kCpacrCp10Cp11Full = 0xFu << 20;
 constexpr std::uint32_t kShcsrFaultsEnabled = (1u << 16) | (1u << 17) | (1u << 18);  // Mem, Bus, Usage
 
 // Everything after the FPU is on: compiled code here may use floating-point registers freely.
@@ -85,8 +76,7 @@ extern "C" {
 
 // Integer-only until CPACR grants access to CP10/CP11: any FP instruction before that would fault.
 void Reset_Handler() {
-  reg(scb::kVtor) = reinterpret_cast<std::uintptr_t>(&g_vectors);
-  reg(scb::kCpacr) = reg(scb::kCpacr) | kCpacrCp10Cp11Full;
+  hmp::board::enable_fpu_and_vectors(&g_vectors);
   // Separate MemManage/BusFault/UsageFault handlers give better messages than an escalated HardFault.
   reg(scb::kShcsr) = reg(scb::kShcsr) | kShcsrFaultsEnabled;
   asm volatile("dsb\n\tisb" ::: "memory");

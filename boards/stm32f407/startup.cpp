@@ -4,7 +4,7 @@
 // protocol), so nothing is printed; the watchdog reset flag reaches the host in HelloReply.
 #include <cstdint>
 
-#include "boards/cortex-m/cortex_m.hpp"
+#include "boards/cortex-m/vector_table.hpp"
 #include "motors.hpp"
 
 extern "C" {
@@ -25,28 +25,22 @@ void OTG_FS_IRQHandler() __attribute__((weak, alias("Fault_Handler")));
 
 namespace {
 
-using Handler = void (*)();
 namespace board = hmp::board;
+namespace ex = board::exception;
 
 // The STM32F405/407 have 82 external interrupts (RM0090 table 61, positions 0–81).
-constexpr unsigned kExternalIrqs = 82;
+using VectorTable = board::VectorTable<82>;
 constexpr unsigned kIrqExti0 = 6, kIrqExti1 = 7, kIrqExti2 = 8, kIrqExti3 = 9, kIrqExti9_5 = 23,
                    kIrqUsart2 = 38, kIrqOtgFs = 67;
 
-struct VectorTable {
-  const void* initial_sp;
-  Handler system[15];  // Reset … SysTick (exception numbers 1 … 15)
-  Handler irq[kExternalIrqs];
-};
-
 constexpr VectorTable make_vector_table() {
   VectorTable t{__stack_top, {}, {}};
-  t.system[0] = Reset_Handler;
-  for (unsigned i = 1; i <= 5; ++i) t.system[i] = Fault_Handler;  // NMI, HardFault, MemManage, Bus, Usage
-  t.system[10] = Fault_Handler;                                    // SVC: never used
-  t.system[11] = Fault_Handler;                                    // DebugMon
-  t.system[13] = Fault_Handler;                                    // PendSV: never used
-  t.system[14] = SysTick_Handler;
+  t.system[ex::kReset] = Reset_Handler;
+  for (unsigned i = ex::kNmi; i <= ex::kUsageFault; ++i) t.system[i] = Fault_Handler;
+  t.system[ex::kSvc] = Fault_Handler;  // never used
+  t.system[ex::kDebugMon] = Fault_Handler;
+  t.system[ex::kPendSv] = Fault_Handler;  // never used
+  t.system[ex::kSysTick] = SysTick_Handler;
   for (auto& h : t.irq) h = Fault_Handler;
   t.irq[kIrqExti0] = EXTI0_IRQHandler;
   t.irq[kIrqExti1] = EXTI1_IRQHandler;
@@ -60,8 +54,6 @@ constexpr VectorTable make_vector_table() {
 
 [[gnu::section(".isr_vector"), gnu::used]] constinit const VectorTable g_vectors = make_vector_table();
 
-constexpr std::uint32_t kCpacrCp10Cp11Full = 0xFu << 20;
-
 [[gnu::noinline, noreturn]] void start_runtime() {
   for (std::uint32_t* p = __ccm_start; p < __ccm_end; ++p) *p = 0;
   board::init_runtime();
@@ -74,11 +66,9 @@ constexpr std::uint32_t kCpacrCp10Cp11Full = 0xFu << 20;
 
 extern "C" {
 
-// Integer-only until CPACR grants access to CP10/CP11: any FP instruction before that would fault.
+// Integer-only until the FPU is on: any FP instruction before that would fault.
 void Reset_Handler() {
-  board::reg(board::scb::kVtor) = reinterpret_cast<std::uintptr_t>(&g_vectors);
-  board::reg(board::scb::kCpacr) = board::reg(board::scb::kCpacr) | kCpacrCp10Cp11Full;
-  asm volatile("dsb\n\tisb" ::: "memory");
+  board::enable_fpu_and_vectors(&g_vectors);
   start_runtime();
 }
 

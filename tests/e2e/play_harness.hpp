@@ -103,6 +103,19 @@ inline ParsedLog parse_log(const std::string& path) {
   return log;
 }
 
+// A device's play log (--log) against the passage's notes from `hmp info`: as many notes, each started on
+// the tick it was scheduled for, and a summary with every note played, none late or rejected.
+inline void expect_every_note_on_its_tick(const std::string& log_path, std::size_t expected_notes,
+                                          const std::string& context) {
+  const ParsedLog log = parse_log(log_path);
+  ASSERT_EQ(log.notes.size(), expected_notes) << context;
+  for (const LogEntry& e : log.notes) EXPECT_EQ(e.actual, e.scheduled) << "key " << e.key << " at " << e.start_s;
+  ASSERT_TRUE(log.summary.has_value()) << context;
+  EXPECT_EQ(log.summary->at("notes_played").get<std::size_t>(), expected_notes);
+  EXPECT_EQ(log.summary->at("late").get<int>(), 0);
+  EXPECT_EQ(log.summary->at("rejected").get<int>(), 0);
+}
+
 inline const midi::Song& demo_song() {
   static const midi::Song song = midi::load_song(kDemo).song;
   return song;
