@@ -1,8 +1,8 @@
 // hmp flash [--board stm32f407] [--method dfu|stlink|openocd] [--firmware FILE] [--dry-run] [--timeout-s N]
 // hmp flash --install-udev-rule | --print-udev-rule
 // Writes the board's firmware with a Debian tool (host/flash/flash_plan.hpp), building the image first
-// when it is missing or older than its sources (the build system decides), then waits for the board to come back as our HID device
-// and prints its `hmp devices` line (SPEC §3, §13; docs/flashing.md). Tool or board missing: one line
+// when it is missing or older than its sources (host/flash/firmware_image.hpp), then waits for the board
+// to come back as our HID device and prints its `hmp devices` line (design §3, §13; docs/flashing.md). Tool or board missing: one line
 // saying what to install or how to enter DFU mode, exit 1; bad options: exit 2.
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -22,6 +22,7 @@
 
 #include "host/cli/commands.hpp"
 #include "host/common/error.hpp"
+#include "host/flash/firmware_image.hpp"
 #include "host/flash/flash_plan.hpp"
 #include "host/flash/udev_rule.hpp"  // generated from host/flash/70-hmp.rules
 #include "host/flash/usb_scan.hpp"
@@ -42,10 +43,11 @@ struct FlashOptions {
   bool print_rule = false;
 };
 
-// The image a source tree builds (preset stm32f407), and what it is built from.
-const fs::path kSourceDir = HMP_SOURCE_DIR;
-fs::path default_image(const char* extension) {
-  return kSourceDir / "build" / "stm32f407" / "boards" / "stm32f407" / (std::string("hmp_fw_stm32f407") + extension);
+// The source tree whose stm32f407 image is the default one: $HMP_SOURCE_DIR, else the tree this hmp was
+// built from.
+fs::path source_dir() {
+  const char* env = std::getenv("HMP_SOURCE_DIR");
+  return env != nullptr && *env != '\0' ? fs::path(env) : fs::path(HMP_SOURCE_DIR);
 }
 
 std::string find_on_path(const std::string& program) {
@@ -122,10 +124,10 @@ int install_udev_rule() {
 }
 
 // The file the method takes: --firmware (or its sibling of the other kind), else the source tree's image,
-// which the build system brings up to date first (`build`: a no-op when nothing changed).
-fs::path choose_image(const FlashOptions& o, Method method, bool& build) {
+// to be built first when it is missing or older than its sources (`build` says why; empty: no build).
+fs::path choose_image(const FlashOptions& o, Method method, std::string& build) {
   const char* want = flash::wants_elf(method) ? ".elf" : ".bin";
-  build = false;
+  build.clear();
   if (!o.firmware.empty()) {
     const fs::path given = o.firmware;
     if (!fs::is_regular_file(given)) throw BadInput(fmt::format("--firmware {}: no such file", o.firmware));
@@ -138,11 +140,22 @@ fs::path choose_image(const FlashOptions& o, Method method, bool& build) {
     throw BadInput(fmt::format("--firmware {}: --method {} writes a {} image, and there is no {} beside it", o.firmware,
                                flash::method_name(method), want, sibling.string()));
   }
-  if (!fs::is_directory(kSourceDir / "boards" / "stm32f407")) {
-    throw BadInput("no firmware image: give --firmware FILE (this hmp was not built from a source tree it can find)");
+  if (!fs::is_directory(source_dir() / "boards" / "stm32f407")) {
+    throw BadInput(fmt::format("no firmware image: give --firmware FILE, or HMP_SOURCE_DIR=<source tree> ({} is not one)",
+                               source_dir().string()));
   }
-  build = true;
-  return default_image(want);
+  fs::path image = flash::default_image(source_dir(), flash::wants_elf(method));
+  if (const flash::Freshness f = flash::image_freshness(image, source_dir()); f.stale) build = f.why;
+  return image;
+}
+
+// The build as one shell line run in the source dir.
+std::string build_line() {
+  std::string line = "cd " + flash::shell_line({source_dir().string()});
+  for (const auto& argv : flash::build_commands(flash::build_configured(source_dir()))) {
+    line += " && " + flash::shell_line(argv);
+  }
+  return line;
 }
 
 int run_flash(const FlashOptions& o) {
@@ -169,11 +182,14 @@ int run_flash(const FlashOptions& o) {
   };
   if (!method) method = !found(flash::ProbeKind::stm32_dfu) && found(flash::ProbeKind::stlink) ? Method::stlink : Method::dfu;
 
-  bool build = false;
+  std::string build;  // why the image is built first; empty: it is not
   const fs::path image = choose_image(o, *method, build);
   const std::vector<std::string> argv = flash::command_line(*method, image.string());
   if (o.dry_run) {
-    if (build) std::fprintf(stderr, "(before it: cmake --build --preset stm32f407, which builds the image if needed)\n");
+    if (!build.empty()) {
+      std::fprintf(stderr, "would first build %s (%s): %s\n", image.filename().c_str(), build.c_str(),
+                   build_line().c_str());
+    }
     std::printf("%s\n", flash::shell_line(argv).c_str());
     return kExitOk;
   }
@@ -181,34 +197,30 @@ int run_flash(const FlashOptions& o) {
   const flash::Tool tool = flash::tool_for(*method);
   const std::string program = find_on_path(tool.program);
   if (program.empty()) {
-    std::fprintf(stderr, "error: %s not found — install it: sudo apt install %s\n", tool.program, tool.package);
+    std::fprintf(stderr, "error: %s\n", flash::missing_tool_message(*method).c_str());
     return kExitFailure;
+  }
+  if (!build.empty()) {
+    std::fprintf(stderr, "building %s (%s): %s\n", image.filename().c_str(), build.c_str(), build_line().c_str());
+    const std::string cmake = find_on_path("cmake");
+    bool ok = !cmake.empty();
+    for (const auto& step : flash::build_commands(flash::build_configured(source_dir()))) {
+      if (ok) ok = run_program(step, cmake, source_dir()) == 0;  // its output goes straight to ours
+    }
+    if (!ok) {
+      std::fprintf(stderr, "error: building the stm32f407 image failed%s\n",
+                   cmake.empty() ? ": cmake not found — install it: sudo apt install cmake" : " (see above)");
+      return kExitFailure;
+    }
+    if (!fs::is_regular_file(image)) {
+      std::fprintf(stderr, "error: the stm32f407 build did not make %s\n", image.c_str());
+      return kExitFailure;
+    }
   }
   const bool dfu = *method == Method::dfu;
   if (!found(dfu ? flash::ProbeKind::stm32_dfu : flash::ProbeKind::stlink)) {
-    const std::string why = scan.unavailable.empty() ? "" : fmt::format(" ({})", scan.unavailable);
-    if (dfu) {
-      std::fprintf(stderr,
-                   "error: no STM32 in DFU mode found (0483:df11)%s — put BOOT0 high (STM32F4DISCOVERY: a jumper from "
-                   "BOOT0 to VDD), press RESET, plug its micro-USB, and run hmp flash again\n",
-                   why.c_str());
-    } else {
-      std::fprintf(stderr,
-                   "error: no ST-LINK probe found%s — connect the board's ST-LINK USB port (CN1 on the "
-                   "STM32F4DISCOVERY), or use --method dfu\n",
-                   why.c_str());
-    }
+    std::fprintf(stderr, "error: %s\n", flash::no_board_message(*method, scan.unavailable).c_str());
     return kExitFailure;
-  }
-  if (build) {
-    const std::string cmake = find_on_path("cmake");
-    std::fprintf(stderr, "bringing the firmware image up to date (cmake --build --preset stm32f407)…\n");
-    const bool configured = fs::exists(kSourceDir / "build" / "stm32f407" / "CMakeCache.txt") ||
-                            run_program({"cmake", "--preset", "stm32f407"}, cmake, kSourceDir) == 0;
-    if (cmake.empty() || !configured || run_program({"cmake", "--build", "--preset", "stm32f407"}, cmake, kSourceDir) != 0) {
-      std::fprintf(stderr, "error: building the stm32f407 image failed (see above)\n");
-      return kExitFailure;
-    }
   }
   std::fprintf(stderr, "%s\n", flash::shell_line(argv).c_str());
   if (const int rc = run_program(argv, program); rc != 0) {

@@ -1,3 +1,5 @@
+// flash_plan: the flashing tools' command lines, their packages, the image build's commands and the
+// one-line messages when a tool or a board is missing. No I/O.
 #include "host/flash/flash_plan.hpp"
 
 namespace hmp::flash {
@@ -56,6 +58,28 @@ std::string shell_line(const std::vector<std::string>& argv) {
     for (char c : a) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
     out += '\'';
   }
+  return out;
+}
+
+std::vector<std::vector<std::string>> build_commands(bool configured) {
+  std::vector<std::vector<std::string>> out;
+  if (!configured) out.push_back({"cmake", "--preset", "stm32f407"});
+  out.push_back({"cmake", "--build", "--preset", "stm32f407"});
+  return out;
+}
+
+std::string missing_tool_message(Method m) {
+  const Tool t = tool_for(m);
+  return std::string(t.program) + " not found — install it: sudo apt install " + t.package;
+}
+
+std::string no_board_message(Method m, const std::string& usb_unavailable) {
+  std::string out =
+      m == Method::dfu
+          ? "no STM32 in DFU mode found (0483:df11) — hold BOOT0 high (on the STM32F4DISCOVERY: a jumper from BOOT0 "
+            "to VDD), press RESET, and run hmp flash again"
+          : "no ST-LINK probe found — connect the board's ST-LINK USB port (CN1 on the STM32F4DISCOVERY)";
+  if (!usb_unavailable.empty()) out += " (USB could not be read here: " + usb_unavailable + ")";
   return out;
 }
 

@@ -30,4 +30,14 @@ std::vector<std::string> command_line(Method m, const std::string& image);
 // The command as one line a shell accepts (single-quoted where needed).
 std::string shell_line(const std::vector<std::string>& argv);
 
+// The commands that build the image in the source dir: `cmake --preset stm32f407` when the build tree is
+// not configured yet, then `cmake --build --preset stm32f407`.
+std::vector<std::vector<std::string>> build_commands(bool configured);
+
+// The one-line errors (without "error: "): the tool is not on PATH (names its Debian package); no board
+// for the method (how to get one ready). `usb_unavailable`: why USB could not be looked at, or empty —
+// the hint is the same either way, the reason is added at the end.
+std::string missing_tool_message(Method m);
+std::string no_board_message(Method m, const std::string& usb_unavailable);
+
 }  // namespace hmp::flash

@@ -1,3 +1,4 @@
+// usb_scan: finding an STM32 in DFU mode and ST-LINK probes with libusb; no USB access is an empty list.
 #include "host/flash/usb_scan.hpp"
 
 #include <libusb.h>
