@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
-# `hmp flash` without a board (SPEC §3, §13; docs/flashing.md): --dry-run prints each method's command as
+# `hmp flash` without a board (design §3, §13; docs/flashing.md): --dry-run prints each method's command as
 # boards/stm32f407/README.md documents it, for a given image and its sibling of the other kind; bad options
 # exit 2 with one line; a missing tool names its Debian package, exit 1; no board found (a CI machine has
 # none) says how to enter DFU mode, exit 1; the udev rule compiled into hmp is the repository's file, and
 # every rule grants uaccess to one VID:PID; --install-udev-rule asks first and, with no terminal, installs
-# nothing.
+# nothing. The default image (HMP_SOURCE_DIR pointing at a fake source tree, a fake cmake on PATH) is built
+# when it is missing or older than its sources and only then; --dry-run only says it would build.
 set -u
 hmp="$1"; repo="$2"
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
@@ -43,9 +44,17 @@ run flash --timeout-s -1 --firmware "$img.bin"
 check "bad timeout rc" 2 "$rc"
 
 # No tool on PATH: the package to install.
+: >"$img.elf"
 PATH="$tmp/empty" run flash --method stlink --firmware "$img.bin"
 check "no st-flash rc" 1 "$rc"
 check "no st-flash message" "error: st-flash not found — install it: sudo apt install stlink-tools" "$err"
+PATH="$tmp/empty" run flash --method dfu --firmware "$img.bin"
+check "no dfu-util rc" 1 "$rc"
+check "no dfu-util message" "error: dfu-util not found — install it: sudo apt install dfu-util" "$err"
+PATH="$tmp/empty" run flash --method openocd --firmware "$img.bin"
+check "no openocd rc" 1 "$rc"
+check "no openocd message" "error: openocd not found — install it: sudo apt install openocd" "$err"
+rm "$img.elf"
 # Tools there (fake ones, so nothing real could ever be flashed here), no board: how to get one ready.
 mkdir -p "$tmp/bin"
 for t in dfu-util st-flash openocd; do printf '#!/bin/sh\necho "FAKE %s RAN"; exit 0\n' "$t" >"$tmp/bin/$t"; chmod +x "$tmp/bin/$t"; done
@@ -54,7 +63,10 @@ if "$hmp" devices --json | grep -q '"kind":"stm32_dfu"'; then
 else
   PATH="$tmp/bin:$PATH" run flash --method dfu --firmware "$img.bin"
   check "no DFU board rc" 1 "$rc"
-  grep -q "no STM32 in DFU mode found (0483:df11).*BOOT0" <<<"$err" || { echo "FAIL: no-board hint: [$err]"; fail=1; }
+  dfu_hint="error: no STM32 in DFU mode found (0483:df11) — hold BOOT0 high (on the STM32F4DISCOVERY: a jumper from BOOT0 to VDD), press RESET, and run hmp flash again"
+  # (where libusb cannot look, the line goes on with why: the same hint first)
+  check "no DFU board message" "$dfu_hint" "${err:0:${#dfu_hint}}"
+  check "no DFU board: one line" 1 "$(wc -l <<<"$err")"
   grep -q "FAKE" <<<"$out" && { echo "FAIL: a tool ran without a board"; fail=1; }
 fi
 if ! "$hmp" devices --json | grep -q '"kind":"stlink"'; then
@@ -66,6 +78,50 @@ if ! "$hmp" devices --json | grep -q '"kind":"stlink"'; then
   check "no ST-LINK rc" 1 "$rc"
   grep -q "no ST-LINK probe found" <<<"$err" || { echo "FAIL: no-probe hint: [$err]"; fail=1; }
 fi
+
+# The default image, in a fake source tree: built (by the fake cmake) when missing or stale, never by a dry run.
+src="$tmp/src tree"; mkdir -p "$src/boards/stm32f407" "$src/firmware" "$src/shared"
+: >"$src/firmware/core.cpp"
+fw="$src/build/stm32f407/boards/stm32f407/hmp_fw_stm32f407"
+cat >"$tmp/bin/cmake" <<'FAKE'
+#!/bin/sh
+echo "FAKE CMAKE $* in $(pwd)" | tee -a "$CMAKE_LOG"
+[ -n "$CMAKE_FAIL" ] && exit 3
+if [ "$1" = --preset ]; then mkdir -p build/stm32f407 && : >build/stm32f407/CMakeCache.txt; fi
+if [ "$1" = --build ]; then mkdir -p build/stm32f407/boards/stm32f407 && : >build/stm32f407/boards/stm32f407/hmp_fw_stm32f407.bin && : >build/stm32f407/boards/stm32f407/hmp_fw_stm32f407.elf; fi
+FAKE
+chmod +x "$tmp/bin/cmake"
+export CMAKE_LOG="$tmp/cmake.log"
+HMP_SOURCE_DIR="$src" PATH="$tmp/bin:$PATH" run flash --dry-run --method dfu
+check "default image dry run" "dfu-util -d 0483:df11 -a 0 -s 0x08000000:leave -D '$fw.bin'" "$out"
+check "default image dry run: what it would build" \
+  "would first build hmp_fw_stm32f407.bin (it does not exist): cd '$src' && cmake --preset stm32f407 && cmake --build --preset stm32f407" "$err"
+[ -e "$CMAKE_LOG" ] && { echo "FAIL: a dry run built"; fail=1; }
+HMP_SOURCE_DIR="$src" PATH="$tmp/bin:$PATH" CMAKE_FAIL=1 run flash --method dfu
+check "failed build rc" 1 "$rc"
+check "failed build: the build's output shown" "FAKE CMAKE --preset stm32f407 in $src" "$out"
+check "failed build message" "error: building the stm32f407 image failed (see above)" "$(tail -n 1 <<<"$err")"
+rm -f "$CMAKE_LOG"
+if ! "$hmp" devices --json | grep -q '"kind":"stm32_dfu"'; then
+  HMP_SOURCE_DIR="$src" PATH="$tmp/bin:$PATH" run flash --method dfu
+  check "built: the build's steps" "FAKE CMAKE --preset stm32f407 in $src
+FAKE CMAKE --build --preset stm32f407 in $src" "$(<"$CMAKE_LOG")"
+  check "built, no board: rc" 1 "$rc"
+  last=$(tail -n 1 <<<"$err"); check "built, no board: message" "$dfu_hint" "${last:0:${#dfu_hint}}"
+  [ -f "$fw.bin" ] || { echo "FAIL: no image after the build"; fail=1; }
+  # Up to date now: no build. Configured and stale: only cmake --build.
+  rm -f "$CMAKE_LOG"
+  HMP_SOURCE_DIR="$src" PATH="$tmp/bin:$PATH" run flash --method dfu
+  [ -e "$CMAKE_LOG" ] && { echo "FAIL: built an up-to-date image"; fail=1; }
+  touch -d '+1 min' "$src/shared/protocol.hpp"
+  HMP_SOURCE_DIR="$src" PATH="$tmp/bin:$PATH" run flash --dry-run --method dfu
+  check "stale: what it would build" \
+    "would first build hmp_fw_stm32f407.bin (it is older than shared/protocol.hpp): cd '$src' && cmake --build --preset stm32f407" "$err"
+  HMP_SOURCE_DIR="$src" PATH="$tmp/bin:$PATH" run flash --method dfu
+  check "stale: the build's steps" "FAKE CMAKE --build --preset stm32f407 in $src" "$(<"$CMAKE_LOG")"
+fi
+HMP_SOURCE_DIR="$tmp/nowhere" run flash --dry-run --method dfu
+check "no source tree rc" 2 "$rc"
 
 # The udev rule.
 run flash --print-udev-rule
