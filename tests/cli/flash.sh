@@ -135,6 +135,13 @@ done
 run flash --install-udev-rule </dev/null
 check "install without a terminal rc" 1 "$rc"
 grep -q "from a terminal" <<<"$err" || { echo "FAIL: install without a terminal: [$err]"; fail=1; }
+# On a terminal (script(1) gives it one) answering anything but y installs nothing.
+if command -v script >/dev/null; then
+  out=$(echo n | timeout 20 script -qec "'$hmp' flash --install-udev-rule" /dev/null); rc=$?
+  check "install answered n: rc" 1 "$rc"
+  grep -q "Install? \[y/N\] Nothing installed." <<<"$out" || { echo "FAIL: install answered n: [$out]"; fail=1; }
+  grep -q "/etc/udev/rules.d/70-hmp.rules" <<<"$out" || { echo "FAIL: install does not name the target: [$out]"; fail=1; }
+fi
 
 [ $fail -eq 0 ] && echo "PASS"
 exit $fail
