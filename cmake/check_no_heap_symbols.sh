@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Fails if a firmware image contains heap or exception machinery (SPEC §8: no allocation; developer
+# Fails if a firmware image contains heap or exception machinery (design §8: no allocation; developer
 # guide: no exceptions). Looks at every symbol nm reports, defined or not.
 # Usage: check_no_heap_symbols.sh NM IMAGE.elf...
 set -euo pipefail

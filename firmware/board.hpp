@@ -1,5 +1,5 @@
 #pragma once
-// The board seam (SPEC §8): everything the board-independent core needs from a board, as a plain struct
+// The board seam (design §8): everything the board-independent core needs from a board, as a plain struct
 // of function pointers (no virtual calls, no RTTI, no board header in the core). A board fills one in,
 // constructs hmp::fw::Core with it, and then
 //   - calls core.on_tick() from its tick timer interrupt (tick_hz times per second), and

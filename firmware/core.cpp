@@ -20,7 +20,7 @@ Core::Core(const BoardSeam& board, std::uint32_t tick_hz, std::uint64_t first_ti
   synth_cfg_.tick_hz = tick_hz_;
   synth_cfg_.end_fade_ms = settings_.end_fade_ms;
   engine_.configure(synth_cfg_);
-  // Status ≥ 50 Hz while playing (SPEC §9): 100 Hz at any tick rate; 10 Hz otherwise, so a host that
+  // Status ≥ 50 Hz while playing (design §9): 100 Hz at any tick rate; 10 Hz otherwise, so a host that
   // preloads the queue before play still sees queue_free move.
   status_period_playing_ = tick_hz_ >= 100 ? tick_hz_ / 100 : 1;
   status_period_idle_ = tick_hz_ >= 10 ? tick_hz_ / 10 : 1;

@@ -1,5 +1,5 @@
 #pragma once
-// The board-independent firmware core (SPEC §7–§10). Owns the synthesis engine, the note schedule and
+// The board-independent firmware core (design §7–§10). Owns the synthesis engine, the note schedule and
 // the device state machine; talks to hardware only through the BoardSeam. No heap, no exceptions, no
 // RTTI, no board header. docs/firmware.md describes the tick, the queues, the safety behaviour and the
 // RAM budget.

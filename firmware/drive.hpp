@@ -1,5 +1,5 @@
 #pragma once
-// The SPIDAR-G6 motor drive of the firmware tick (SPEC §8, §11; docs/spidar.md "Firmware drive"):
+// The SPIDAR-G6 motor drive of the firmware tick (design §8, §11; docs/spidar.md "Firmware drive"):
 //
 //   encoders → string lengths (LengthCalibration) → grip pose (PoseEstimator, 1 Gauss–Newton step,
 //   warm start) → force F = vibration × peak force × direction → tensions (the QP: every string between
@@ -108,7 +108,7 @@ class Drive {
 
   // One tick. `vibration`: this tick's output value (full scale, already limited). `safe`: hold every
   // string at t_min with stall duties (a latched fault). The first call calibrates: the grip is at the
-  // centre in its rest orientation (SPEC §11).
+  // centre in its rest orientation (design §11).
   DriveTick tick(float vibration, bool safe, const std::int32_t (&counts)[kMotors], float (&duty)[kMotors]);
 
   // The split drive (params().plan_hz ≠ 0). plan(): the slow part, outside the tick (it owns the pose,

@@ -1,5 +1,5 @@
 #pragma once
-// The bounded note schedule: notes waiting for their start tick, earliest first (SPEC §8).
+// The bounded note schedule: notes waiting for their start tick, earliest first (design §8).
 // A binary min-heap in a fixed array: push and pop cost O(log n) with n ≤ kCapacity, no allocation.
 // Notes with the same start tick leave in arrival order (a chord keeps the order the host sent it in,
 // which decides stealing and the `latest` policy exactly as if the host had started them itself).

@@ -1,5 +1,5 @@
 #pragma once
-// The last step of the tick before the board (SPEC §8 safety): ramp-in at the start of play, fade-out
+// The last step of the tick before the board (design §8 safety): ramp-in at the start of play, fade-out
 // on pause/stop/watchdog, immediate silence on emergency stop, gain, and the clamp to the configured
 // limit |value| ≤ gain. The clamp is the last line of defence: it also catches a NaN or an
 // out-of-range sample from a bug upstream, which latches fault_output_limit.
@@ -7,7 +7,7 @@
 
 namespace hmp::fw {
 
-// How long a fade-out takes. SPEC §8 demands silence within 20 ms of the watchdog tripping; 15 ms
+// How long a fade-out takes. design §8 demands silence within 20 ms of the watchdog tripping; 15 ms
 // leaves room for the tick on which the trip is noticed.
 inline constexpr std::uint32_t kFadeOutMs = 15;
 

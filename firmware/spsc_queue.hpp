@@ -1,5 +1,5 @@
 #pragma once
-// Lock-free single-producer/single-consumer ring (SPEC §8: transport → tick). One context only pushes
+// Lock-free single-producer/single-consumer ring (design §8: transport → tick). One context only pushes
 // (the transport interrupt or loop), one only pops (the tick). Indices are free-running 32-bit counters:
 // each side writes only its own, so a plain release store publishes a slot and an acquire load sees it.
 // On a Cortex-M4 these are ordinary loads/stores plus barriers: no locks, no interrupt masking.

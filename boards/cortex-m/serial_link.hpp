@@ -1,5 +1,5 @@
 #pragma once
-// The protocol over a UART (SPEC §9: the same 64-byte reports, framed by shared/framing: COBS + CRC-16),
+// The protocol over a UART (design §9: the same 64-byte reports, framed by shared/framing: COBS + CRC-16),
 // for any UART driver with the small interface below (boards/qemu-an386/uart.hpp, boards/stm32f407/usart.hpp).
 //
 // Receive (UART RX interrupt): bytes → framing::Decoder → `deliver` (the core's on_packet). Frames that

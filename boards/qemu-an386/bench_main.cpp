@@ -12,7 +12,7 @@
 //   result voices=V tick_hz=H ticks=N mean=M max=X min=Y
 // plus a calibration line (1000 nops should count 1000). Option hz=N sets the tick rate.
 //
-// Then the same with the SPIDAR drive (SPEC §8: the full tick ≤ 12,000): the board gets simulated motors
+// Then the same with the SPIDAR drive (design §8: the full tick ≤ 12,000): the board gets simulated motors
 // (BenchMotors), whose encoders report, between ticks and not counted, the counts of a grip circling 5 mm
 // around the centre at 0.5 Hz with a 0.1 mm, 173 Hz wobble, so the pose moves and the QP's warm starts
 // are exercised; lines `result drive=1 voices=V …` for 0 and 16 voices. At a tick faster than 1 kHz, then

@@ -27,9 +27,9 @@ constexpr double kNoteAmp = 0.5;
 constexpr std::uint32_t kNoteTicks = kTickHz;
 constexpr std::uint32_t kTailTicks = 20;
 constexpr std::uint32_t kTotalTicks = kNoteTicks + kTailTicks;
-constexpr auto kPreset = hmp::envelope::Preset::square;  // E = amplitude for the whole note (SPEC §6)
+constexpr auto kPreset = hmp::envelope::Preset::square;  // E = amplitude for the whole note (design §6)
 
-// Tolerances. Precision against the SPEC §7 budget is tested on the host; here we only need to catch a
+// Tolerances. Precision against the design §7 budget is tested on the host; here we only need to catch a
 // cross build that computes something else (wrong float ABI, libm, startup or optimiser trouble).
 constexpr float kSampleTolerance = 1e-4f;
 constexpr float kPeakTolerance = 1e-3f;
@@ -132,7 +132,7 @@ int main() {
   for (std::uint32_t n = 0; n < 12; ++n) first.text(" ").fixed(g_samples[n]);
   first.print();
 
-  // The end fade (SPEC §6) shapes the last few ticks; there only the envelope bound applies.
+  // The end fade (design §6) shapes the last few ticks; there only the envelope bound applies.
   const auto fade_ticks = static_cast<std::uint32_t>(hmp::synth::SynthConfig{}.end_fade_ms * kTickHz / 1000.0f) + 1;
   float lo = 0.0f, hi = 0.0f, max_err = 0.0f;
   std::uint32_t up_crossings = 0, bound_violations = 0, tail_nonzero = 0;

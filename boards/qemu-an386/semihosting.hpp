@@ -1,5 +1,5 @@
 #pragma once
-// ARM semihosting calls (bkpt 0xAB), the qemu-an386 board's log and exit path (SPEC §13). They only work
+// ARM semihosting calls (bkpt 0xAB), the qemu-an386 board's log and exit path (design §13). They only work
 // under a debugger or QEMU with `-semihosting-config enable=on`; on bare silicon they would fault.
 #include <cstdint>
 

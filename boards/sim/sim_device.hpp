@@ -1,12 +1,12 @@
 #pragma once
-// The simulated board (SPEC §13 `sim`): the firmware core built natively on a deterministic virtual
+// The simulated board (design §13 `sim`): the firmware core built natively on a deterministic virtual
 // clock. Nothing runs by itself: advance(n) runs the tick interrupt n times, each followed by the core's
 // background work (Core::poll: sending the tick's reports, preparing the voices of the next notes), as a
 // main loop that always keeps up would; reports go in and come out through the same 64-byte interface as
 // over USB HID. Used by the firmware tests and as the default
 // device of `hmp play`.
 //
-// With a plant (SimOptions::plant, SPEC §12) the board has motors: the core's SPIDAR drive runs, each
+// With a plant (SimOptions::plant, design §12) the board has motors: the core's SPIDAR drive runs, each
 // tick's eight duties go into plant.step(duties, 1/tick_hz), and the plant's encoder counts (quantised
 // like the real ones) are what the drive reads on the next tick. Without one (the default) the board has
 // no motors and the core only computes the vibration value, as on the QEMU board.
@@ -24,7 +24,7 @@
 
 namespace hmp::sim {
 
-// The scene the drive renders into (SPEC §16: only what it needs): a translation-only grip held by a
+// The scene the drive renders into (design §16: only what it needs): a translation-only grip held by a
 // finger (the force a user feels needs a hand holding the grip; without one a force-controlled grip
 // falls under gravity), gravity on.
 plant::PlantParams drive_scene();

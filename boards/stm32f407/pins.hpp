@@ -1,6 +1,6 @@
 #pragma once
 // The board's pin map (README.md draws it): every pin the firmware drives or reads, in one place. The
-// allocation follows SPEC §13 — six timers with an encoder interface (TIM1/2/3/4/5/8) for encoders 1–6,
+// allocation follows design §13 — six timers with an encoder interface (TIM1/2/3/4/5/8) for encoders 1–6,
 // pin interrupts for encoders 7–8, TIM9–14 for the eight PWM channels — on pins the STM32F4DISCOVERY
 // leaves free or can spare (README.md lists what each one costs on that board).
 #include <cstdint>

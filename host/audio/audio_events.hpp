@@ -1,5 +1,5 @@
 #pragma once
-// The song's audio as a time-ordered list of channel events for the synthesizer (SPEC §14): note-on /
+// The song's audio as a time-ordered list of channel events for the synthesizer (design §14): note-on /
 // note-off with velocity, each note-on carrying the GM program its channel had at that moment in the
 // file (the synthesizer switches the channel's program just before the note when it differs). Built
 // from the song model (host/midi/song.hpp), which keeps paired notes with their program; controllers

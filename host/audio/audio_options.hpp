@@ -1,5 +1,5 @@
 #pragma once
-// Settings of the song's audio (SPEC §14), shared by the live player and the offline renderer.
+// Settings of the song's audio (design §14), shared by the live player and the offline renderer.
 #include <functional>
 #include <string>
 #include <vector>

@@ -1,5 +1,5 @@
 #pragma once
-// The song's audio during `hmp play` (SPEC §14): FluidSynth with the GM SoundFont on the first audio
+// The song's audio during `hmp play` (design §14): FluidSynth with the GM SoundFont on the first audio
 // driver that opens (pulseaudio, alsa, sdl2; or "virtual", a simulated card: virtual_card.hpp), rendering from the audio callback, sample-accurately
 // against a song position it owns; a PlaybackClock tells the rest of the player which song time is
 // being heard. Without audio (`--no-audio`, no SoundFont, no sound device) the same clock runs on the

@@ -2,7 +2,7 @@
 // Process-wide set-up around FluidSynth that no single object owns:
 //  - FluidSynth's log goes to a capture buffer instead of stderr (its errors become part of our one
 //    warning; its info and debug lines are dropped), and alsa-lib's own stderr messages are silenced,
-//    so a machine without a sound card plays silently without a screenful of noise (SPEC §14);
+//    so a machine without a sound card plays silently without a screenful of noise (design §14);
 //  - a count of audio-driver attempts, so tests can prove `--no-audio` never touches a sound device.
 #include <cstdint>
 #include <string>

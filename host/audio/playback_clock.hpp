@@ -1,5 +1,5 @@
 #pragma once
-// The song clock of the audio player (SPEC §10): which song time is being heard now. The scheduler
+// The song clock of the audio player (design §10): which song time is being heard now. The scheduler
 // maps song time to host time (and from there to device ticks) through it, so haptic notes follow the
 // sound, output latency included.
 //

@@ -1,9 +1,9 @@
 #pragma once
-// FluidSynth rendering the song's audio events against a sample position it owns (SPEC §14). The same
+// FluidSynth rendering the song's audio events against a sample position it owns (design §14). The same
 // object feeds the live audio driver and the offline renderer, so what a test measures offline is what
 // the speaker plays.
 //
-// Timing (SPEC §10: audio-haptic skew ≤ 1 ms):
+// Timing (design §10: audio-haptic skew ≤ 1 ms):
 //  - FluidSynth starts voices only at the start of one of its internal blocks (64 frames, 1.33 ms at
 //    48 kHz). render() applies each event at the block boundary nearest its time: ≤ half a block off.
 //  - Many GM instruments begin with a few ms of near-silence (sample start, envelope delay: 4.7 ms for

@@ -1,5 +1,5 @@
 #pragma once
-// Where the General MIDI SoundFont is (SPEC §14: Debian's fluid-soundfont-gm).
+// Where the General MIDI SoundFont is (design §14: Debian's fluid-soundfont-gm).
 #include <optional>
 #include <string>
 #include <vector>

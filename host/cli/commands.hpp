@@ -23,7 +23,7 @@ class Registry {
 };
 
 // Parses the command line with the subcommands `add_commands` registers and runs the chosen one.
-// A parse error is one line on stderr and exit 2 (SPEC §3), whatever CLI11 would have chosen.
+// A parse error is one line on stderr and exit 2 (design §3), whatever CLI11 would have chosen.
 int run_cli(int argc, char** argv, void (*add_commands)(CLI::App&, Registry&));
 
 void register_tone(CLI::App& app, Registry& registry);

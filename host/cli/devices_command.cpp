@@ -1,5 +1,5 @@
 // hmp devices [--json] [--id VID:PID] [--timeout-ms MS] — the connected HID devices and what each says
-// about itself when greeted (SPEC §3): protocol and firmware version, board, tick rate, state.
+// about itself when greeted (design §3): protocol and firmware version, board, tick rate, state.
 #include <chrono>
 #include <cstdio>
 #include <optional>

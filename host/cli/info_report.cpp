@@ -1,4 +1,4 @@
-// hmp info: what is in a song (SPEC §3), the table or the JSON object. See info_report.hpp.
+// hmp info: what is in a song (design §3), the table or the JSON object. See info_report.hpp.
 #include "host/cli/info_report.hpp"
 
 #include <fmt/format.h>
@@ -31,7 +31,7 @@ std::string key_name(int key) {
   return key < 0 ? "-" : fmt::format("{}{}", names[key % 12], key / 12 - 1);
 }
 
-// JND steps the track's keys span under the `rank` mapping with the default ranges (SPEC §5).
+// JND steps the track's keys span under the `rank` mapping with the default ranges (design §5).
 double rank_jnd_steps(const midi::Track& t) {
   return mapping::Mapper(mapping::Mode::rank, mapping::Ranges{}, t.keys).jnd_steps();
 }

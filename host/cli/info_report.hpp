@@ -1,5 +1,5 @@
 #pragma once
-// `hmp info`'s work, apart from its command line: load a song and print what is in it (SPEC §3). Both
+// `hmp info`'s work, apart from its command line: load a song and print what is in it (design §3). Both
 // programs run it: hmp-full after CLI11 parsed `info` (info_command.cpp), the static front directly
 // (front_main.cpp). No CLI11 here, so the front links none of it.
 #include <string>

@@ -1,5 +1,5 @@
 // hmp play SONG [--track T] [--device …] [--no-audio] [--no-view] [--from S] [--to S] [--log FILE]
-// — the main job (SPEC §3): the song's audio with one track felt on the device. The player itself is
+// — the main job (design §3): the song's audio with one track felt on the device. The player itself is
 // host/player/; this file is the command line, the terminal and the messages.
 #include <unistd.h>
 
@@ -49,7 +49,7 @@ std::string describe_track(const midi::Song& song, std::uint32_t index) {
   return fmt::format("{} \"{}\" ({})", t.index, t.name, midi::gm_instrument_name(t.program(), t.channel()));
 }
 
-// No --track: the first track with notes whose instrument has its own envelope in Table 1 (SPEC §6:
+// No --track: the first track with notes whose instrument has its own envelope in Table 1 (design §6:
 // organ … contrabass), else the first track with notes.
 std::uint32_t default_track(const midi::Song& song) {
   std::optional<std::uint32_t> first;
@@ -87,7 +87,7 @@ void print_summary(const player::Counters& c, const player::Snapshot& s, std::si
 
 int run_play(const PlayOptions& o) {
   haptics::HapticOptions haptic = resolve(o.haptic);
-  // Refuse an existing log before any work (SPEC §3: never overwrite without --force).
+  // Refuse an existing log before any work (design §3: never overwrite without --force).
   player::PlayLog log;
   if (o.log) output::check_writable(*o.log, o.force);
 
@@ -131,7 +131,7 @@ int run_play(const PlayOptions& o) {
   po.track = track;
   po.haptic = haptic;
   if (o.haptic.config_path) {
-    // The config's [device] table: force of full scale and vibration direction (SPEC §11).
+    // The config's [device] table: force of full scale and vibration direction (design §11).
     const config::Config cfg = config::load(*o.haptic.config_path);
     if (cfg.peak_force_n) po.settings.peak_force_n = static_cast<float>(*cfg.peak_force_n);
     if (cfg.direction) {

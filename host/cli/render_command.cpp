@@ -1,5 +1,5 @@
 // hmp render SONG --track T [--out FILE.csv|.wav|.png] — the haptic signal of one track at the device
-// tick rate, computed by the same shared engine the firmware runs (SPEC §3).
+// tick rate, computed by the same shared engine the firmware runs (design §3).
 #include <cmath>
 #include <cstdio>
 

@@ -1,13 +1,13 @@
 #pragma once
 // What every hmp program shares around running a command: exit codes, the version, and turning an
-// exception into the one-line message of SPEC §3. Free of CLI11, so the static front (front_main.cpp)
+// exception into the one-line message of design §3. Free of CLI11, so the static front (front_main.cpp)
 // can use it without linking the command-line parser.
 #include <functional>
 #include <string>
 
 namespace hmp::cli {
 
-// Exit codes (SPEC §3).
+// Exit codes (design §3).
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitFailure = 1;   // a run that failed for a reason other than bad input
 inline constexpr int kExitBadInput = 2;  // bad file, bad option: one-line message on stderr

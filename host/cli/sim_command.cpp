@@ -1,5 +1,5 @@
 // hmp sim SONG --track T [--out FILE.csv|.png] — plays one track on the simulated device with its plant
-// (SPEC §12, §13 `sim`) and shows the force the strings actually put on the grip next to the vibration
+// (design §12, §13 `sim`) and shows the force the strings actually put on the grip next to the vibration
 // the firmware was asked for: the fidelity of the whole chain (synthesis → drive → motors → strings).
 // The song goes through the same haptic-track builder as `hmp render` and reaches the device as protocol
 // reports (Hello, Settings, Preset, Notes within the device's credit, Play, Syncs), exactly as over USB.

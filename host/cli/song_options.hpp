@@ -1,6 +1,6 @@
 #pragma once
 // Command-line pieces shared by the song subcommands (info, render, play): loading the song, choosing
-// the haptic track (--track), and the mapping/envelope options of SPEC §3.
+// the haptic track (--track), and the mapping/envelope options of design §3.
 #include <cstdint>
 #include <optional>
 #include <string>

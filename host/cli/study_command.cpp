@@ -1,6 +1,6 @@
 // hmp study --participant ID [--experiment 1|2|both] [--seed N] [--song FILE] [--out DIR] [--device …]
 // hmp study analyze FILES... [--json] [--out fig.png]
-// — the paper's user study (SPEC §15). The session logic is host/study/ (no I/O); this file is the
+// — the paper's user study (design §15). The session logic is host/study/ (no I/O); this file is the
 // command line, the files and the terminal front-end: keys in, prompts out, the player driven.
 #include <fcntl.h>
 #include <poll.h>

@@ -1,4 +1,4 @@
-// hmp tone — one note, for inspection and tests (SPEC §3).
+// hmp tone — one note, for inspection and tests (design §3).
 #include <cmath>
 #include <cstdio>
 #include <optional>
@@ -47,7 +47,7 @@ int run_tone(const ToneOptions& o) {
   haptics::UserPreset preset;
   preset.adsr = o.instrument ? haptics::builtin_by_name(*o.instrument) : haptics::parse_adsr(*o.adsr);
 
-  // SPEC §6 ticks: N = max(1, round(D/T)).
+  // design §6 ticks: N = max(1, round(D/T)).
   const auto n_ticks = static_cast<std::uint32_t>(std::max(1.0, std::round(o.ms * o.tick_hz / 1000.0)));
   synth::Note note;
   note.start_tick = 0;

@@ -6,7 +6,7 @@
 //   [mapping]   mode = "paper"            freq_range = [50, 250]      amp_range_db = [7.5, 30]
 //   [envelope]  default = "auto"          end_fade_ms = 2             polyphony = "sum"
 //   [presets.NAME]  attack_ms decay_ms release_ms (ms), sustain_pct final_pct (% of the peak)
-//   [gm]        "33" = "NAME"             (program 0–127 → preset name; overrides SPEC §6 `auto`)
+//   [gm]        "33" = "NAME"             (program 0–127 → preset name; overrides design §6 `auto`)
 //   [device]    tick_hz = 1000            peak_force_n = 1.0   direction = [0, 1, 0]
 #include <array>
 #include <cstdint>

@@ -1,6 +1,6 @@
 #pragma once
 // Parsing of envelope choices given on the command line: `--instrument NAME` and
-// `--adsr attack=..,decay=..,sustain=..,release=..,final=..` (SPEC §3: attack/decay/release in ms,
+// `--adsr attack=..,decay=..,sustain=..,release=..,final=..` (design §3: attack/decay/release in ms,
 // sustain/final in % of the peak).
 #include <string>
 

@@ -137,7 +137,7 @@ HapticTrack build_haptic_track(const midi::Song& song, std::uint32_t track, cons
 
   HapticTrack out;
   out.track = track;
-  // Drum notes are felt at a constant frequency (SPEC §6), so only pitched notes define the key range.
+  // Drum notes are felt at a constant frequency (design §6), so only pitched notes define the key range.
   for (const midi::Note& n : notes) {
     if (!midi::auto_constant_frequency(n.channel)) out.keys.add(n.key);
   }

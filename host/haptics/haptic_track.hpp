@@ -1,6 +1,6 @@
 #pragma once
-// From a song's track to the notes the device plays: mapping (SPEC §5), envelope choice (SPEC §6 `auto`,
-// a fixed preset, or a user preset from the config), and note times → device ticks (SPEC §6 "Ticks").
+// From a song's track to the notes the device plays: mapping (design §5), envelope choice (design §6 `auto`,
+// a fixed preset, or a user preset from the config), and note times → device ticks (design §6 "Ticks").
 #include <cstdint>
 #include <map>
 #include <string>
@@ -15,7 +15,7 @@
 
 namespace hmp::haptics {
 
-// Everything the mapping/envelope options of SPEC §3 choose.
+// Everything the mapping/envelope options of design §3 choose.
 struct HapticOptions {
   mapping::Mode mapping = mapping::Mode::paper;
   mapping::Ranges ranges{};
@@ -56,10 +56,10 @@ struct HapticTrack {
   std::vector<synth::Note> device_notes() const;
 };
 
-// SPEC §6 ticks: start = round(start_s/T) with halves up; N = max(1, round(end_s/T) − start).
+// design §6 ticks: start = round(start_s/T) with halves up; N = max(1, round(end_s/T) − start).
 std::uint64_t seconds_to_tick(std::int64_t micros, std::uint32_t tick_hz);
 
-// The preset name `auto` picks for one note (config's [gm] table first, then SPEC §6).
+// The preset name `auto` picks for one note (config's [gm] table first, then design §6).
 std::string auto_preset_name(const HapticOptions& opts, std::uint8_t program, std::uint8_t channel);
 
 HapticTrack build_haptic_track(const midi::Song& song, std::uint32_t track, const HapticOptions& opts);

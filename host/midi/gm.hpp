@@ -1,6 +1,6 @@
 #pragma once
 // General MIDI level 1 facts: the 128 program names and their 16 families, and the `auto` envelope
-// preset of SPEC §6 chosen from a note's program and channel.
+// preset of design §6 chosen from a note's program and channel.
 #include <cstdint>
 
 #include "shared/envelope/envelope.hpp"
@@ -15,12 +15,12 @@ const char* gm_family_name(std::uint8_t program);
 // What `hmp info` shows for a track's instrument: the program name, or "Percussion" on channel 10.
 const char* gm_instrument_name(std::uint8_t program, std::uint8_t channel);
 
-// SPEC §6 `auto`: Piano/Chromatic → harpsichord; Organ → organ; Guitar → guitar; Bass → contrabass;
+// design §6 `auto`: Piano/Chromatic → harpsichord; Organ → organ; Guitar → guitar; Bass → contrabass;
 // Strings 40/41 violin, 42 cello, 43 contrabass, 44–47 guitar; Ensemble → violin; Brass → trumpet;
 // Reed/Pipe → flute; Synth lead → organ; Synth pad → violin; anything else → square.
 // Channel 10 (index 9, drums) → guitar, whatever the program.
 envelope::Preset auto_preset(std::uint8_t program, std::uint8_t channel);
-// SPEC §6: drum notes (channel 10) are felt at a constant frequency rather than mapped from the key.
+// design §6: drum notes (channel 10) are felt at a constant frequency rather than mapped from the key.
 inline bool auto_constant_frequency(std::uint8_t channel) { return channel == 9; }
 
 }  // namespace hmp::midi

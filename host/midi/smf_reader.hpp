@@ -1,7 +1,7 @@
 #pragma once
-// Standard MIDI File reader (SPEC §4): lenient, never crashes or hangs, memory bounded by the file size.
+// Standard MIDI File reader (design §4): lenient, never crashes or hangs, memory bounded by the file size.
 //
-// Decisions where SPEC §4 leaves room (all reported as warnings unless noted):
+// Decisions where design §4 leaves room (all reported as warnings unless noted):
 // - Container: an optional RIFF RMID wrapper is unwrapped (the SMF is its `data` chunk); MThd must come
 //   first (up to 256 junk bytes before it, e.g. a MacBinary header, are skipped). MThd longer than 6 is
 //   honoured, shorter is read as 6. Then every chunk to the end of the file is read whatever ntrks says:

@@ -1,4 +1,4 @@
-// One MTrk chunk → notes, program/tempo/time-signature events and warnings (SPEC §4). Single pass, no
+// One MTrk chunk → notes, program/tempo/time-signature events and warnings (design §4). Single pass, no
 // heap allocation per event: notes go into a vector reserved for the whole file, sounding notes are kept
 // in per-(channel, key) FIFOs linked through the notes themselves.
 #include <array>

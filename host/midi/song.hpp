@@ -1,5 +1,5 @@
 #pragma once
-// The song model built from a Standard MIDI File (SPEC §4): logical tracks, paired notes (in ticks; their
+// The song model built from a Standard MIDI File (design §4): logical tracks, paired notes (in ticks; their
 // times come from the tempo map), the global tempo map, and what the reader had to warn about.
 //
 // Logical tracks: format 1 → one per MTrk chunk (also the ones without notes, e.g. a conductor track);
@@ -98,7 +98,7 @@ struct Song {
   std::vector<Note> track_notes(std::uint32_t track) const;
 };
 
-// `--track T` (SPEC §3): a 0-based index, or a case-insensitive part of a track's name or of its GM
+// `--track T` (design §3): a 0-based index, or a case-insensitive part of a track's name or of its GM
 // instrument name. Among several matches the first track with notes wins (then the first at all).
 std::optional<std::uint32_t> find_track(const Song& song, std::string_view query);
 

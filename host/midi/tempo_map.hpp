@@ -1,5 +1,5 @@
 #pragma once
-// Tick → time for a Standard MIDI File (SPEC §4), in integer microseconds.
+// Tick → time for a Standard MIDI File (design §4), in integer microseconds.
 //
 // Each segment keeps its start time exactly, as time × the map's common denominator (µs·tpq for
 // metrical time), so no rounding error builds up over thousands of tempo changes: a tick's time is

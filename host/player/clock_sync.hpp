@@ -1,5 +1,5 @@
 #pragma once
-// Host clock ↔ device tick (SPEC §10). Each Sync exchange gives one sample: the host time the Sync was
+// Host clock ↔ device tick (design §10). Each Sync exchange gives one sample: the host time the Sync was
 // sent (echoed back by the device), the host time its reply arrived, and the device's position when the
 // Sync arrived (tick + sub-tick). A weighted least-squares line through the samples with the shortest
 // transit gives the device position at any host time: offset and drift. docs/player.md derives the

@@ -1,5 +1,5 @@
 #pragma once
-// The terminal side of `hmp play` (SPEC §3, §14): live keys in raw mode and a one-line status that
+// The terminal side of `hmp play` (design §3, §14): live keys in raw mode and a one-line status that
 // redraws itself. Only on a terminal: without one, nothing here touches stdin or prints a status.
 //
 // Raw mode keeps ISIG, so Ctrl-C still raises SIGINT (the player stops cleanly on it); the previous
@@ -16,7 +16,7 @@ namespace hmp::player {
 
 enum class Key { space, left, right, next_track, previous_track, envelope, mapping, quit };
 
-// The command a key stands for (SPEC §14 keys: pause, seek, switch track/envelope/mapping, quit).
+// The command a key stands for (design §14 keys: pause, seek, switch track/envelope/mapping, quit).
 Command command_for(Key k);
 
 // Decodes key bytes: printable keys, and the arrow escape sequences ESC [ C / ESC [ D (ESC O C / D in

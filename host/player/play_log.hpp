@@ -1,5 +1,5 @@
 #pragma once
-// `hmp play --log FILE` (SPEC §3): one JSON object per line for every note the device started, as its
+// `hmp play --log FILE` (design §3): one JSON object per line for every note the device started, as its
 // Started reports say, then one closing summary line. The file is opened through
 // output::open_for_writing: an existing file is replaced only with --force (or a "yes" on a terminal).
 #include <string>

@@ -328,7 +328,7 @@ bool Player::handle_commands(Outcome& outcome) {
         std::size_t i = 0;
         while (i < 4 && options_.haptic.mapping != kMappingCycle[i]) ++i;
         options_.haptic.mapping = kMappingCycle[(i + 1) % 4];
-        // legacy2013 has its own frequency range (SPEC §5); the others use the user's.
+        // legacy2013 has its own frequency range (design §5); the others use the user's.
         options_.haptic.ranges = base_ranges_;
         if (options_.haptic.mapping == mapping::Mode::legacy2013) {
           options_.haptic.ranges.f_min_hz = mapping::kLegacyFminHz;

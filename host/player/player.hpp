@@ -1,5 +1,5 @@
 #pragma once
-// `hmp play` without the terminal (SPEC §3, §10, §14, §16): plays one track of a song on a device in
+// `hmp play` without the terminal (design §3, §10, §14, §16): plays one track of a song on a device in
 // step with the song's audio. The audio player's clock says when each song time is heard; the clock
 // sync says which device tick that is; the scheduler streams the haptic track's notes ahead by the
 // lookahead within the device's flow-control credit. Pause, seek, stop and live switching of track,
@@ -34,7 +34,7 @@ struct StartedNote {
   std::uint64_t actual_tick = 0;
 };
 
-// The closing line of --log (SPEC §3): device counters since the session began.
+// The closing line of --log (design §3): device counters since the session began.
 struct Counters {
   std::uint64_t notes_sent = 0;    // notes handed to the device (a resend after queue_full counts once)
   std::uint64_t notes_played = 0;  // Status.started
@@ -75,7 +75,7 @@ struct PlayerOptions {
   std::int64_t from_us = 0;
   std::optional<std::int64_t> to_us;  // default: the song's end
   protocol::Settings settings;     // policy and end fade are taken from `haptic`
-  double lookahead_s = 0.2;        // notes are sent this long before they are heard (SPEC §10)
+  double lookahead_s = 0.2;        // notes are sent this long before they are heard (design §10)
   double start_preroll_s = 0.6;    // play starts this long before the first note: the device's ramp-in
   double seek_preroll_s = 0.05;    // after a seek or resume: time to get the first notes across
   double seek_step_s = 5.0;

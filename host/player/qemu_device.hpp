@@ -1,5 +1,5 @@
 #pragma once
-// `--device qemu` (SPEC §3, §13): boots the qemu-an386 firmware image in qemu-system-arm and talks to
+// `--device qemu` (design §3, §13): boots the qemu-an386 firmware image in qemu-system-arm and talks to
 // it over its UART0 as a serial link (boards/qemu-an386/README.md). The emulator connects to a
 // unix-domain socket this object listens on in a private temporary folder, so the link exists before
 // the firmware runs its first instruction. The emulator runs in its own process group (a Ctrl-C on

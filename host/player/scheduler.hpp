@@ -1,5 +1,5 @@
 #pragma once
-// Which notes go to the device next (SPEC §10, §16): the haptic track's notes inside the played window,
+// Which notes go to the device next (design §10, §16): the haptic track's notes inside the played window,
 // in start order, each placed on the device tick at which its sound is heard, sent ahead by at most the
 // lookahead. Pure bookkeeping: the player supplies the song-time → device-tick map (audio clock + clock
 // sync) and sends what next() returns when flow control allows.
@@ -13,7 +13,7 @@
 
 namespace hmp::player {
 
-// What the log needs to know about a sent note (SPEC §3 --log).
+// What the log needs to know about a sent note (design §3 --log).
 struct NoteOrigin {
   std::uint32_t track = 0;
   std::uint8_t key = 0;

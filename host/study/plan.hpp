@@ -1,5 +1,5 @@
 #pragma once
-// host/study/: the paper's user study (SPEC §15, paper §6–§7). This folder owns the study's logic, free
+// host/study/: the paper's user study (design §15, paper §6–§7). This folder owns the study's logic, free
 // of I/O so tests drive it directly: the seeded plan of rounds (plan.*), one round's keys and ranking
 // (round.*), the session across rounds with resume (session.*), the results file's rows (results_csv.*)
 // and the statistics and Figure 3 of `hmp study analyze` (stats.*, figure.*). The terminal front-end

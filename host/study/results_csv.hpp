@@ -1,5 +1,5 @@
 #pragma once
-// The study's results file (SPEC §15, docs/study.md "Results file"): one CSV row per participant ×
+// The study's results file (design §15, docs/study.md "Results file"): one CSV row per participant ×
 // experiment × instrument × envelope, practice rounds included (phase `practice`). Rows are only ever
 // appended. Text in, text out: the caller reads and writes the file.
 #include <cstdint>

@@ -1,5 +1,5 @@
 #pragma once
-// One round of the study (SPEC §15): the participant switches between the three envelopes with keys
+// One round of the study (design §15): the participant switches between the three envelopes with keys
 // 0/1/2 at any time, gives each the rank A, B or C (the envelope felt at the moment gets the letter; each
 // letter once), may undo the last rank, and can go on only when all three are ranked. Times come from
 // the caller (seconds on any steady clock), so the round is pure logic.

@@ -1,5 +1,5 @@
 #pragma once
-// A participant's whole session (SPEC §15): the plan's rounds one after the other, the rows each
+// A participant's whole session (design §15): the plan's rounds one after the other, the rows each
 // finished round gives, and resuming: rounds whose rows are already in the results file are skipped.
 // No I/O: the front-end passes times in (Unix seconds), reads keys, writes the rows it takes.
 #include <cstdint>

@@ -1,5 +1,5 @@
 #pragma once
-// The statistics of `hmp study analyze` (SPEC §15; docs/study.md "Statistics"), on a rank table:
+// The statistics of `hmp study analyze` (design §15; docs/study.md "Statistics"), on a rank table:
 // ranks[p][j] is participant p's rank of item j, lower is better, equal values are ties.
 #include <vector>
 

@@ -1,5 +1,5 @@
 #pragma once
-// `--device auto|sim|qemu|hid[:VID:PID|:PATH]|serial:PATH[@BAUD]` (SPEC §3): parsing, and opening the
+// `--device auto|sim|qemu|hid[:VID:PID|:PATH]|serial:PATH[@BAUD]` (design §3): parsing, and opening the
 // transport each kind names.
 #include <memory>
 #include <string>

@@ -1,5 +1,5 @@
 #pragma once
-// USB HID link (SPEC §9, §14) through hidapi's hidraw backend: the device's vendor-defined interface
+// USB HID link (design §9, §14) through hidapi's hidraw backend: the device's vendor-defined interface
 // (usage page 0xFF00) with one 64-byte input and one 64-byte output report, no report IDs. Each
 // interrupt transfer is one report, so there is no framing.
 //

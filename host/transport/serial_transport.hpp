@@ -1,5 +1,5 @@
 #pragma once
-// Serial link (SPEC §9, §14): each 64-byte report travels as one frame of shared/framing (COBS +
+// Serial link (design §9, §14): each 64-byte report travels as one frame of shared/framing (COBS +
 // CRC-16, 0x00 delimiter). The same class serves
 //   - a UART board's tty (/dev/ttyACM0, /dev/ttyUSB0): opened raw, 8N1, no flow control, optional speed;
 //   - a pty, as QEMU's `-serial pty` gives ("char device redirected to /dev/pts/N" on its stderr);

@@ -1,5 +1,5 @@
 #pragma once
-// The in-process simulated device (boards/sim, SPEC §13 `sim`) behind the Transport interface: what
+// The in-process simulated device (boards/sim, design §13 `sim`) behind the Transport interface: what
 // `--device sim` opens, and what `hmp play` falls back to when nothing is connected. Reports go in and
 // come out as over USB HID (a full device inbox is a NAK: send() waits for the next tick).
 //

@@ -1,5 +1,5 @@
 #pragma once
-// One interface for every link that carries the protocol's 64-byte reports (SPEC §9, §14): USB HID, a
+// One interface for every link that carries the protocol's 64-byte reports (design §9, §14): USB HID, a
 // framed serial line (UART board, QEMU), the in-process simulated device, and an in-memory loopback
 // for tests. The transport moves opaque reports; encoding and decoding are protocol::encode/decode.
 //

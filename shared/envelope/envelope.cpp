@@ -9,7 +9,7 @@ namespace hmp::envelope {
 
 namespace {
 
-// Table 1 as SPEC §6 reads it: A, Dc, R in ms; s and r as fractions of the peak.
+// Table 1 as design §6 reads it: A, Dc, R in ms; s and r as fractions of the peak.
 constexpr Adsr kBuiltins[kBuiltinCount] = {
     {5, 0, 25, 1.0f, 0.01f, Shape::adsr},          // organ
     {75, 0, 60, 1.0f, 0.01f, Shape::adsr},         // flute
@@ -98,7 +98,7 @@ void Envelope::start(const Adsr& preset, float peak, std::uint32_t duration_tick
     decay = p.shape == Shape::triangle ? n : 0.0;
     release = p.shape == Shape::damped ? n : 0.0;
   }
-  // Short notes keep the proportions of the phases and drop the sustain (SPEC §6).
+  // Short notes keep the proportions of the phases and drop the sustain (design §6).
   const double phases = attack + decay + release;
   if (phases > n) {
     const double scale = n / phases;

@@ -1,5 +1,5 @@
 #pragma once
-// ADSR envelopes of SPEC §6 (paper Eq. 9–10, Table 1), evaluated per device tick.
+// ADSR envelopes of design §6 (paper Eq. 9–10, Table 1), evaluated per device tick.
 //
 // Time is in ticks n = 0 … N−1 from the note's start; x = n·T with T = 1/tick_hz. The note lasts D = N·T.
 // Phases: attack 0→a over [0, A); decay a→S over [A, A+Dc); sustain S until D−R; release exponential

@@ -1,5 +1,5 @@
 #pragma once
-// Serial framing for UART links (SPEC §9: the same 64-byte reports over every transport).
+// Serial framing for UART links (design §9: the same 64-byte reports over every transport).
 //
 // frame = COBS(packet ‖ crc16) ‖ 0x00
 //   crc16: CRC-16/CCITT-FALSE (poly 0x1021, init 0xFFFF, not reflected, no final xor) over the packet,

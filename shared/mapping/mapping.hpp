@@ -1,5 +1,5 @@
 #pragma once
-// Pitch → haptic frequency and amplitude (SPEC §5; paper Eq. 5–7; 2013 paper Eq. 2–5).
+// Pitch → haptic frequency and amplitude (design §5; paper Eq. 5–7; 2013 paper Eq. 2–5).
 // Computed on the host per haptic track, in double. Freestanding: keys live in a 128-bit set.
 #include <cstdint>
 
@@ -10,7 +10,7 @@ const char* name(Mode m);
 bool find_mode(const char* name, Mode& out);  // case-insensitive
 
 struct Ranges {
-  double f_min_hz = 50, f_max_hz = 250;   // SPEC §5 defaults
+  double f_min_hz = 50, f_max_hz = 250;   // design §5 defaults
   double a_min_db = 7.5, a_max_db = 30;   // a_max is full scale (1.0)
 };
 // Usable ranges: all finite, 0 < f_min ≤ f_max, a_min ≤ a_max. A Mapper given others uses the defaults
@@ -46,7 +46,7 @@ double db_to_linear(double a_db, double a_max_db);
 class Mapper {
  public:
   Mapper(Mode mode, const Ranges& ranges, const KeySet& keys);
-  // Keys of the set map as SPEC §5 says. An empty set maps every key to the middle of the ranges
+  // Keys of the set map as design §5 says. An empty set maps every key to the middle of the ranges
   // (paper/rank: n/k_ε = 1/2; legacy2013: n' = 1/2). Keys outside [k_min, k_max] are clamped to it;
   // in rank mode a key between two keys of the set gets the rank half-way between theirs.
   Haptic map(std::uint8_t key) const;

@@ -1,5 +1,5 @@
 #pragma once
-// The wire protocol (SPEC §9): 64-byte reports, little-endian, fixed layouts, versioned.
+// The wire protocol (design §9): 64-byte reports, little-endian, fixed layouts, versioned.
 // The same reports travel over USB HID, a framed serial link, and in process.
 // docs/protocol.md documents every byte. decode() accepts any 64 bytes and returns either a message
 // or a typed error; it never reads outside the report.

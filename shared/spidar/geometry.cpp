@@ -6,7 +6,7 @@ namespace hmp::spidar {
 
 namespace {
 
-// SPEC §11 X3 pairs: motor corner signs (x, y, z) and the grip axis each string ties to.
+// design §11 X3 pairs: motor corner signs (x, y, z) and the grip axis each string ties to.
 struct X3String {
   signed char sx, sy, sz;  // motor corner
   signed char gx, gy;      // attachment: ±grip on the grip's x or y axis

@@ -1,5 +1,5 @@
 #pragma once
-// SPIDAR-G6 geometry (SPEC §11): where the 8 strings leave their motors, where they tie to the grip, and
+// SPIDAR-G6 geometry (design §11): where the 8 strings leave their motors, where they tie to the grip, and
 // the per-string quantities every other SPIDAR module needs at a given grip pose: length, unit direction
 // u_i from the attachment point towards the motor exit, and moment arm m_i = (R b_i) × u_i.
 // Device frame: Y up, metres, origin at the frame centre. The grip frame has its origin at the ball centre.
@@ -68,7 +68,7 @@ void compute_strings(const Frame<T>& frame, const Pose<T>& pose, StringGeometry<
   compute_strings(frame, pose.position, to_matrix(pose.orientation), out);
 }
 
-// Lengths with the grip at the centre in its rest orientation: what calibration sets (SPEC §11).
+// Lengths with the grip at the centre in its rest orientation: what calibration sets (design §11).
 template <class T>
 void rest_lengths(const Frame<T>& frame, T (&lengths)[kStrings]);
 

@@ -1,6 +1,6 @@
 #pragma once
-// String tension → PWM duty for one SPIDAR motor (SPEC §11, Maxon RE-max 24 class), from the DC motor's
-// steady state (SPEC §12's equations with di/dt = dω/dt = 0):
+// String tension → PWM duty for one SPIDAR motor (design §11, Maxon RE-max 24 class), from the DC motor's
+// steady state (design §12's equations with di/dt = dω/dt = 0):
 //
 //   torque balance   Kt·i = r·T + b·ω          (r pulley radius, T tension, b viscous friction)
 //   voltage          V = R·i + Ke·ω            (Ke = Kt in SI units)

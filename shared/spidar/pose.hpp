@@ -1,5 +1,5 @@
 #pragma once
-// Grip pose from the 8 string lengths (SPEC §11): damped Gauss–Newton, warm-started from the previous
+// Grip pose from the 8 string lengths (design §11): damped Gauss–Newton, warm-started from the previous
 // tick's pose, a fixed number of iterations per tick (2 by default):
 //
 //   (AᵀA + σI) Δ = Aᵀ (L_model − L_measured),   A's row i = [u_iᵀ  m_iᵀ/ρ],

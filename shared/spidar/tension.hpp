@@ -1,5 +1,5 @@
 #pragma once
-// Force/torque → string tensions (SPEC §11): the box-constrained quadratic programme
+// Force/torque → string tensions (design §11): the box-constrained quadratic programme
 //
 //   minimise  λt·|F − Σ t_i u_i|² + λr·|N − Σ t_i m_i|² + s·|t|²   subject to  t_min ≤ t_i ≤ t_max,
 //

@@ -1,6 +1,6 @@
 #pragma once
 // The synthesis engine shared by the firmware tick and the host's `hmp render`: a voice pool with
-// oldest-first stealing, the envelope preset slots, the polyphony policy and the limiter (SPEC §7).
+// oldest-first stealing, the envelope preset slots, the polyphony policy and the limiter (design §7).
 // The caller starts notes on their tick and calls tick() once per tick.
 #include <cstdint>
 

@@ -1,5 +1,5 @@
 #pragma once
-// How the device represents a frequency (SPEC §7, §9).
+// How the device represents a frequency (design §7, §9).
 //
 // On the wire: unsigned Q12.20 Hz in 32 bits (LSB 2^-20 Hz ≈ 9.5e-7 Hz, top 4095.999999 Hz). Rounding
 // to the nearest LSB errs by ≤ 4.8e-7 Hz, i.e. ≤ 3.0e-5 rad of phase over a 10 s note.

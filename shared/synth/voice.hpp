@@ -1,5 +1,5 @@
 #pragma once
-// One sounding note: y[n] = E(n·T) · sin(2π f n T), phase 0 at the note's start (SPEC §6 Eq. 8).
+// One sounding note: y[n] = E(n·T) · sin(2π f n T), phase 0 at the note's start (design §6 Eq. 8).
 #include <cstdint>
 
 #include "shared/envelope/envelope.hpp"

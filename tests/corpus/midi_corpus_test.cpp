@@ -1,11 +1,11 @@
-// Every MIDI file of the development corpus (tests/data/midi, SPEC §4) has a pinned outcome here: its note
+// Every MIDI file of the development corpus (tests/data/midi, design §4) has a pinned outcome here: its note
 // count, logical track count and duration, or the exact start of its error message, and the warning it
 // must produce (or none). A file added to or removed from the corpus without a pin fails the test.
 //
 // Where the pins come from:
 // - jazz-soft/midi: each file's own text events say what a player must do ("You must hear a C-Major
 //   scale", "must play sequentially", "after 5 seconds", …); the comment beside each pin quotes the point.
-//   Files with illegal F1–FE bytes are errors by SPEC §4 (their text: "Most players consider it invalid"),
+//   Files with illegal F1–FE bytes are errors by design §4 (their text: "Most players consider it invalid"),
 //   and the illegal byte comes before the first note, so nothing is left to play.
 // - music21 and classical: note counts and times were checked against an independent reading with
 //   python3-mido 1.2.10 (first-in-first-out pairing, global tempo map: every note's ticks equal and its

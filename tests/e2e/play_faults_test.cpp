@@ -1,4 +1,4 @@
-// `hmp play` when the link misbehaves (SPEC §9, §10): a link that dies or a device that falls silent
+// `hmp play` when the link misbehaves (design §9, §10): a link that dies or a device that falls silent
 // mid-song is reported within 1 s without hanging; a device of another protocol version is refused with
 // a clear message (library and command line); a device with a tiny queue is never overrun (the credit
 // rule holds: nothing refused, nothing dropped); a slow link drops nothing and the late notes are

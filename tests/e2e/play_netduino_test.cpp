@@ -1,4 +1,4 @@
-// The stm32f407 board's image under QEMU `netduinoplus2` (SPEC §13; boards/stm32f407/README.md): the
+// The stm32f407 board's image under QEMU `netduinoplus2` (design §13; boards/stm32f407/README.md): the
 // very .elf a board is flashed with boots on QEMU's STM32F405 model, which has no RCC, GPIO or OTG, so
 // its clock set-up runs out of time into the documented fallback; the tick runs on SysTick, and `hmp play
 // --device serial:` plays a 10 s passage of the demo's flute over USART2, every note of the passage

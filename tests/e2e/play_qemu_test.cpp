@@ -1,4 +1,4 @@
-// `hmp play --device qemu` (SPEC §3, §10, §13): the hmp binary boots the qemu-an386 firmware in
+// `hmp play --device qemu` (design §3, §10, §13): the hmp binary boots the qemu-an386 firmware in
 // qemu-system-arm, plays a 10 s passage of the demo's flute over the emulated UART, and every note of
 // the passage (counted independently from `hmp info --json --notes`) starts on its scheduled tick.
 // Skipped when the firmware image (the qemu-an386 tree next to this build tree, or $HMP_QEMU_ELF) or the

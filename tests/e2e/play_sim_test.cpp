@@ -1,4 +1,4 @@
-// `hmp play` on the simulated device, end to end (SPEC §3, §10): a 10 s passage of the demo's flute
+// `hmp play` on the simulated device, end to end (design §3, §10): a 10 s passage of the demo's flute
 // through the hmp binary, headless, with --log; every note of the passage (counted independently from
 // `hmp info --json --notes`) starts on its scheduled tick, spaced like the song; nothing late, stolen or
 // rejected. Then, at the library level on the real-time simulated device: pause, seek and quit leave no

@@ -1,4 +1,4 @@
-// `hmp play` on a terminal (SPEC §3, §14): the hmp binary runs on a pseudo-terminal; the live keys
+// `hmp play` on a terminal (design §3, §14): the hmp binary runs on a pseudo-terminal; the live keys
 // (space, →, t, q, Ctrl-C) act and the one-line status shows it; the terminal's settings come back
 // when hmp ends.
 #include <gtest/gtest.h>

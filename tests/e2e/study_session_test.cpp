@@ -1,4 +1,4 @@
-// `hmp study` end to end (SPEC §15): scripted participants type through the same key path as a person
+// `hmp study` end to end (design §15): scripted participants type through the same key path as a person
 // (stdin; a pipe instead of a terminal) on the simulated device without audio. Whole sessions for both
 // experiments give exactly 2 × 4 × 3 rows + 6 practice rows each; a session killed (SIGKILL) mid-way
 // and one whose input ends resume where they stopped, without touching the rows already written; the

@@ -1,4 +1,4 @@
-// Flow control (SPEC §9): a bounded note queue, Status.queue_free in note reports, a report that does not
+// Flow control (design §9): a bounded note queue, Status.queue_free in note reports, a report that does not
 // fit is refused whole with Error queue_full and nothing is lost when the host re-sends it.
 #include <gtest/gtest.h>
 

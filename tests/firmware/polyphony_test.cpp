@@ -1,4 +1,4 @@
-// Voices through the device (SPEC §7): 16-voice chords, oldest-first stealing counted in Status, and the
+// Voices through the device (design §7): 16-voice chords, oldest-first stealing counted in Status, and the
 // three polyphony policies chosen by a Settings report.
 #include <gtest/gtest.h>
 

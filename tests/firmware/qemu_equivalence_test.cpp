@@ -1,5 +1,5 @@
 // The firmware image under QEMU (board qemu-an386, Cortex-M4F) plays a real song exactly like the native
-// build of the same core (SPEC §8, §10, §13):
+// build of the same core (design §8, §10, §13):
 //   - the notes of the demo song's eight instrument tracks, merged (chords, many voices at once), go to
 //     the image over the emulated UART in framed reports, with the credit-based flow control of
 //     docs/protocol.md and a Sync every 100 ms, like a real host;

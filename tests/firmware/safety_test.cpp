@@ -1,4 +1,4 @@
-// Safety behaviour of SPEC §8: ramp-in over 0.5 s, the host-silence watchdog (fade within 20 ms, fault
+// Safety behaviour of design §8: ramp-in over 0.5 s, the host-silence watchdog (fade within 20 ms, fault
 // latched), output clamped to the configured limit whatever the notes and settings.
 #include <gtest/gtest.h>
 

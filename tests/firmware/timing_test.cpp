@@ -1,4 +1,4 @@
-// Notes start on their exact tick (SPEC §8, §10): Started reports, output sample for sample against the
+// Notes start on their exact tick (design §8, §10): Started reports, output sample for sample against the
 // shared Engine driven directly, late notes, the 32-bit base tick across the 2^32 wrap, both tick rates.
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// The firmware drive in closed loop with the plant (SPEC §8, §11, §12): the force the strings put on the
+// The firmware drive in closed loop with the plant (design §8, §11, §12): the force the strings put on the
 // grip follows the commanded vibration, the strings stay taut and below t_max, and the watchdog and the
 // emergency stop bring the force back to the bias within 20 ms. The reference is the commanded samples
 // themselves; the measurement is the plant's physical string force, fitted in double precision.

@@ -1,4 +1,4 @@
-// The drive and the plant at the extremes (SPEC §12): string stiffness 10³–10⁶ N/m, slack strings, saturated
+// The drive and the plant at the extremes (design §12): string stiffness 10³–10⁶ N/m, slack strings, saturated
 // motors, a 10 kHz tick. The default integrator must stay stable through all of them; an explicit method
 // past its stable step must be detected and reported (Plant::unstable, the board's log), never give
 // plausible-looking numbers silently.

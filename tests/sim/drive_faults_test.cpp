@@ -1,4 +1,4 @@
-// Faults of the firmware drive (SPEC §8): what the drive senses going wrong latches a fault bit and puts
+// Faults of the firmware drive (design §8): what the drive senses going wrong latches a fault bit and puts
 // the device in its safe state (no vibration, every string at t_min with plain stall duties) until the
 // host acknowledges with Stop or Hello. Faults are injected at the board: encoder counts edited on their
 // way to the core, or a motor driver that misbehaves.
@@ -12,7 +12,7 @@
 namespace hmp::test {
 namespace {
 
-// The stall duty for a tension, from SPEC §11's motor (Kt = 21.3 mN·m/A, R = 6.5 Ω, 12 V, r = 5 mm).
+// The stall duty for a tension, from design §11's motor (Kt = 21.3 mN·m/A, R = 6.5 Ω, 12 V, r = 5 mm).
 double stall_duty(double tension) { return tension * 6.5 * 0.005 / (0.0213 * 12.0); }
 
 // A vibrating device (1 kHz, 100 Hz tone) with `inject` set as the encoder hook after 200 ms.

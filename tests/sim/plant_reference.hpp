@@ -1,5 +1,5 @@
 #pragma once
-// Independent double-precision facts for the plant_* tests, written from SPEC §11/§12 (not from
+// Independent double-precision facts for the plant_* tests, written from design §11/§12 (not from
 // boards/sim/plant): the motor's stall tension and no-load speed, the finger law, and the static balance
 // of the grip computed with tests/sim/spidar_reference.hpp's geometry.
 #include <array>
@@ -11,7 +11,7 @@ namespace plant_ref {
 
 using spidar_ref::V3;
 
-// RE-max 24 class (SPEC §11): Kt = Ke = 21.3 mN·m/A, R = 6.5 Ω, 12 V, pulley radius 5 mm.
+// RE-max 24 class (design §11): Kt = Ke = 21.3 mN·m/A, R = 6.5 Ω, 12 V, pulley radius 5 mm.
 constexpr double kKt = 0.0213, kR = 6.5, kSupply = 12.0, kRadius = 0.005;
 
 // At standstill the back-EMF vanishes: i = V/R, and the torque balance Kt·i = r·T gives T.

@@ -100,7 +100,7 @@ TEST(PlantStatics, SettlesToForceAndTorqueBalanceSixDof) {
   EXPECT_LT(spidar_ref::len3(torque), 1e-10);
 }
 
-// Without a finger (SPEC §16: no finger model unless asked for) and without gravity the grip floats to
+// Without a finger (design §16: no finger model unless asked for) and without gravity the grip floats to
 // where the eight stall tensions alone balance.
 TEST(PlantStatics, FloatsOnItsStringsWithoutAFinger) {
   PlantParams p;

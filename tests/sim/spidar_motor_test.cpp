@@ -1,4 +1,4 @@
-// Tension → duty (shared/spidar/motor) against the DC motor equations of SPEC §12 written out here:
+// Tension → duty (shared/spidar/motor) against the DC motor equations of design §12 written out here:
 // electrical L di/dt = V − R i − Ke ω, mechanical J ω' = Kt i − r T − b ω; steady state at constant ω.
 #include <gtest/gtest.h>
 
@@ -13,7 +13,7 @@ namespace {
 
 using namespace hmp::spidar;
 
-// RE-max 24 class (SPEC §11).
+// RE-max 24 class (design §11).
 constexpr double kKt = 0.0213, kR = 6.5, kV = 12.0, kRadius = 0.005;
 
 // The tension a duty holds in steady state at winding speed ω: i = (dV − Ke ω)/R, T = (Kt i − b ω)/r.
@@ -124,7 +124,7 @@ TEST(SpidarMotor, SaturationAndBadInput) {
 }
 
 // The steady-state model is right within one tick: with the winding's electrical time constant L/R ≈ 0.1 ms
-// (SPEC §12), the current settles to e^-10 of a step in 1 ms. Integrated here with fine explicit Euler.
+// (design §12), the current settles to e^-10 of a step in 1 ms. Integrated here with fine explicit Euler.
 TEST(SpidarMotor, CurrentSettlesWithinOneTick) {
   const double inductance = 0.1e-3 * kR;  // L = τ·R
   const MotorModel<double> motor;

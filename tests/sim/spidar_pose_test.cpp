@@ -20,7 +20,7 @@ using namespace hmp::spidar;
 using spidar_ref::M3;
 using spidar_ref::V3;
 
-// Encoder: 512 lines × 4 on a 5 mm pulley (SPEC §11).
+// Encoder: 512 lines × 4 on a 5 mm pulley (design §11).
 constexpr double kQuantum = 2 * spidar_ref::kPi * 0.005 / 2048;
 
 void record(const char* key, double value) {

@@ -26,7 +26,7 @@ Weights weights_of(const TensionParams<double>& p) {
   return {p.t_min, p.t_max, p.lambda_t, p.lambda_r, p.regulariser};
 }
 
-// λt|F − Σ t u|² + λr|N − Σ t m|² + s|t|², straight from SPEC §11.
+// λt|F − Σ t u|² + λr|N − Σ t m|² + s|t|², straight from design §11.
 double objective(const spidar_ref::Strings& st, const V3& f, const V3& n, const Weights& w, const double* t) {
   V3 ef = f, en = n;
   double tt = 0;

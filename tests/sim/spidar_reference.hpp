@@ -1,5 +1,5 @@
 #pragma once
-// Double-precision reference SPIDAR-G6 maths for the spidar_* tests, written from SPEC §11 independently of
+// Double-precision reference SPIDAR-G6 maths for the spidar_* tests, written from design §11 independently of
 // shared/spidar/: the X3 table, rotations from axis–angle, string lengths/directions/moment arms, and
 // random poses inside the workspace.
 #include <array>
@@ -44,7 +44,7 @@ inline M3 transpose(const M3& m) {
   return M3{V3{m[0][0], m[1][0], m[2][0]}, V3{m[0][1], m[1][1], m[2][1]}, V3{m[0][2], m[1][2], m[2][2]}};
 }
 
-// SPEC §11, X3: PX = PZ = 0.06 m, PY = 0.076 m, grip attachments at ±22.5 mm, whole layout turned −45° about y.
+// design §11, X3: PX = PZ = 0.06 m, PY = 0.076 m, grip attachments at ±22.5 mm, whole layout turned −45° about y.
 constexpr double kPx = 0.06, kPy = 0.076, kPz = 0.06, kG = 0.0225;
 constexpr double kPi = 3.14159265358979323846;
 inline const M3& x3_turn() {

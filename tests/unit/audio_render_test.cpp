@@ -1,4 +1,4 @@
-// Offline rendering of a small synthetic song through FluidSynth and the GM SoundFont (SPEC §14, §10):
+// Offline rendering of a small synthetic song through FluidSynth and the GM SoundFont (design §14, §10):
 //  - each note's sound starts at its time ± 1 ms (onset: first sample of that note's own signal at
 //    −60 dB of its peak; the note's own signal is isolated as the difference between the song rendered
 //    with and without it), for instruments with a late-starting sample (nylon guitar) too;

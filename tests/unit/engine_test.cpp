@@ -1,4 +1,4 @@
-// The synthesis engine (SPEC §7): voice pool and stealing, preset slots, note validation, polyphony
+// The synthesis engine (design §7): voice pool and stealing, preset slots, note validation, polyphony
 // policies and the limiter. Expected outputs come from independently driven Voice objects or from the
 // double-precision reference, never from the engine itself.
 #include "shared/synth/engine.hpp"

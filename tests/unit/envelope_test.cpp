@@ -1,4 +1,4 @@
-// Envelope (SPEC §6) against an independent double-precision reference written here from the SPEC text:
+// Envelope (design §6) against an independent double-precision reference written here from docs/design.md text:
 // a piecewise function of x in ms (Eq. 9–10 with Table 1's reading, short-note scaling, end fade).
 #include <gtest/gtest.h>
 
@@ -23,7 +23,7 @@ using hmp::envelope::Envelope;
 using hmp::envelope::Preset;
 using hmp::envelope::Shape;
 
-constexpr double kTolerance = 2e-5;  // of full scale (SPEC §7)
+constexpr double kTolerance = 2e-5;  // of full scale (design §7)
 
 // One note as the test describes it: the preset and everything start() gets.
 struct Note {
@@ -43,7 +43,7 @@ std::string describe(const Note& c) {
   return o.str();
 }
 
-// SPEC §6 read directly, in ms and double. Knows nothing of ticks except x = n·T.
+// design §6 read directly, in ms and double. Knows nothing of ticks except x = n·T.
 class Reference {
  public:
   explicit Reference(const Note& c) : ms_per_tick_(1000.0 / static_cast<double>(c.tick_hz)) {
@@ -94,7 +94,7 @@ class Reference {
   double x_of(std::uint64_t n) const { return static_cast<double>(n) * ms_per_tick_; }
 
   // Distance of a float sample to the reference at tick n. Where x sits on a boundary to within rounding
-  // of its ms↔tick conversion, either side's value is right (the SPEC fixes boundaries only in real numbers).
+  // of its ms↔tick conversion, either side's value is right (docs/design.md fixes boundaries only in real numbers).
   double error(std::uint64_t n, float v) const {
     const double x = x_of(n);
     const double eps = 1e-11 * std::max(1.0, x);
@@ -114,7 +114,7 @@ class Reference {
     if (fade_ > 0) slope += peak_ / fade_;
     return slope * ms_per_tick_;
   }
-  // The places where SPEC §6 allows a step: a zero-length decay below the peak, and r = 0 right after t3.
+  // The places where design §6 allows a step: a zero-length decay below the peak, and r = 0 right after t3.
   bool step_between(std::uint64_t n) const {
     const double lo = x_of(n), hi = x_of(n + 1);
     const double eps = 1e-9 * std::max(1.0, hi);
@@ -214,7 +214,7 @@ TEST(EnvelopePresets, MatchSpecTable) {
     const char* name;
     double a, dc, r_ms, s_pct, r_pct;
   };
-  // SPEC §6 table, typed in again here.
+  // design §6 table, typed in again here.
   const Row rows[] = {
       {"organ", 5, 0, 25, 100, 1},         {"flute", 75, 0, 60, 100, 1},
       {"harpsichord", 55, 0, 55, 100, 17.39}, {"guitar", 15, 0, 15, 100, 1.36},
@@ -363,7 +363,7 @@ TEST(EnvelopeAccuracy, PresetsAgainstReference) {
   EXPECT_LE(stats.max_error, kTolerance);
 }
 
-// The 10-minute note of SPEC §7, at 1 kHz and 10 kHz, every tick.
+// The 10-minute note of design §7, at 1 kHz and 10 kHz, every tick.
 TEST(EnvelopeAccuracy, TenMinuteNotes) {
   std::mt19937_64 rng(2);
   Stats stats;
@@ -378,7 +378,7 @@ TEST(EnvelopeAccuracy, TenMinuteNotes) {
   EXPECT_LE(stats.max_error, kTolerance);
 }
 
-// Random presets, including every degenerate value the SPEC names, and durations from 0 to hours.
+// Random presets, including every degenerate value docs/design.md names, and durations from 0 to hours.
 TEST(EnvelopeAccuracy, RandomPresetsAgainstReference) {
   std::mt19937_64 rng(20240611);
   std::uniform_real_distribution<double> unit(0.0, 1.0);

@@ -1,4 +1,4 @@
-// Frequency and amplitude representation (SPEC §7, §9): Q12.20 Hz on the wire, a 64-bit phase
+// Frequency and amplitude representation (design §7, §9): Q12.20 Hz on the wire, a 64-bit phase
 // accumulator in the voice. References use exact 128-bit integer arithmetic.
 #include "shared/synth/frequency.hpp"
 
@@ -139,7 +139,7 @@ TEST(PhaseAccumulator, JumpAheadMatchesExactPhase) {
 }
 
 // The represented frequency (Q12.20 on the wire, then the increment) against the requested one: the
-// phase stays within 1e-4 rad over a 10 s note (SPEC §7).
+// phase stays within 1e-4 rad over a 10 s note (design §7).
 TEST(PhaseAccumulator, RepresentedFrequencyKeepsPhaseOverTenSeconds) {
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> hz(1.0, 4000.0);

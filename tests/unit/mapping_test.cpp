@@ -1,4 +1,4 @@
-// Pitch → haptic frequency and amplitude (SPEC §5), checked against formulas written here from the SPEC
+// Pitch → haptic frequency and amplitude (design §5), checked against formulas written here from docs/design.md
 // and the papers, plus brute-force checks of the key set.
 #include <gtest/gtest.h>
 

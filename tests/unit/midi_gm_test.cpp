@@ -1,4 +1,4 @@
-// GM1 names and families, and the `auto` envelope preset of SPEC §6.
+// GM1 names and families, and the `auto` envelope preset of design §6.
 #include <gtest/gtest.h>
 
 #include <set>
@@ -40,7 +40,7 @@ TEST(MidiGm, FamiliesAreEightProgramsEach) {
 }
 
 TEST(MidiGm, AutoPresetFollowsSpecTable) {
-  // SPEC §6, written out program range by program range.
+  // design §6, written out program range by program range.
   auto expect_range = [](int lo, int hi, Preset want) {
     for (int p = lo; p <= hi; ++p) {
       EXPECT_EQ(auto_preset(static_cast<std::uint8_t>(p), 0), want) << "program " << p;

@@ -1,4 +1,4 @@
-// SMF reader, one test per rule of SPEC §4, on hand-built byte strings (see midi_builder.hpp).
+// SMF reader, one test per rule of design §4, on hand-built byte strings (see midi_builder.hpp).
 // Offsets: MThd is 14 bytes, so the first MTrk's data starts at byte 22 (0x16).
 #include <gtest/gtest.h>
 

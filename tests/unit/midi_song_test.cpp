@@ -1,4 +1,4 @@
-// Song helpers: `--track` lookup (SPEC §3), per-track note lists, track statistics.
+// Song helpers: `--track` lookup (design §3), per-track note lists, track statistics.
 #include <gtest/gtest.h>
 
 #include <unistd.h>

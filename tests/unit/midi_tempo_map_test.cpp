@@ -1,4 +1,4 @@
-// TempoMap and Division (SPEC §4): integer µs per tempo segment, SMPTE including 29.97, no drift, no overflow.
+// TempoMap and Division (design §4): integer µs per tempo segment, SMPTE including 29.97, no drift, no overflow.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,4 +1,4 @@
-// Wire protocol (SPEC §9, docs/protocol.md): layouts checked against bytes written by hand from the
+// Wire protocol (design §9, docs/protocol.md): layouts checked against bytes written by hand from the
 // documented offsets, range checks, padding checks, and decode over random and mutated input.
 #include "shared/protocol/protocol.hpp"
 

@@ -1,5 +1,5 @@
 #pragma once
-// Independent double-precision reference of SPEC §6 envelopes, written from the spec text (not from
+// Independent double-precision reference of design §6 envelopes, written from the spec text (not from
 // shared/envelope/envelope.cpp) so tests and benchmarks can check the float implementation against it.
 // Times are in ms: x from the note's start, D the note's duration (N·T), fade F (0 = none).
 #include <algorithm>

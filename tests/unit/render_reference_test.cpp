@@ -1,7 +1,7 @@
 // `hmp render` of real tracks equals an independent reference sample for sample (to 1e-4 of full scale):
-// the notes come from `hmp info --json --notes`; frequency/amplitude from SPEC §5 (Eq. 5–7 as linear
-// interpolation, dB → linear), envelopes from SPEC §6 Table 1 (values typed in here from the spec), ticks
-// from SPEC §6 "Ticks", voices summed.
+// the notes come from `hmp info --json --notes`; frequency/amplitude from design §5 (Eq. 5–7 as linear
+// interpolation, dB → linear), envelopes from design §6 Table 1 (values typed in here from the spec), ticks
+// from design §6 "Ticks", voices summed.
 #include <gtest/gtest.h>
 
 #include <cmath>

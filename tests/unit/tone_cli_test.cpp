@@ -1,4 +1,4 @@
-// `hmp tone` end to end: the CSV it prints matches the independent double-precision formula of SPEC §6
+// `hmp tone` end to end: the CSV it prints matches the independent double-precision formula of design §6
 // (reference_envelope.hpp) times sin(2π f x) to 1e-4 of full scale, for every built-in preset and for
 // random --adsr values.
 #include <gtest/gtest.h>

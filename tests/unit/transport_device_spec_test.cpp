@@ -1,4 +1,4 @@
-// `--device` parsing (SPEC §3) and what `hmp devices` prints without a device.
+// `--device` parsing (design §3) and what `hmp devices` prints without a device.
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>

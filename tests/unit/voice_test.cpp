@@ -1,4 +1,4 @@
-// One voice against the double-precision reference of SPEC §6: y[n] = E(nT)·sin(2π f nT) for the
+// One voice against the double-precision reference of design §6: y[n] = E(nT)·sin(2π f nT) for the
 // frequency the device represents, with the envelope written independently in reference_envelope.hpp.
 #include "shared/synth/voice.hpp"
 
@@ -17,7 +17,7 @@ using namespace hmp;
 using synth::SineImpl;
 
 constexpr double kTwoPi = 6.283185307179586476925;
-constexpr double kBudget = 2e-5;  // SPEC §7: max |error| over a 10-minute note, in full-scale units
+constexpr double kBudget = 2e-5;  // design §7: max |error| over a 10-minute note, in full-scale units
 
 synth::Note make_note(double hz, double amp, std::uint32_t ticks) {
   synth::Note n;
@@ -111,7 +111,7 @@ TEST(Voice, DegenerateNotes) {
   EXPECT_FALSE(v.active());  // a fresh voice is silent
   EXPECT_EQ(v.next(), 0.0f);
 
-  v.start(make_note(100.0, 1.0, 0), square, cfg, 0);  // N = 0 plays one tick (SPEC: N = max(1, …))
+  v.start(make_note(100.0, 1.0, 0), square, cfg, 0);  // N = 0 plays one tick (design: N = max(1, …))
   EXPECT_TRUE(v.active());
   EXPECT_EQ(v.next(), 0.0f);  // phase 0
   EXPECT_FALSE(v.active());

@@ -1,4 +1,4 @@
-// e2e-timing, audio–haptic skew (SPEC §10: ≤ 1 ms end to end). `hmp play`'s player runs in this process
+// e2e-timing, audio–haptic skew (design §10: ≤ 1 ms end to end). `hmp play`'s player runs in this process
 // with its real audio path (FluidSynth, the GM SoundFont, the audio clock fitted from the card's
 // callbacks) on a virtual sound card (host/audio/virtual_card.hpp: 100 ppm fast crystal, 256 × 4
 // frames of buffering) and the simulated device in real time. Both sides have a known truth:
@@ -12,7 +12,7 @@
 // hide the next onset). A real card adds the error of its driver's latency report, which no software
 // measurement can see.
 //
-// Usage: bench_audio_haptic_skew NOTES   (JSON lines on stdout, SPEC §2; ~0.6 s a note)
+// Usage: bench_audio_haptic_skew NOTES   (JSON lines on stdout, design §2; ~0.6 s a note)
 #include <algorithm>
 #include <chrono>
 #include <cmath>

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# e2e-timing (SPEC §10): `hmp play` end to end.
+# e2e-timing (design §10): `hmp play` end to end.
 #   - onset error (actual − scheduled tick, from --log) over the whole demo song on the simulated
 #     device, and over a passage on the QEMU board when its image and qemu-system-arm are there;
 #   - host CPU of the hmp process while playing with --no-audio (utime + stime from /proc, over the

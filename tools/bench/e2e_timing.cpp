@@ -1,11 +1,11 @@
-// e2e-timing, clock part (SPEC §10): how far the player's estimate of the device clock is from the
+// e2e-timing, clock part (design §10): how far the player's estimate of the device clock is from the
 // simulated device's real clock while a song plays. The simulated device runs in this process, so its
 // tick counter can be read directly, with no link in between: at host time t the device has processed
 // tick k = floor(true position) (or a little less when its thread is late), so over a window the
 // smallest (estimate − k) is the estimate's error. The player's own notes use the same estimate: their
 // onset error against the song's host time is this error plus the rounding to a tick (≤ ½ tick).
 //
-// Usage: bench_e2e_timing SONG TRACK SECONDS   (JSON lines on stdout, SPEC §2)
+// Usage: bench_e2e_timing SONG TRACK SECONDS   (JSON lines on stdout, design §2)
 #include <algorithm>
 #include <atomic>
 #include <chrono>

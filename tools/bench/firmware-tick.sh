@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# firmware-tick (SPEC §8 budget: 16 voices ≤ 1,500 instructions per tick; the full tick with the SPIDAR drive
+# firmware-tick (design §8 budget: 16 voices ≤ 1,500 instructions per tick; the full tick with the SPIDAR drive
 # ≤ 12,000): instructions per device tick of the qemu-an386 firmware (Cortex-M4F build) with 0, 1, 4, 8 and
 # 16 sounding voices, at 1 kHz and 10 kHz; and with the drive ("drive":true rows: the board given simulated
 # motors whose encoders report a moving grip) with 0 and 16 voices.
@@ -49,7 +49,7 @@ for hz in 1000 10000; do
     }
     $1 == "result" {
       v = "\"voices\":" field("voices") ","
-      # drive: false; true (the whole drive in the tick, SPEC §8 ≤ 12,000); "split" (pose and QP planned at
+      # drive: false; true (the whole drive in the tick, design §8 ≤ 12,000); "split" (pose and QP planned at
       # 1 kHz outside the tick: the tick ≤ 2,500, and per ms ≤ 60,000 with the plan, issue 12)
       d = field("drive") == "1" ? "true" : field("drive") == "split" ? "\"split\"" : "false"
       emit("instructions_per_tick", field("mean"), v, d)

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# midi-parse (SPEC §4): hmp's MIDI reader against mido (parse + note pairing, timed inside Python; hmp's
+# midi-parse (design §4): hmp's MIDI reader against mido (parse + note pairing, timed inside Python; hmp's
 # load_song timed inside a process too, by bench_midi_parse_inprocess) and midicsv (`midicsv FILE
 # /dev/null` against the whole `hmp info --json` command), side by side on a generated large file
 # (tools/bench/gen_big_midi.py: 12 tracks, 620k notes, ~1000 tempo changes, running status) and on the

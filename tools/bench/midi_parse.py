@@ -20,7 +20,7 @@ Each tool's figure is its best round. Like is compared with like: speedup_vs_mid
 in-process, speedup_vs_midicsv whole command against whole command. Last, hmp's start-up alone
 (`hmp --version`), which is most of its command's time on small files, and for reference that of hmp-full
 (the program with every command, which the static front `hmp` runs for commands other than info; it
-links the audio, plot and device libraries). Prints the JSON lines of SPEC §2 on stdout.
+links the audio, plot and device libraries). Prints the JSON lines of design §2 on stdout.
 """
 import argparse
 import json

@@ -1,4 +1,4 @@
-// midi-parse, in-process part (SPEC §4): hmp's reader timed the way mido is timed (tools/bench/
+// midi-parse, in-process part (design §4): hmp's reader timed the way mido is timed (tools/bench/
 // mido_pairing.py), inside a running process, so that neither side's start-up is counted. Times
 // midi::load_song (read the file, parse, pair the notes, tempo map, programs, per-track statistics) with
 // a steady clock around the call.

@@ -5,7 +5,7 @@ Usage: mido_pairing.py FILE   (Debian's /usr/bin/python3 with python3-mido)
 
 Prints one JSON object: {"seconds": parse + pairing time, "notes": paired notes}. Only the work is timed
 (time.perf_counter around it), not the interpreter's start-up nor importing mido. Pairing is the same rule
-as hmp's reader (SPEC §4): per (track, channel, key) first in, first out; note-on with velocity 0 is a
+as hmp's reader (design §4): per (track, channel, key) first in, first out; note-on with velocity 0 is a
 note-off; a note still on at the end of its track ends there; note-offs with nothing to end are ignored.
 It stays in ticks, as hmp's midi::load_song does (hmp computes a note's µs when asked); load_song also
 builds the tempo map, each note's program and per-track statistics, so this still does less than hmp.

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# sim-work-precision (SPEC §12): force error against run time for every plant integrator and step size,
+# sim-work-precision (design §12): force error against run time for every plant integrator and step size,
 # and each integrator's largest stable step in the nominal and extreme scenes. Also redraws
 # docs/img/sim-work-precision.png. Run by scripts/bench with the build directory as $1.
 set -euo pipefail

@@ -1,4 +1,4 @@
-// sim-work-precision (SPEC §12): error against run time for every plant integrator and step size, and the
+// sim-work-precision (design §12): error against run time for every plant integrator and step size, and the
 // largest stable step of each, including the extreme cases (soft and very stiff strings, slack strings,
 // saturated drive, grip near the frame edge).
 //

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# synth-accuracy (SPEC §7): one voice per sine implementation over a 10-minute note at 1 kHz and 10 kHz:
+# synth-accuracy (design §7): one voice per sine implementation over a 10-minute note at 1 kHz and 10 kHz:
 # max |error| against the double reference, host ns per voice sample and per sine call.
 # Run by scripts/bench with the build directory as $1.
 set -euo pipefail

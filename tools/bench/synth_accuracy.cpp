@@ -1,5 +1,5 @@
-// synth-accuracy: error and speed of one voice for each sine implementation (SPEC §7).
-// Error: the voice over a 10-minute note against the double-precision reference of SPEC §6,
+// synth-accuracy: error and speed of one voice for each sine implementation (design §7).
+// Error: the voice over a 10-minute note against the double-precision reference of design §6,
 // E(x)·sin(2π f x) for the frequency the device represents; the max over several presets and
 // frequencies at full amplitude. Speed: host ns per voice sample and per sine call (a proxy for the MCU).
 // Prints JSON lines (see scripts/bench). Usage: bench_synth_accuracy [--note-s S] [--tick-hz HZ]…

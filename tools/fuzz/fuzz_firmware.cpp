@@ -1,4 +1,4 @@
-// libFuzzer target for the firmware core's report handling (SPEC §8: hostile or malformed commands never
+// libFuzzer target for the firmware core's report handling (design §8: hostile or malformed commands never
 // crash the firmware or exceed a limit). The input is a stream of 64-byte host reports (the last one
 // zero-padded); the core runs one tick after each and a few hundred at the end, so notes play, fades
 // and the watchdog run. Besides the sanitizers it traps when an output sample is not finite or exceeds

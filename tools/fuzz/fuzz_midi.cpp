@@ -1,4 +1,4 @@
-// libFuzzer target for the Standard MIDI File reader (SPEC §4: "never crash or hang"). BadInput is the
+// libFuzzer target for the Standard MIDI File reader (design §4: "never crash or hang"). BadInput is the
 // reader's documented way to refuse a file and is expected; anything else escaping (another exception),
 // a sanitizer report, a run over -timeout or a memory blow-up is a finding. Songs that are read must also
 // be self-consistent, which catches silent corruption the sanitizers cannot see.

@@ -1,4 +1,4 @@
-// libFuzzer target for protocol::decode (SPEC §9). Besides the sanitizers' memory and UB checks it
+// libFuzzer target for protocol::decode (design §9). Besides the sanitizers' memory and UB checks it
 // asserts the codec's round-trip property: whatever decode accepts, encode reproduces byte for byte.
 #include <cstddef>
 #include <cstdint>

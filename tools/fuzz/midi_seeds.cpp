@@ -1,5 +1,5 @@
 // Writes the seed corpus of fuzz_midi: every .mid file of the development corpus (tests/data/midi,
-// SPEC §4) plus a few tiny hand-made files for the container and event paths those may not reach in few
+// design §4) plus a few tiny hand-made files for the container and event paths those may not reach in few
 // bytes (format 0 with running status, format 2, SMPTE division, RIFF RMID, sysex, odd header lengths).
 // Small seeds matter: libFuzzer mutates them many times faster than the 50 KB real songs.
 #include <cstdio>

@@ -1,5 +1,5 @@
 #pragma once
-// The plant's equations of motion (SPEC §12) as a first-order system for the integrators.
+// The plant's equations of motion (design §12) as a first-order system for the integrators.
 //
 //   motor i:   θ_i' = ω_i                                    θ: pulley angle, positive winds string in
 //              J ω_i' = Kt·I_i − r·T_i − b·ω_i

@@ -1,5 +1,5 @@
 #pragma once
-// Time integrators for the plant simulator (SPEC §12: at least four, one interface). The plant is stiff
+// Time integrators for the plant simulator (design §12: at least four, one interface). The plant is stiff
 // (string stiffness ~10⁴ N/m against grams of moving mass, electrical time constant ~0.1 ms): explicit
 // methods need sub-steps of ~0.1 ms or less, the linearly implicit ones stay stable at the 1 ms tick.
 //

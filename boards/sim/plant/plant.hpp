@@ -1,5 +1,5 @@
 #pragma once
-// The SPIDAR-G6 plant the simulated board drives (SPEC §12): eight DC motors winding elastic strings
+// The SPIDAR-G6 plant the simulated board drives (design §12): eight DC motors winding elastic strings
 // tied to a grip held by a finger. Once per control tick the board calls step() with the eight PWM duties
 // and reads the encoder counts back; the string tensions and the force on the finger are what a
 // measurement rig would see. Double precision, host only; no allocation after construction.

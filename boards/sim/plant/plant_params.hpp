@@ -1,6 +1,6 @@
 #pragma once
-// Parameters of the SPIDAR-G6 plant simulator (SPEC §12): motors, strings, grip, finger, and which parts
-// of the model a scene needs (SPEC §16). The geometry and the motor's drive constants come from
+// Parameters of the SPIDAR-G6 plant simulator (design §12): motors, strings, grip, finger, and which parts
+// of the model a scene needs (design §16). The geometry and the motor's drive constants come from
 // shared/spidar (one source of truth for the firmware and the simulator); this file only adds what the
 // firmware never needs: inductance, inertias, string elasticity, the hand.
 #include "boards/sim/plant/integrators.hpp"
@@ -13,7 +13,7 @@ using Vec3d = spidar::Vec3<double>;
 
 struct MotorDynamics {
   spidar::MotorParams<double> drive{};  // Kt (= Ke), R, supply, pulley radius, b, encoder counts/rev
-  // Terminal inductance: SPEC §12 gives the electrical time constant L/R ≈ 0.1 ms with R = 6.5 Ω.
+  // Terminal inductance: design §12 gives the electrical time constant L/R ≈ 0.1 ms with R = 6.5 Ω.
   double inductance = 0.65e-3;  // H
   // Rotor + pulley inertia. RE-max 24 rotors are listed at about 1.1 g·cm²; an aluminium pulley of 10 mm
   // diameter and 6 mm length adds ½·(1.27 g)·(5 mm)² ≈ 0.16 g·cm². Seen from the string this is
@@ -46,7 +46,7 @@ struct FingerParams {
   Vec3d anchor{};                                        // device frame, m
 };
 
-// SPEC §16: the simulator integrates only what the scene asks for.
+// design §16: the simulator integrates only what the scene asks for.
 struct Scene {
   bool translation_only = false;  // grip keeps its rest orientation: 30 states instead of 37
   bool finger = true;             // without it the grip floats on its strings alone
