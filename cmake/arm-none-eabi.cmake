@@ -1,4 +1,5 @@
-# Toolchain: Cortex-M4F with Debian's gcc-arm-none-eabi + libnewlib-arm-none-eabi.
+# Toolchain: Debian's gcc-arm-none-eabi + libnewlib-arm-none-eabi, for bare-metal Arm. The CPU's flags are
+# in cortex-m4.cmake; what is particular to a board (linker script, image formats) in its own folder.
 set(CMAKE_SYSTEM_NAME Generic)
 set(CMAKE_SYSTEM_PROCESSOR arm)
 set(CMAKE_C_COMPILER arm-none-eabi-gcc)
@@ -10,11 +11,7 @@ set(CMAKE_NM arm-none-eabi-nm CACHE FILEPATH "")
 # Compiler checks would try to link a hosted program; a static library is all we can ask for here.
 set(CMAKE_TRY_COMPILE_TARGET_TYPE STATIC_LIBRARY)
 
-set(HMP_CPU_FLAGS "-mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16")
-set(CMAKE_C_FLAGS_INIT "${HMP_CPU_FLAGS} -ffunction-sections -fdata-sections")
-set(CMAKE_CXX_FLAGS_INIT "${HMP_CPU_FLAGS} -ffunction-sections -fdata-sections -fno-exceptions -fno-rtti -fno-threadsafe-statics -fno-use-cxa-atexit")
-set(CMAKE_ASM_FLAGS_INIT "${HMP_CPU_FLAGS}")
-set(CMAKE_EXE_LINKER_FLAGS_INIT "${HMP_CPU_FLAGS} -Wl,--gc-sections -nostartfiles --specs=nano.specs")
+include(${CMAKE_CURRENT_LIST_DIR}/cortex-m4.cmake)
 
 set(CMAKE_FIND_ROOT_PATH_MODE_PROGRAM NEVER)
 set(CMAKE_FIND_ROOT_PATH_MODE_LIBRARY ONLY)

@@ -1,4 +1,5 @@
 #include "firmware/drive.hpp"
+#include "shared/synth/tick_rate.hpp"
 
 #include <cmath>
 
@@ -16,7 +17,7 @@ constexpr Flags kQpBroken = flag::invalid_input | flag::ill_conditioned | flag::
 }  // namespace
 
 Drive::Drive(std::uint32_t tick_hz, const DriveParams& params)
-    : params_(params), tick_hz_(static_cast<float>(tick_hz != 0 ? tick_hz : 1000u)), motor_(params.motor) {
+    : params_(params), tick_hz_(static_cast<float>(tick_hz != 0 ? tick_hz : synth::kNominalTickHz)), motor_(params.motor) {
   compensator_.configure(params_.plant, params_.motor, params_.compensator, static_cast<std::uint32_t>(tick_hz_));
   // The sensing runs once a tick, or once a plan in the split drive.
   const std::uint32_t whole = static_cast<std::uint32_t>(tick_hz_);

@@ -2,7 +2,8 @@
 
 #include <cmath>
 
-#include "firmware/matrix_exp.hpp"
+#include "shared/spidar/matrix_exp.hpp"
+#include "shared/synth/tick_rate.hpp"
 
 namespace hmp::fw {
 
@@ -56,7 +57,7 @@ LinearStepper<N> make_stepper(const float (&a)[N][N], const float (&b)[N], const
   am[QF][W] = force_in;
   am[QV][W] = speed_in;
   float e[M][M];
-  expm(am, h, e);
+  spidar::expm(am, h, e);
   // Start values: w = w(n−1), slope = w(n) − w(n−1).
   LinearStepper<N> out;
   const float inv_h = 1.0f / h;

@@ -6,10 +6,11 @@ namespace hmp::board {
 namespace {
 
 constexpr std::uintptr_t kData = 0x000, kState = 0x004, kCtrl = 0x008, kIntStatus = 0x00C, kBaudDiv = 0x010;
-constexpr std::uint32_t kStateTxFull = 1u << 0, kStateRxFull = 1u << 1, kStateRxOverrun = 1u << 3;
+constexpr std::uint32_t kStateTxFull = 1u << 0, kStateRxFull = 1u << 1, kStateTxOverrun = 1u << 2,
+                        kStateRxOverrun = 1u << 3;
 constexpr std::uint32_t kCtrlTxEnable = 1u << 0, kCtrlRxEnable = 1u << 1, kCtrlTxInt = 1u << 2,
                         kCtrlRxInt = 1u << 3;
-constexpr std::uint32_t kIntTx = 1u << 0, kIntRx = 1u << 1;
+constexpr std::uint32_t kIntTx = 1u << 0, kIntRx = 1u << 1, kIntTxOverrun = 1u << 2, kIntRxOverrun = 1u << 3;
 constexpr std::uint32_t kMinBaudDiv = 16;
 
 }  // namespace
@@ -18,8 +19,8 @@ void CmsdkUart::init(std::uint32_t pclk_hz, std::uint32_t baud) const {
   reg(base_ + kCtrl) = 0;
   std::uint32_t div = baud != 0 ? pclk_hz / baud : kMinBaudDiv;
   reg(base_ + kBaudDiv) = div < kMinBaudDiv ? kMinBaudDiv : div;
-  reg(base_ + kState) = 0xC;     // clear stale overrun flags
-  reg(base_ + kIntStatus) = 0xF;  // and stale interrupts
+  reg(base_ + kState) = kStateTxOverrun | kStateRxOverrun;  // clear stale overrun flags (write 1 to clear)
+  reg(base_ + kIntStatus) = kIntTx | kIntRx | kIntTxOverrun | kIntRxOverrun;  // and stale interrupts
   reg(base_ + kCtrl) = kCtrlTxEnable | kCtrlRxEnable | kCtrlTxInt | kCtrlRxInt;
 }
 

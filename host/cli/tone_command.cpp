@@ -12,6 +12,7 @@
 #include "host/haptics/signal_renderer.hpp"
 #include "host/output/signal_export.hpp"
 #include "shared/synth/frequency.hpp"
+#include "shared/synth/tick_rate.hpp"
 
 namespace hmp::cli {
 
@@ -24,7 +25,7 @@ struct ToneOptions {
   std::optional<std::string> instrument;
   std::optional<std::string> adsr;
   std::string out = "-";
-  std::uint32_t tick_hz = 1000;
+  std::uint32_t tick_hz = synth::kNominalTickHz;
   double end_fade_ms = 2.0;
   bool force = false;
 };

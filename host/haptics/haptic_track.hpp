@@ -12,6 +12,7 @@
 #include "shared/mapping/mapping.hpp"
 #include "shared/synth/engine.hpp"
 #include "shared/synth/voice.hpp"
+#include "shared/synth/tick_rate.hpp"
 
 namespace hmp::haptics {
 
@@ -22,7 +23,7 @@ struct HapticOptions {
   std::string envelope = "auto";  // auto | analogue (= auto) | square | triangle | any preset name
   synth::Polyphony polyphony = synth::Polyphony::sum;
   double end_fade_ms = 2.0;
-  std::uint32_t tick_hz = 1000;
+  std::uint32_t tick_hz = synth::kNominalTickHz;
   std::map<std::string, envelope::Adsr> user_presets;  // from the config
   std::map<std::uint8_t, std::string> gm_presets;      // program → preset name, from the config
 };

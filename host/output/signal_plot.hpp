@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include "shared/synth/tick_rate.hpp"
 
 namespace hmp::output {
 
@@ -15,7 +16,7 @@ struct PlotNote {
 
 struct PlotSpec {
   std::string title;
-  std::uint32_t tick_hz = 1000;
+  std::uint32_t tick_hz = synth::kNominalTickHz;
   std::uint64_t first_tick = 0;
   int width = 1600, height = 700;
 };

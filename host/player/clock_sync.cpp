@@ -1,4 +1,5 @@
 #include "host/player/clock_sync.hpp"
+#include "shared/synth/tick_rate.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -15,7 +16,7 @@ constexpr double kAgreeTicks = 1.0;
 }  // namespace
 
 ClockSync::ClockSync(const Options& options) : options_(options) {
-  if (options_.tick_hz == 0) options_.tick_hz = 1000;
+  if (options_.tick_hz == 0) options_.tick_hz = synth::kNominalTickHz;
   options_.min_samples = std::max<std::size_t>(options_.min_samples, 1);
   options_.window = std::max(options_.window, options_.min_samples);
   rate_ = nominal_rate();

@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <deque>
 #include <optional>
+#include "shared/synth/tick_rate.hpp"
 
 namespace hmp::player {
 
@@ -30,7 +31,7 @@ class ClockSync {
   static constexpr std::uint32_t kOverdueSubtick = 0xFFFFFFFFu;
 
   struct Options {
-    std::uint32_t tick_hz = 1000;
+    std::uint32_t tick_hz = synth::kNominalTickHz;
     std::size_t window = 64;          // most recent samples kept for the fit
     std::size_t min_samples = 4;      // before this many, ready() is false
     // The fit uses the samples whose transit is within max(this, 25 %) of the lower quartile of the

@@ -24,6 +24,7 @@
 #include "host/midi/song.hpp"
 #include "host/player/device_link.hpp"
 #include "host/player/scheduler.hpp"
+#include "shared/synth/tick_rate.hpp"
 
 namespace hmp::player {
 
@@ -136,7 +137,7 @@ class Player {
   audio::AudioPlayer& audio_;
   const midi::Song& song_;
   PlayerOptions options_;
-  std::uint32_t tick_hz_ = 1000;
+  std::uint32_t tick_hz_ = synth::kNominalTickHz;
   mapping::Ranges base_ranges_{};
   std::vector<std::uint32_t> playable_tracks_;
 

@@ -15,13 +15,14 @@
 #include <string>
 
 #include "host/transport/transport.hpp"
+#include "shared/synth/tick_rate.hpp"
 
 namespace hmp::player {
 
 class QemuDevice {
  public:
   struct Options {
-    std::uint32_t tick_hz = 1000;
+    std::uint32_t tick_hz = synth::kNominalTickHz;
   };
   explicit QemuDevice(const Options& options);
   ~QemuDevice();

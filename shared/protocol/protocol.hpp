@@ -19,6 +19,7 @@
 #include <cstdint>
 
 #include "shared/envelope/envelope.hpp"
+#include "shared/synth/tick_rate.hpp"
 
 namespace hmp::protocol {
 
@@ -168,7 +169,7 @@ struct HelloReply {
   std::uint16_t protocol_version = kProtocolVersion;
   std::uint8_t fw_major = 0, fw_minor = 0, fw_patch = 0;
   Board board = Board::sim;
-  std::uint32_t tick_hz = 1000;
+  std::uint32_t tick_hz = synth::kNominalTickHz;
   std::uint8_t voices = 16;
   std::uint16_t queue_capacity = 0;
   std::uint8_t preset_slots = envelope::kSlotCount;

@@ -4,6 +4,7 @@
 
 #include "shared/envelope/envelope.hpp"
 #include "shared/synth/sine.hpp"
+#include "shared/synth/tick_rate.hpp"
 
 namespace hmp::synth {
 
@@ -18,7 +19,7 @@ struct Note {
 };
 
 struct SynthConfig {
-  std::uint32_t tick_hz = 1000;
+  std::uint32_t tick_hz = kNominalTickHz;
   float end_fade_ms = 2.0f;
   SineImpl sine = kDefaultSine;
   float limiter_release_ms = 50.0f;  // Engine's limiter recovery time constant (see engine.hpp)

@@ -1,10 +1,10 @@
 #pragma once
 // The matrix exponential for the exact discretisation of the drive's small linear models: a model's
 // inputs and output integrals are appended as extra states, and the exponential of the augmented matrix
-// over one tick holds the whole update (firmware/drive_model.cpp). Scaling and squaring with a Taylor
+// over one tick holds the whole update (the firmware drive's models, firmware/drive_model.cpp). Scaling and squaring with a Taylor
 // series, in float: computed once at start-up, never in the tick. Callers scale their states so that the
 // entries of A·h are of order one; then a few squarings and 12 terms keep it at float precision.
-namespace hmp::fw {
+namespace hmp::spidar {
 
 // e^{A h} by scaling and squaring with a 12-term Taylor series.
 template <int N>
@@ -58,4 +58,4 @@ void expm(const float (&a)[N][N], float h, float (&out)[N][N]) {
     for (int j = 0; j < N; ++j) out[i][j] = e[i][j];
 }
 
-}  // namespace hmp::fw
+}  // namespace hmp::spidar
