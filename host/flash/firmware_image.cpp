@@ -17,6 +17,12 @@ bool build_configured(const fs::path& source_dir) {
   return fs::is_regular_file(source_dir / "build" / "stm32f407" / "CMakeCache.txt", ec);
 }
 
+bool is_build_input(const fs::path& file) {
+  const std::string ext = file.extension().string();
+  return ext == ".cpp" || ext == ".hpp" || ext == ".h" || ext == ".c" || ext == ".ld" || ext == ".cmake" ||
+         ext == ".in" || file.filename() == "CMakeLists.txt";
+}
+
 Freshness image_freshness(const fs::path& image, const fs::path& source_dir) {
   std::error_code ec;
   const fs::file_time_type built = fs::last_write_time(image, ec);
@@ -27,7 +33,7 @@ Freshness image_freshness(const fs::path& image, const fs::path& source_dir) {
     for (auto it = fs::recursive_directory_iterator(root, fs::directory_options::skip_permission_denied, ec);
          !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
       std::error_code file_ec;
-      if (!it->is_regular_file(file_ec)) continue;
+      if (!it->is_regular_file(file_ec) || !is_build_input(it->path())) continue;
       const fs::file_time_type changed = it->last_write_time(file_ec);
       if (!file_ec && changed > built) {
         return {true, "it is older than " + fs::relative(it->path(), source_dir, file_ec).generic_string()};

@@ -13,16 +13,18 @@ std::filesystem::path default_image(const std::filesystem::path& source_dir, boo
 // Whether the preset's build tree is configured (has a CMakeCache.txt).
 bool build_configured(const std::filesystem::path& source_dir);
 
-// The folders, relative to the source dir, whose files the stm32f407 image is built from.
-inline constexpr const char* kImageSourceDirs[] = {"firmware", "shared", "boards/stm32f407"};
+// The folders, relative to the source dir, whose files the stm32f407 image is built from, and the kinds
+// of file that count (a README edited after the build does not make the image stale).
+inline constexpr const char* kImageSourceDirs[] = {"firmware", "shared", "boards/stm32f407", "boards/cortex-m"};
+bool is_build_input(const std::filesystem::path& file);  // sources, headers, linker scripts, CMake files
 
 struct Freshness {
   bool stale = false;
   std::string why;  // when stale: "it does not exist" or "it is older than firmware/core.cpp"
 };
 
-// Stale when `image` does not exist or any regular file under kImageSourceDirs of `source_dir` was modified
-// after it. Folders that do not exist are skipped.
+// Stale when `image` does not exist or any build input under kImageSourceDirs of `source_dir` was
+// modified after it. Folders that do not exist are skipped.
 Freshness image_freshness(const std::filesystem::path& image, const std::filesystem::path& source_dir);
 
 }  // namespace hmp::flash

@@ -66,7 +66,9 @@ TEST_F(FlashImage, NewerThanEverySourceIsFresh) {
 
 TEST_F(FlashImage, OlderThanAnySourceIsStale) {
   using std::chrono::hours;
-  for (const char* changed : {"firmware/sub/dir/voice.hpp", "shared/protocol.hpp", "boards/stm32f407/pins.hpp"}) {
+  for (const char* changed : {"firmware/sub/dir/voice.hpp", "shared/protocol.hpp", "boards/stm32f407/pins.hpp",
+                              "boards/stm32f407/stm32f407.ld", "boards/cortex-m/serial_link.hpp",
+                              "firmware/CMakeLists.txt"}) {
     SCOPED_TRACE(changed);
     fs::remove_all(root_ / "firmware");
     fs::remove_all(root_ / "shared");
@@ -78,6 +80,17 @@ TEST_F(FlashImage, OlderThanAnySourceIsStale) {
     EXPECT_TRUE(f.stale);
     EXPECT_EQ(f.why, std::string("it is older than ") + changed);
   }
+}
+
+// Files that are not build inputs (documentation, scripts run by tests) do not make the image stale.
+TEST_F(FlashImage, EditedDocumentationIsNotAStaleImage) {
+  using std::chrono::hours;
+  write("firmware/core.cpp", hours(3));
+  const fs::path image = write("build/stm32f407/boards/stm32f407/hmp_fw_stm32f407.bin", hours(2));
+  write("boards/stm32f407/README.md", hours(1));
+  write("boards/stm32f407/check_image.sh", hours(1));
+  const flash::Freshness f = flash::image_freshness(image, root_);
+  EXPECT_FALSE(f.stale) << f.why;
 }
 
 TEST_F(FlashImage, NoSourceFoldersIsFresh) {
