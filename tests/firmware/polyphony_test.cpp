@@ -1,8 +1,14 @@
 // Voices through the device (design §7): 16-voice chords, oldest-first stealing counted in Status, and the
-// three polyphony policies chosen by a Settings report.
+// three polyphony policies chosen by a Settings report. Expectations come from an independent
+// double-precision evaluation of design §6 (tests/unit/reference_envelope.hpp and sin()), not from the
+// synth::Engine the device runs; where the limiter or stealing decides the output, the engine's own
+// reference is compared as well.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "tests/firmware/host_link.hpp"
+#include "tests/unit/reference_envelope.hpp"
 
 namespace hmp::test {
 namespace {
@@ -35,6 +41,23 @@ Played play(std::vector<TestNote> notes, p::PolicyCode policy, std::size_t ticks
   out.status = host.status();
   return out;
 }
+
+// One note as design §6 and §7 define it, in double precision: the preset's envelope times a sine of the
+// frequency the wire carries, phase 0 at the note's start; 0 outside the note. At 1 kHz.
+double independent_sample(const TestNote& n, std::uint64_t tick) {
+  if (tick < n.start || tick >= n.start + n.duration) return 0.0;
+  const synth::Note s = to_synth(n);
+  const double f = synth::q20_to_hz(s.freq_q20);
+  const double peak = s.amp_q16 / 65535.0;
+  const double x_ms = static_cast<double>(tick - n.start);
+  const double fade_ms = static_cast<double>(exact_settings().end_fade_ms);
+  return reference::envelope(envelope::builtin(static_cast<envelope::Preset>(n.preset)), peak,
+                             static_cast<double>(n.duration), x_ms, fade_ms) *
+         std::sin(2.0 * M_PI * f * x_ms / 1000.0);
+}
+
+// Design §7's accuracy for one voice (2·10⁻⁵ of full scale), plus float rounding of the mix per voice.
+constexpr double kPerVoiceTolerance = 3e-5;
 
 std::vector<TestNote> shifted(std::vector<TestNote> notes, std::uint64_t by) {
   for (TestNote& n : notes) n.start += by;
@@ -73,9 +96,29 @@ TEST(FirmwarePolyphony, SeventeenthNoteStealsTheOldestAndIsCounted) {
   EXPECT_EQ(got.status.started, synth::kVoiceCount + 3);
 }
 
-// A single-voice engine playing only the chosen note: what `highest` and `latest` must output.
-std::vector<float> solo(const TestNote& n, std::uint64_t first, std::size_t ticks) {
-  return reference_output({n}, first, ticks, 1000);
+// The chosen note alone, independently evaluated: what `highest` and `latest` must output.
+std::vector<double> solo(const TestNote& n, std::uint64_t first, std::size_t ticks) {
+  std::vector<double> out(ticks);
+  for (std::size_t i = 0; i < ticks; ++i) out[i] = independent_sample(n, first + i);
+  return out;
+}
+
+// A chord that stays within full scale: the limiter must leave it alone, so the device's output is the
+// plain sum of the sixteen notes.
+TEST(FirmwarePolyphony, QuietSixteenVoiceChordIsThePlainSumOfItsNotes) {
+  std::vector<TestNote> notes;
+  for (std::size_t i = 0; i < synth::kVoiceCount; ++i)
+    notes.push_back({i * 3, 400, 50.0 + 12.5 * static_cast<double>(i), 0.04});  // |sum| ≤ 0.64
+  const Played got = play(notes, p::PolicyCode::sum, 500);
+  const auto abs_notes = shifted(notes, got.t0);
+  double worst = 0.0;
+  for (std::size_t i = 0; i < got.output.size(); ++i) {
+    double want = 0.0;
+    for (const TestNote& n : abs_notes) want += independent_sample(n, got.first + i);
+    worst = std::max(worst, std::fabs(static_cast<double>(got.output[i]) - want));
+  }
+  EXPECT_LT(worst, synth::kVoiceCount * kPerVoiceTolerance);
+  EXPECT_EQ(got.status.stolen, 0u);
 }
 
 TEST(FirmwarePolyphony, HighestPolicyOutputsOnlyTheHighestNote) {
@@ -88,10 +131,10 @@ TEST(FirmwarePolyphony, HighestPolicyOutputsOnlyTheHighestNote) {
              hi = solo(abs_notes[2], first, 700);
   for (std::size_t i = 0; i < 700; ++i) {
     const std::uint64_t t = first + i;
-    const float want = t >= abs_notes[2].start && t < abs_notes[2].start + 100   ? hi[i]
-                       : t >= abs_notes[1].start && t < abs_notes[1].start + 300 ? mid[i]
-                                                                                 : lo[i];
-    ASSERT_EQ(got.output[i], want) << "tick " << t;
+    const double want = t >= abs_notes[2].start && t < abs_notes[2].start + 100   ? hi[i]
+                        : t >= abs_notes[1].start && t < abs_notes[1].start + 300 ? mid[i]
+                                                                                  : lo[i];
+    ASSERT_NEAR(got.output[i], want, kPerVoiceTolerance) << "tick " << t;
   }
   EXPECT_EQ(got.output, reference_output(abs_notes, first, 700, 1000, synth::Polyphony::highest));
 }
@@ -105,10 +148,10 @@ TEST(FirmwarePolyphony, LatestPolicyOutputsOnlyTheNewestNote) {
              c = solo(abs_notes[2], first, 700);
   for (std::size_t i = 0; i < 700; ++i) {
     const std::uint64_t t = first + i;
-    const float want = t >= abs_notes[2].start && t < abs_notes[2].start + 100   ? c[i]
-                       : t >= abs_notes[1].start && t < abs_notes[1].start + 300 ? b[i]
-                                                                                 : a[i];
-    ASSERT_EQ(got.output[i], want) << "tick " << t;
+    const double want = t >= abs_notes[2].start && t < abs_notes[2].start + 100   ? c[i]
+                        : t >= abs_notes[1].start && t < abs_notes[1].start + 300 ? b[i]
+                                                                                  : a[i];
+    ASSERT_NEAR(got.output[i], want, kPerVoiceTolerance) << "tick " << t;
   }
 }
 
