@@ -10,7 +10,6 @@
 
 #include <fmt/format.h>
 
-#include "boards/sim/sim_device.hpp"
 #include "host/cli/commands.hpp"
 #include "host/cli/song_options.hpp"
 #include "host/common/error.hpp"
@@ -19,7 +18,8 @@
 #include "host/output/output_file.hpp"
 #include "host/output/trace_plot.hpp"
 #include "host/player/note_batcher.hpp"
-#include "host/transport/host_session.hpp"
+#include "host/simulate/fidelity.hpp"
+#include "host/simulate/sim_host.hpp"
 
 namespace hmp::cli {
 
@@ -37,111 +37,16 @@ struct SimCliOptions {
   HapticCliOptions haptic;
 };
 
-// One tick of the recording.
-struct Sample {
-  float commanded = 0, actual = 0, reported = 0, min_tension = 0, max_tension = 0;
-};
-
-// A host speaking the protocol to the in-process device: the session rules (numbering, credit) of
-// transport::HostSession, Syncs for the watchdog.
-class Host {
- public:
-  explicit Host(sim::SimDevice& dev) : dev_(dev) {}
-  void send(protocol::Message m) {
-    protocol::Report r;
-    session_.number(m, r);
-    dev_.deliver(r);
-  }
-  // Reads what the device said; its Statuses give the room and the processed reports (the device's
-  // faults are read from the core after the run).
-  void collect() {
-    protocol::Report r;
-    while (dev_.poll_report(r)) {
-      protocol::Message m;
-      if (protocol::decode(r, m) == protocol::ErrorCode::none && m.type == protocol::Type::status) {
-        session_.on_status(m.status);
-      }
-    }
-  }
-  int credit() const { return session_.credit(); }
-
- private:
-  sim::SimDevice& dev_;
-  transport::HostSession session_;
-};
-
-// The notes overlapping [first, end) (song ticks), clipped to it and moved to start at device tick `base`.
-std::vector<synth::Note> window_notes(const haptics::HapticTrack& ht, std::uint64_t first, std::uint64_t end,
-                                      std::uint64_t base) {
-  std::vector<synth::Note> out;
-  for (synth::Note n : ht.device_notes()) {
-    const std::uint64_t stop = n.start_tick + n.duration_ticks;
-    if (stop <= first || n.start_tick >= end) continue;
-    const std::uint64_t start = std::max(n.start_tick, first);
-    n.duration_ticks = static_cast<std::uint32_t>(std::min(stop, end) - start);
-    n.start_tick = start - first + base;
-    out.push_back(n);
-  }
-  std::stable_sort(out.begin(), out.end(), [](const synth::Note& a, const synth::Note& b) { return a.start_tick < b.start_tick; });
-  return out;
-}
-
-void write_csv(const SimCliOptions& o, const std::vector<Sample>& samples, double t0, std::uint32_t tick_hz) {
+void write_csv(const SimCliOptions& o, const std::vector<simulate::ForceSample>& samples, double t0, std::uint32_t tick_hz) {
   output::FilePtr f = output::open_for_writing(o.out, o.force);
   std::fputs("t_s,commanded_n,actual_n,reported_n,min_tension_n,max_tension_n\n", f.get());
   for (std::size_t i = 0; i < samples.size(); ++i) {
-    const Sample& s = samples[i];
+    const simulate::ForceSample& s = samples[i];
     std::fprintf(f.get(), "%.6f,%.6g,%.6g,%.6g,%.6g,%.6g\n", t0 + static_cast<double>(i) / tick_hz,
                  static_cast<double>(s.commanded), static_cast<double>(s.actual), static_cast<double>(s.reported),
                  static_cast<double>(s.min_tension), static_cast<double>(s.max_tension));
   }
   if (std::fflush(f.get()) != 0 || std::ferror(f.get())) throw std::runtime_error(o.out + ": write failed");
-}
-
-// How well the actual force follows the commanded one, insensitive to the device's fixed delay: the RMS
-// ratio actual/commanded over 20 ms windows where something is commanded (≥ 5% of the peak), and the
-// delay at the cross-correlation's peak (parabola through the best whole-tick lag and its neighbours).
-struct Fidelity {
-  std::size_t windows = 0;
-  double mean_ratio_error = 0, worst_ratio_error = 0;  // |rms_a / rms_c − 1|
-  double lag_ticks = 0;
-};
-Fidelity measure_fidelity(const std::vector<Sample>& s, std::uint32_t tick_hz, double peak) {
-  Fidelity f;
-  constexpr int kMaxLag = 3;  // the device delays by ~1.3 ticks; a vibration period can be as short as 4
-  double corr[kMaxLag + 1] = {};
-  int best = 0;
-  for (int lag = 0; lag <= kMaxLag; ++lag) {
-    for (std::size_t i = 0; i + static_cast<std::size_t>(lag) < s.size(); ++i) {
-      corr[lag] += static_cast<double>(s[i + static_cast<std::size_t>(lag)].actual) * static_cast<double>(s[i].commanded);
-    }
-    if (corr[lag] > corr[best]) best = lag;
-  }
-  f.lag_ticks = best;
-  if (best > 0 && best < kMaxLag) {
-    const double l = corr[best - 1], m = corr[best], r = corr[best + 1];
-    const double d = l - 2 * m + r;
-    if (d < 0) f.lag_ticks += 0.5 * (l - r) / d;
-  }
-  // Windows of the actual force taken that many whole ticks later, so that note onsets line up.
-  const auto shift = static_cast<std::size_t>(std::lround(f.lag_ticks));
-  const std::size_t w = std::max<std::size_t>(1, tick_hz / 50);
-  for (std::size_t a = 0; a + w + shift <= s.size(); a += w) {
-    double c = 0, x = 0;
-    for (std::size_t i = a; i < a + w; ++i) {
-      c += static_cast<double>(s[i].commanded) * static_cast<double>(s[i].commanded);
-      x += static_cast<double>(s[i + shift].actual) * static_cast<double>(s[i + shift].actual);
-    }
-    c = std::sqrt(c / static_cast<double>(w));
-    x = std::sqrt(x / static_cast<double>(w));
-    if (c < 0.05 * peak) continue;
-    const double e = std::fabs(x / c - 1.0);
-    ++f.windows;
-    f.mean_ratio_error += e;
-    f.worst_ratio_error = std::max(f.worst_ratio_error, e);
-  }
-  if (f.windows > 0) f.mean_ratio_error /= static_cast<double>(f.windows);
-  return f;
 }
 
 int run_sim(const SimCliOptions& o) {
@@ -169,7 +74,7 @@ int run_sim(const SimCliOptions& o) {
   so.plant->params.stepper.method = method;
   so.drive.compensator.enabled = !o.plain_drive;
   sim::SimDevice dev(so);
-  Host host(dev);
+  simulate::SimHost host(dev);
   protocol::Settings settings;
   settings.policy = static_cast<protocol::PolicyCode>(opts.polyphony);
   settings.end_fade_ms = static_cast<float>(opts.end_fade_ms);
@@ -189,11 +94,11 @@ int run_sim(const SimCliOptions& o) {
   host.send(m);
   // The window starts once the ramp-in is over (plus a margin for the first notes to arrive).
   const std::uint64_t base = dev.tick() + (static_cast<std::uint64_t>(settings.ramp_in_ms) + 100) * opts.tick_hz / 1000;
-  const std::vector<synth::Note> notes = window_notes(ht, first, end, base);
+  const std::vector<synth::Note> notes = simulate::window_notes(ht, first, end, base);
   const std::uint64_t lookahead = opts.tick_hz / 5, sync_period = opts.tick_hz / 10;
   const double dir_y = settings.direction[1];  // the direction is (0, 1, 0) unless configured
 
-  std::vector<Sample> samples;
+  std::vector<simulate::ForceSample> samples;
   samples.reserve(end - first);
   std::size_t cursor = 0;
   ProgressBar bar("simulating");
@@ -211,7 +116,7 @@ int run_sim(const SimCliOptions& o) {
     const sim::plant::PlantOutput before = dev.plant()->output();  // the force at the start of this tick
     dev.advance(1);
     if (dev.tick() < base) continue;
-    Sample s;
+    simulate::ForceSample s;
     s.commanded = dev.last_output() * settings.peak_force_n;
     s.actual = static_cast<float>(before.string_force.y * dir_y);
     s.reported = dev.core().status().force_n;
@@ -231,7 +136,7 @@ int run_sim(const SimCliOptions& o) {
     std::fprintf(stderr, "warning: the device latched faults 0x%x (see docs/spidar.md, Firmware drive)\n",
                  dev.core().faults());
   }
-  const Fidelity fid = measure_fidelity(samples, opts.tick_hz, o.peak_force_n);
+  const simulate::Fidelity fid = simulate::measure_fidelity(samples, opts.tick_hz, o.peak_force_n);
   std::fprintf(stderr,
                "fidelity: actual/commanded RMS over %zu windows of 20 ms: mean |error| %.1f%%, worst %.1f%%; "
                "delay %.2f ms\n",
@@ -243,7 +148,7 @@ int run_sim(const SimCliOptions& o) {
     write_csv(o, samples, t0, opts.tick_hz);
   } else {
     std::vector<float> commanded, actual;
-    for (const Sample& s : samples) {
+    for (const simulate::ForceSample& s : samples) {
       commanded.push_back(s.commanded);
       actual.push_back(s.actual);
     }
