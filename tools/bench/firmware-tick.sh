@@ -20,25 +20,10 @@
 # Run by scripts/bench with the host build directory as $1 (unused: the image comes from the cross tree,
 # build/qemu-an386, or $HMP_QEMU_BUILD_DIR, configured and built here).
 set -euo pipefail
-cross="${HMP_QEMU_BUILD_DIR:-build/qemu-an386}"
-qemu="${QEMU_SYSTEM_ARM:-qemu-system-arm}"
-command -v "$qemu" >/dev/null || { echo "firmware-tick: $qemu not installed" >&2; exit 1; }
-[ -f "$cross/CMakeCache.txt" ] || cmake --preset qemu-an386 -B "$cross" >&2
-cmake --build "$cross" -j2 --target hmp_fw_qemu_an386_bench >&2
-image="$cross/boards/qemu-an386/hmp_fw_qemu_an386_bench.elf"
+source "$(dirname "${BASH_SOURCE[0]}")/lib/an386-counted.sh"
 
 for hz in 1000 10000; do
-  out=$(timeout 300 "$qemu" -M mps2-an386 -nographic -monitor none -serial null \
-          -semihosting-config enable=on,target=native -icount shift=0,sleep=off \
-          -kernel "$image" -append "hz=$hz" </dev/null 2>&1) || { printf '%s\n' "$out" >&2; exit 1; }
-  # The counter must count a known run of instructions right, or none of the numbers mean anything.
-  nops=$(sed -n 's/^calibration: nops=1000 measured=\(-\{0,1\}[0-9]*\)$/\1/p' <<<"$out")
-  if [ -z "$nops" ] || [ "$nops" -lt 996 ] || [ "$nops" -gt 1004 ]; then
-    printf '%s\n' "$out" >&2
-    echo "firmware-tick: instruction counter off (1000 nops counted as '${nops}')" >&2
-    exit 1
-  fi
-  grep -q '^WARNING' <<<"$out" && { printf '%s\n' "$out" >&2; exit 1; }
+  out=$(an386_counted firmware-tick hmp_fw_qemu_an386_bench 300 "hz=$hz")
   awk -v hz="$hz" '
     function field(name,   i, kv) {
       for (i = 2; i <= NF; ++i) { split($i, kv, "="); if (kv[1] == name) return kv[2] }
