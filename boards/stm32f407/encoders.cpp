@@ -8,8 +8,6 @@ namespace hmp::board::stm32 {
 namespace {
 
 constexpr int kTimerEncoders = 6;
-// Port number for SYSCFG_EXTICRx (A = 0 … E = 4).
-std::uint32_t port_index(std::uintptr_t port) { return static_cast<std::uint32_t>((port - gpio::kA) / 0x400); }
 
 std::uint8_t pin_state(const EncoderPins& e) {
   return static_cast<std::uint8_t>((pin_read(e.a) ? 2u : 0u) | (pin_read(e.b) ? 1u : 0u));
@@ -42,14 +40,7 @@ void Encoders::init() {
     const EncoderPins& e = pins::kEncoder[kTimerEncoders + k];
     for (const Pin& p : {e.a, e.b}) {
       pin_mode(p, gpio::kModeInput, gpio::kPullUp);
-      const std::uintptr_t exticr = syscfg::kExticr1 + 4u * (p.number / 4u);
-      const unsigned shift = (p.number % 4u) * 4u;
-      reg(exticr) = (reg(exticr) & ~(0xFu << shift)) | port_index(p.port) << shift;
-      const std::uint32_t line = 1u << p.number;
-      reg(exti::kRtsr) = reg(exti::kRtsr) | line;
-      reg(exti::kFtsr) = reg(exti::kFtsr) | line;
-      reg(exti::kPr) = line;
-      reg(exti::kImr) = reg(exti::kImr) | line;
+      pin_interrupt(p, true, true);
     }
     soft_state_[k] = pin_state(e);
     soft_count_[k] = 0;

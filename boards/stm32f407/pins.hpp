@@ -21,6 +21,9 @@ inline void pin_set(Pin pin, bool high) {
   reg(pin.port + gpio::kBsrr) = high ? 1u << pin.number : 1u << (pin.number + 16);  // atomic: no read
 }
 inline bool pin_read(Pin pin) { return (reg(pin.port + gpio::kIdr) >> pin.number & 1u) != 0; }
+// Routes the pin to its EXTI line (one port per line number: SYSCFG_EXTICR) and unmasks an interrupt on
+// the chosen edges (RM0090 §12). Needs the SYSCFG clock; the NVIC side is the caller's.
+void pin_interrupt(Pin pin, bool rising, bool falling);
 
 struct PwmChannel {
   Pin pin;

@@ -57,12 +57,7 @@ void Stm32Board::start() {
 
   // Emergency stop: pull-up input, interrupt on the rising edge (pressed, or a wire broken).
   pin_mode(pins::kEstop, gpio::kModeInput, gpio::kPullUp);
-  const std::uintptr_t exticr = syscfg::kExticr1 + 4u * (pins::kEstop.number / 4u);
-  const unsigned shift = (pins::kEstop.number % 4u) * 4u;
-  reg(exticr) = (reg(exticr) & ~(0xFu << shift)) | static_cast<std::uint32_t>((pins::kEstop.port - gpio::kA) / 0x400) << shift;
-  reg(exti::kRtsr) = reg(exti::kRtsr) | 1u << pins::kEstop.number;
-  reg(exti::kPr) = 1u << pins::kEstop.number;
-  reg(exti::kImr) = reg(exti::kImr) | 1u << pins::kEstop.number;
+  pin_interrupt(pins::kEstop, true, false);
   nvic::set_priority(exti::kIrqLines5to9, kEdgePriority);
   nvic::enable(exti::kIrqLines5to9);
 
