@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "host/audio/song_synth.hpp"
+#include "host/audio/synth_settings.hpp"
 
 namespace hmp::audio {
 

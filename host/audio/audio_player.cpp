@@ -1,10 +1,7 @@
 #include "host/audio/audio_player.hpp"
 
-#include <fluidsynth.h>
-
 #include <algorithm>
 
-#include "host/audio/fluid_runtime.hpp"
 #include "host/audio/soundfont.hpp"
 
 namespace hmp::audio {
@@ -23,8 +20,18 @@ AudioPlayer::AudioPlayer(const AudioOptions& options, WarningSink warn)
               true);
     return;
   }
+  std::string why;
+  backend_ = audio_backend(&why);
+  if (backend_ == nullptr) {
+    go_silent("the audio module is not available (" + why + ")", true);
+    return;
+  }
+  synth_ = backend_->make_synth(options_.synth);
+  if (!synth_) {
+    go_silent("FluidSynth could not create a synthesizer", true);
+    return;
+  }
   // The driver first (cheap to try, and usually what is missing), the SoundFont only for a driver.
-  synth_ = std::make_unique<SongSynth>(options_.synth, "");
   if (!open_driver()) return;
   bool loaded = false;
   {
@@ -35,15 +42,13 @@ AudioPlayer::AudioPlayer(const AudioOptions& options, WarningSink warn)
 }
 
 AudioPlayer::~AudioPlayer() {
-  card_.reset();  // its thread calls render(): stopped before anything it uses goes
-  if (driver_ != nullptr) delete_fluid_audio_driver(driver_);
-  if (sdl_acquired_) sdl_audio_release();
+  card_.reset();    // its thread calls render(): stopped before anything it uses goes
+  output_.reset();  // likewise the driver's
 }
 
 void AudioPlayer::go_silent(const std::string& reason, bool warn_user) {
   card_.reset();
-  if (driver_ != nullptr) delete_fluid_audio_driver(driver_);
-  driver_ = nullptr;
+  output_.reset();
   synth_.reset();
   driver_name_ = "none";
   silence_reason_ = reason;
@@ -51,9 +56,6 @@ void AudioPlayer::go_silent(const std::string& reason, bool warn_user) {
 }
 
 bool AudioPlayer::open_driver() {
-  fluid_settings_t* settings = synth_->fluid_settings();
-  fluid_settings_setint(settings, "audio.period-size", options_.period_frames);
-  fluid_settings_setint(settings, "audio.periods", options_.periods);
   std::string tried;
   for (const std::string& name : options_.drivers) {
     if (name == "virtual") {
@@ -66,21 +68,14 @@ bool AudioPlayer::open_driver() {
       driver_name_ = name;
       return true;
     }
-    if (name == "sdl2" && !sdl_acquired_) sdl_acquired_ = sdl_audio_acquire();
-    fluid_settings_setstr(settings, "audio.driver", name.c_str());
-    take_fluid_messages();
-    count_audio_driver_attempt();
-    driver_ = new_fluid_audio_driver2(settings, &AudioPlayer::on_audio, this);
-    if (driver_ != nullptr) {
+    std::string error;
+    output_ = backend_->open_output(*synth_, name, options_.period_frames, options_.periods, &AudioPlayer::on_audio,
+                                    this, error);
+    if (output_) {
       driver_name_ = name;
       return true;
     }
-    const std::vector<std::string> log = take_fluid_messages();
-    tried += (tried.empty() ? "" : "; ") + name + (log.empty() ? "" : ": " + log.back());
-  }
-  if (sdl_acquired_) {
-    sdl_audio_release();
-    sdl_acquired_ = false;
+    tried += (tried.empty() ? "" : "; ") + name + (error.empty() ? "" : ": " + error);
   }
   go_silent("no audio output could be opened (" + (tried.empty() ? std::string("no driver to try") : tried) + ")", true);
   return false;
@@ -108,9 +103,8 @@ std::uint64_t AudioPlayer::clock_restarts() const {
   return clock_.restarts();
 }
 
-int AudioPlayer::on_audio(void* self, int len, int, float*[], int nout, float* out[]) {
+void AudioPlayer::on_audio(void* self, int len, int nout, float* out[]) {
   static_cast<AudioPlayer*>(self)->render(len, nout, out);
-  return FLUID_OK;
 }
 
 void AudioPlayer::render(int len, int nout, float* out[]) {

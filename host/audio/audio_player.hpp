@@ -16,10 +16,8 @@
 #include "host/audio/audio_events.hpp"
 #include "host/audio/audio_options.hpp"
 #include "host/audio/playback_clock.hpp"
-#include "host/audio/song_synth.hpp"
+#include "host/audio/audio_backend.hpp"
 #include "host/audio/virtual_card.hpp"
-
-struct _fluid_audio_driver_t;
 
 namespace hmp::audio {
 
@@ -62,14 +60,14 @@ class AudioPlayer {
   double clock_speed() const;
   std::uint64_t clock_restarts() const;  // times the clock's line started again (PlaybackClock::restarts)
 
-  bool audible() const { return driver_ != nullptr || card_ != nullptr; }  // a driver runs, a SoundFont is loaded
+  bool audible() const { return output_ != nullptr || card_ != nullptr; }  // a driver runs, a SoundFont is loaded
   const std::string& driver_name() const { return driver_name_; }  // "pulseaudio", …, or "none"
   const std::string& silence_reason() const { return silence_reason_; }  // empty when audible
   std::uint64_t callbacks() const { return callbacks_.load(); }
   const VirtualCard* virtual_card() const { return card_.get(); }  // the "virtual" driver, else null
 
  private:
-  static int on_audio(void* self, int len, int nfx, float* fx[], int nout, float* out[]);
+  static void on_audio(void* self, int len, int nout, float* out[]);
   void render(int len, int nout, float* out[]);
   bool open_driver();
   void go_silent(const std::string& reason, bool warn_user);
@@ -78,10 +76,10 @@ class AudioPlayer {
 
   AudioOptions options_;
   WarningSink warn_;
-  std::unique_ptr<SongSynth> synth_;  // null when silent
-  _fluid_audio_driver_t* driver_ = nullptr;
-  std::unique_ptr<VirtualCard> card_;  // instead of driver_ for the "virtual" driver
-  bool sdl_acquired_ = false;
+  const AudioBackend* backend_ = nullptr;  // the audio module; null when silent
+  std::unique_ptr<Synth> synth_;           // null when silent
+  std::unique_ptr<OutputStream> output_;   // a sound card's driver, or null
+  std::unique_ptr<VirtualCard> card_;  // instead of output_ for the "virtual" driver
   std::string driver_name_ = "none";
   std::string silence_reason_;
 

@@ -1,60 +1,62 @@
 #include "host/audio/offline_render.hpp"
 
-#include <sndfile.h>
-
 #include <algorithm>
 #include <optional>
 #include <stdexcept>
 
+#include "host/audio/audio_backend.hpp"
 #include "host/audio/soundfont.hpp"
 
 namespace hmp::audio {
 
 RenderedAudio render_offline(const std::vector<AudioEvent>& events, std::int64_t from_us, std::int64_t to_us,
                              const AudioOptions& options, const WarningSink& warn) {
-  const std::optional<std::string> soundfont = find_soundfont(options.soundfont);
-  SongSynth synth(options.synth, soundfont.value_or(""));
   RenderedAudio out;
-  out.sample_rate = synth.sample_rate();
+  out.sample_rate = options.synth.sample_rate;
   out.start_us = from_us;
+  const auto frames_between = [&](std::int64_t a, std::int64_t b) {
+    const std::int64_t n = nearest_frame(b, out.sample_rate) - nearest_frame(a, out.sample_rate);
+    return static_cast<std::size_t>(std::max<std::int64_t>(0, n));
+  };
+  const auto silence = [&](const std::string& why) {
+    warn("audio: " + why + ": rendering silence");
+    out.silent_fallback = true;
+    out.left.assign(frames_between(from_us, to_us), 0.0f);
+    out.right = out.left;
+    return out;
+  };
+  const std::optional<std::string> soundfont = find_soundfont(options.soundfont);
   if (!soundfont) {
-    warn(options.soundfont.empty() ? "audio: no General MIDI SoundFont found (install fluid-soundfont-gm): rendering silence"
-                                   : "audio: SoundFont " + options.soundfont + " not found: rendering silence");
-    out.silent_fallback = true;
-  } else if (!synth.has_soundfont()) {
-    warn("audio: " + synth.load_error() + ": rendering silence");
-    out.silent_fallback = true;
+    return silence(options.soundfont.empty() ? "no General MIDI SoundFont found (install fluid-soundfont-gm)"
+                                             : "SoundFont " + options.soundfont + " not found");
   }
-  synth.set_events(events);
-  synth.seek(from_us);
-  const std::int64_t frames = std::max<std::int64_t>(0, synth.frame_of(to_us) - synth.frame_of(from_us));
-  out.left.resize(static_cast<std::size_t>(frames));
-  out.right.resize(static_cast<std::size_t>(frames));
+  std::string why;
+  const AudioBackend* backend = audio_backend(&why);
+  if (backend == nullptr) return silence("the audio module is not available (" + why + ")");
+  const std::unique_ptr<Synth> synth = backend->make_synth(options.synth);
+  if (!synth) return silence("FluidSynth could not create a synthesizer");
+  if (!synth->load_soundfont(*soundfont)) return silence(synth->load_error());
+  synth->set_events(events);
+  synth->seek(from_us);
+  out.left.resize(frames_between(from_us, to_us));
+  out.right.resize(out.left.size());
   // In slices: one render() call per slice keeps FluidSynth's per-call work bounded.
   constexpr std::size_t kSlice = 4096;
   for (std::size_t at = 0; at < out.left.size(); at += kSlice) {
     const std::size_t n = std::min(kSlice, out.left.size() - at);
-    synth.render(out.left.data() + at, out.right.data() + at, n);
+    synth->render(out.left.data() + at, out.right.data() + at, n);
   }
   return out;
 }
 
 void write_wav(const std::string& path, const RenderedAudio& audio) {
-  SF_INFO info{};
-  info.samplerate = audio.sample_rate;
-  info.channels = 2;
-  info.format = SF_FORMAT_WAV | SF_FORMAT_FLOAT;
-  SNDFILE* f = sf_open(path.c_str(), SFM_WRITE, &info);
-  if (f == nullptr) throw std::runtime_error("cannot write " + path + ": " + sf_strerror(nullptr));
-  std::vector<float> interleaved(audio.left.size() * 2);
-  for (std::size_t i = 0; i < audio.left.size(); ++i) {
-    interleaved[2 * i] = audio.left[i];
-    interleaved[2 * i + 1] = audio.right[i];
+  std::string why;
+  const AudioBackend* backend = audio_backend(&why);
+  if (backend == nullptr) throw std::runtime_error("cannot write " + path + ": the audio module is not available (" + why + ")");
+  const std::span<const float> channels[] = {audio.left, audio.right};
+  if (const std::string error = backend->write_wav(path, audio.sample_rate, channels); !error.empty()) {
+    throw std::runtime_error("cannot write " + path + ": " + error);
   }
-  const auto frames = static_cast<sf_count_t>(audio.left.size());
-  const sf_count_t written = sf_writef_float(f, interleaved.data(), frames);
-  sf_close(f);
-  if (written != frames) throw std::runtime_error("cannot write " + path + ": disk full?");
 }
 
 }  // namespace hmp::audio

@@ -1,9 +1,7 @@
 #pragma once
 // Subcommand registration. Each subcommand file defines a register_<name>() that adds its CLI11
-// subcommand and stores the action to run after parsing. hmp-full (cli/main.cpp) registers every
-// command; run_cli gives it its top-level command line. (The static front `hmp`, cli/front_main.cpp,
-// does without CLI11: it runs `info` through info_report.hpp and hands every other command line to
-// hmp-full.)
+// subcommand and stores the action to run after parsing. cli/main.cpp registers the command named on the
+// command line (every command when none is); run_cli gives it its top-level command line.
 #include <functional>
 #include <string>
 

@@ -15,6 +15,7 @@
 #include "host/flash/usb_scan.hpp"
 #include "host/transport/handshake.hpp"
 #include "host/transport/hid_transport.hpp"
+#include "host/transport/usb_backend.hpp"
 
 namespace hmp::cli {
 
@@ -35,7 +36,7 @@ struct Probe {
 Probe probe(const transport::HidDeviceInfo& info, int timeout_ms) {
   Probe p{info, std::nullopt, ""};
   try {
-    auto link = transport::HidTransport::open_path(info.path);
+    auto link = transport::open_hid_path(info.path);
     p.identity = transport::say_hello(*link, 1, std::chrono::milliseconds(timeout_ms));
     if (!p.identity) {
       p.error = link->is_open() ? fmt::format("no reply to Hello within {} ms", timeout_ms) : link->closed_reason();
@@ -108,6 +109,10 @@ void print_text(const Probe& p) {
 int run_devices(const DevicesOptions& o) {
   const transport::HidId id = transport::parse_hid_id(o.id);
   if (o.timeout_ms < 1 || o.timeout_ms > 60'000) throw BadInput("--timeout-ms: must be in [1, 60000]");
+  // Without the usb module (hidapi, libusb) nothing can be found: say so rather than report no device.
+  if (std::string why; transport::usb_backend(&why) == nullptr) {
+    std::fprintf(stderr, "warning: cannot look for USB devices: the usb module is not available (%s)\n", why.c_str());
+  }
   std::vector<Probe> probes;
   for (const transport::HidDeviceInfo& info : transport::enumerate_hid(id)) probes.push_back(probe(info, o.timeout_ms));
 

@@ -1,7 +1,6 @@
 #pragma once
-// `hmp info`'s work, apart from its command line: load a song and print what is in it (design §3). Both
-// programs run it: hmp-full after CLI11 parsed `info` (info_command.cpp), the static front directly
-// (front_main.cpp). No CLI11 here, so the front links none of it.
+// `hmp info`'s work, apart from its command line (info_command.cpp): load a song and print what is in it
+// (design §3).
 #include <string>
 
 namespace hmp::cli {

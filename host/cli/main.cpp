@@ -1,21 +1,51 @@
-// hmp-full — the whole Haptic Music Player host program: every subcommand, each in its own file under
-// host/cli/. Users type `hmp`, the small static front (front_main.cpp) that runs `info` itself and
-// hands everything else to this program.
+// hmp — the Haptic Music Player host program: every subcommand, each in its own file under host/cli/.
+// The heavy back-ends (sound, plots, USB, the window) are modules it loads when a command needs them
+// (host/modules/).
+#include <cstring>
+#include <iterator>
+
 #include "host/cli/commands.hpp"
 
 namespace {
 
-void register_all(CLI::App& app, hmp::cli::Registry& registry) {
-  hmp::cli::register_info(app, registry);
-  hmp::cli::register_render(app, registry);
-  hmp::cli::register_tone(app, registry);
-  hmp::cli::register_devices(app, registry);
-  hmp::cli::register_flash(app, registry);
-  hmp::cli::register_play(app, registry);
-  hmp::cli::register_sim(app, registry);
-  hmp::cli::register_study(app, registry);
+struct Command {
+  const char* name;
+  void (*add)(CLI::App&, hmp::cli::Registry&);
+};
+
+constexpr Command kCommands[] = {
+    {"info", hmp::cli::register_info},       {"render", hmp::cli::register_render},
+    {"tone", hmp::cli::register_tone},       {"devices", hmp::cli::register_devices},
+    {"flash", hmp::cli::register_flash},     {"play", hmp::cli::register_play},
+    {"sim", hmp::cli::register_sim},         {"study", hmp::cli::register_study},
+};
+
+// The command named first on the command line, or null (help, --version, a typo: every command is
+// registered then, so top-level help and errors list them all).
+const Command* named_command(int argc, char** argv) {
+  if (argc < 2) return nullptr;
+  for (const Command& c : kCommands) {
+    if (std::strcmp(argv[1], c.name) == 0) return &c;
+  }
+  return nullptr;
+}
+
+const Command* g_named = nullptr;
+
+// Only the named command is registered when there is one: building every command's options costs more
+// than reading a small song (docs/host.md, "Start-up"), and CLI11 parses a command's line the same
+// whether its siblings exist or not.
+void register_commands(CLI::App& app, hmp::cli::Registry& registry) {
+  if (g_named != nullptr) {
+    g_named->add(app, registry);
+    return;
+  }
+  for (const Command& c : kCommands) c.add(app, registry);
 }
 
 }  // namespace
 
-int main(int argc, char** argv) { return hmp::cli::run_cli(argc, argv, register_all); }
+int main(int argc, char** argv) {
+  g_named = named_command(argc, argv);
+  return hmp::cli::run_cli(argc, argv, register_commands);
+}

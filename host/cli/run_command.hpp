@@ -1,7 +1,6 @@
 #pragma once
-// What every hmp program shares around running a command: exit codes, the version, and turning an
-// exception into the one-line message of design §3. Free of CLI11, so the static front (front_main.cpp)
-// can use it without linking the command-line parser.
+// What every command shares around running: exit codes, the version, and turning an exception into the
+// one-line message of design §3.
 #include <functional>
 #include <string>
 

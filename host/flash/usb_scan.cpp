@@ -1,9 +1,9 @@
-// usb_scan: finding an STM32 in DFU mode and ST-LINK probes with libusb; no USB access is an empty list.
+// usb_scan: what the flasher looks for on the USB bus; the looking is done by the usb module (libusb).
 #include "host/flash/usb_scan.hpp"
 
-#include <libusb.h>
-
 #include <fmt/format.h>
+
+#include "host/transport/usb_backend.hpp"
 
 namespace hmp::flash {
 
@@ -15,27 +15,10 @@ const UsbId* known_id(std::uint16_t vid, std::uint16_t pid) {
 }
 
 ScanResult scan_usb() {
-  ScanResult out;
-  libusb_context* ctx = nullptr;
-  if (const int rc = libusb_init(&ctx); rc != 0) {
-    out.unavailable = fmt::format("libusb: {}", libusb_strerror(static_cast<libusb_error>(rc)));
-    return out;
-  }
-  libusb_device** list = nullptr;
-  const ssize_t n = libusb_get_device_list(ctx, &list);
-  if (n < 0) {
-    out.unavailable = fmt::format("libusb: {}", libusb_strerror(static_cast<libusb_error>(n)));
-  }
-  for (ssize_t i = 0; i < n; ++i) {
-    libusb_device_descriptor d{};
-    if (libusb_get_device_descriptor(list[i], &d) != 0) continue;
-    if (const UsbId* id = known_id(d.idVendor, d.idProduct)) {
-      out.found.push_back({id->kind, id->name, libusb_get_bus_number(list[i]), libusb_get_device_address(list[i])});
-    }
-  }
-  if (list != nullptr) libusb_free_device_list(list, 1);
-  libusb_exit(ctx);
-  return out;
+  std::string why;
+  const transport::UsbBackend* backend = transport::usb_backend(&why);
+  if (backend == nullptr) return {{}, "the usb module is not available (" + why + ")"};
+  return backend->scan_usb();
 }
 
 std::string describe(const FoundProbe& p) {

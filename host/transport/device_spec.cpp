@@ -83,7 +83,7 @@ OpenedDevice open_device(const DeviceSpec& spec) {
     case DeviceSpec::Kind::automatic: {
       const std::vector<HidDeviceInfo> found = enumerate_hid(spec.hid);
       if (!found.empty()) {
-        opened.transport = HidTransport::open_path(found.front().path);
+        opened.transport = open_hid_path(found.front().path);
       } else {
         opened.transport = std::make_unique<SimTransport>();
         opened.note = "no HID device " + to_string(spec.hid) + " found: using the simulated device";
@@ -92,7 +92,7 @@ OpenedDevice open_device(const DeviceSpec& spec) {
     }
     case DeviceSpec::Kind::sim: opened.transport = std::make_unique<SimTransport>(); break;
     case DeviceSpec::Kind::hid:
-      opened.transport = spec.path.empty() ? HidTransport::open(spec.hid) : HidTransport::open_path(spec.path);
+      opened.transport = spec.path.empty() ? open_hid(spec.hid) : open_hid_path(spec.path);
       break;
     case DeviceSpec::Kind::serial: {
       SerialTransport::Options options;

@@ -11,10 +11,7 @@
 #include <string_view>
 #include <vector>
 
-#include "host/transport/link_state.hpp"
 #include "host/transport/transport.hpp"
-
-struct hid_device_;
 
 namespace hmp::transport {
 
@@ -40,30 +37,14 @@ struct HidDeviceInfo {
 };
 
 // The connected devices with this VID:PID whose interface has the protocol's usage page, in the
-// order hidapi lists them. Empty (never an error) when there are none or no HID subsystem at all.
+// order hidapi lists them. Empty (never an error) when there are none, no HID subsystem at all, or no
+// usb module (hidapi lives there: usb_backend.hpp).
 std::vector<HidDeviceInfo> enumerate_hid(const HidId& id = {});
 
-class HidTransport final : public Transport {
- public:
-  // The first device enumerate_hid(id) lists. Throws TransportError: "no HID device 1209:0001 found",
-  // "permission denied on /dev/hidrawN: install the udev rule (docs/host.md)", …
-  static std::unique_ptr<HidTransport> open(const HidId& id = {});
-  static std::unique_ptr<HidTransport> open_path(const std::string& path);
-  ~HidTransport() override;
-
-  bool send(const Report& report) override;
-  Received receive(Report& out, Timeout timeout) override;
-  std::string name() const override { return "hid:" + path_; }
-  void close() override;
-  bool is_open() const override { return state_.is_open(); }
-  std::string closed_reason() const override { return state_.reason(); }
-  LinkCounters counters() const override { return state_.counters(); }
-
- private:
-  HidTransport(hid_device_* device, std::string path);
-  hid_device_* device_;
-  std::string path_;
-  LinkState state_;
-};
+// The first device enumerate_hid(id) lists, or the one at a /dev/hidrawN path. Throws TransportError:
+// "no HID device 1209:0001 found", "permission denied on /dev/hidrawN: install the udev rule
+// (docs/host.md)", "USB HID needs the usb module, which is not available (…)", …
+std::unique_ptr<Transport> open_hid(const HidId& id = {});
+std::unique_ptr<Transport> open_hid_path(const std::string& path);
 
 }  // namespace hmp::transport

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "host/audio/audio_player.hpp"
-#include "host/audio/fluid_runtime.hpp"
+#include "host/audio/audio_backend.hpp"
 #include "host/audio/soundfont.hpp"
 
 namespace {

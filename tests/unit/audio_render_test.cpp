@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "host/audio/audio_backend.hpp"
 #include "host/audio/offline_render.hpp"
 #include "host/audio/soundfont.hpp"
 
@@ -24,7 +25,7 @@ namespace {
 
 using hmp::audio::AudioEvent;
 using hmp::audio::AudioOptions;
-using hmp::audio::SongSynth;
+using hmp::audio::Synth;
 using hmp::audio::SynthSettings;
 using Kind = AudioEvent::Kind;
 
@@ -73,7 +74,7 @@ std::int64_t onset_frame(const std::vector<float>& sound, double note_s, int rat
   return static_cast<std::int64_t>(i);
 }
 
-Stereo render(SongSynth& synth, const std::vector<AudioEvent>& ev) {
+Stereo render(Synth& synth, const std::vector<AudioEvent>& ev) {
   synth.set_events(ev);
   const auto frames = static_cast<std::size_t>(synth.frame_of(kSongEndUs));
   Stereo s{std::vector<float>(frames), std::vector<float>(frames)};
@@ -87,7 +88,7 @@ double onset_seconds(const std::vector<float>& sound, double note_s, int rate) {
 
 // Where each note's own sound starts (frames): its own sound (left + right, absolute) is the full song
 // minus the song without it. Effects off, so the two renders differ by this note's voices alone.
-std::vector<std::int64_t> own_onset_frames(SongSynth& synth, const std::vector<TestNote>& notes) {
+std::vector<std::int64_t> own_onset_frames(Synth& synth, const std::vector<TestNote>& notes) {
   const Stereo full = render(synth, events_without(notes.size(), notes));
   std::vector<std::int64_t> onsets;
   for (std::size_t k = 0; k < notes.size(); ++k) {
@@ -109,8 +110,19 @@ SynthSettings dry(bool compensate) {
   return settings;
 }
 
+// The song synthesiser of the audio module (loaded as `hmp play` loads it) with the GM SoundFont.
+std::unique_ptr<Synth> make_synth(const SynthSettings& settings) {
+  std::string why;
+  const hmp::audio::AudioBackend* backend = hmp::audio::audio_backend(&why);
+  if (backend == nullptr) throw std::runtime_error("audio module: " + why);
+  std::unique_ptr<Synth> synth = backend->make_synth(settings);
+  if (!synth || !synth->load_soundfont(*hmp::audio::find_soundfont())) throw std::runtime_error("no synthesiser");
+  return synth;
+}
+
 std::vector<double> onset_errors_ms(bool compensate) {
-  SongSynth synth(dry(compensate), *hmp::audio::find_soundfont());
+  const std::unique_ptr<Synth> owned = make_synth(dry(compensate));
+  Synth& synth = *owned;
   const std::vector<std::int64_t> onsets = own_onset_frames(synth, kNotes);
   std::vector<double> errors;
   for (std::size_t k = 0; k < kNotes.size(); ++k) {
@@ -148,7 +160,8 @@ TEST(AudioRender, HeardFramePredictsWhereEveryNoteSoundsOnEveryBlockPhase) {
   // whatever the note's place between FluidSynth's block boundaries (64 frames): the notes are shifted
   // by fractions of a block, with and without onset compensation.
   for (const bool compensate : {true, false}) {
-    SongSynth synth(dry(compensate), *hmp::audio::find_soundfont());
+    const std::unique_ptr<Synth> owned = make_synth(dry(compensate));
+    Synth& synth = *owned;
     std::int64_t worst_nominal = 0;
     for (const std::int64_t shift_us : {0, 271, 604, 979}) {
       std::vector<TestNote> notes = kNotes;
@@ -193,7 +206,8 @@ TEST(AudioRender, SeekStartsWithTheNextNote) {
   if (!have_soundfont()) GTEST_SKIP() << "no GM SoundFont installed";
   SynthSettings settings;
   settings.reverb = settings.chorus = false;
-  SongSynth synth(settings, *hmp::audio::find_soundfont());
+  const std::unique_ptr<Synth> owned = make_synth(settings);
+  Synth& synth = *owned;
   synth.set_events(events_without(kNotes.size()));
   // From 1.2 s: the piano note (1.0–1.3 s) is not re-struck; the organ at 1.7503 s is the next sound.
   synth.seek(1'200'000);

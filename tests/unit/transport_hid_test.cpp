@@ -16,7 +16,8 @@
 namespace {
 
 using hmp::transport::HidId;
-using hmp::transport::HidTransport;
+using hmp::transport::open_hid;
+using hmp::transport::open_hid_path;
 using hmp::transport::TransportError;
 
 TEST(TransportHid, EnumerationWithoutADeviceIsEmptyNotAnError) {
@@ -34,20 +35,20 @@ TEST(TransportHid, EnumerationWithoutADeviceIsEmptyNotAnError) {
 TEST(TransportHid, OpeningAMissingDeviceSaysWhichOne) {
   const HidId id{0xFFFF, 0xFFFE};  // reserved-looking id no real device uses
   try {
-    HidTransport::open(id);
+    open_hid(id);
     FAIL() << "no exception";
   } catch (const TransportError& e) {
     EXPECT_STREQ(e.what(), "no HID device ffff:fffe found");
   }
   if (hmp::transport::enumerate_hid().empty()) {
     try {
-      HidTransport::open();
+      open_hid();
       FAIL() << "no exception";
     } catch (const TransportError& e) {
       EXPECT_STREQ(e.what(), "no HID device 1209:0001 found");
     }
   }
-  EXPECT_THROW(HidTransport::open_path("/nonexistent/hidraw9"), TransportError);
+  EXPECT_THROW(open_hid_path("/nonexistent/hidraw9"), TransportError);
 }
 
 // What a user without the udev rule sees. Root can open any node, so as root (CI) the open runs in a child
@@ -68,7 +69,7 @@ TEST(TransportHid, UnreadableNodeNamesTheUdevRule) {
     }
     std::string said = "no exception";
     try {
-      HidTransport::open_path(path.string());
+      open_hid_path(path.string());
     } catch (const TransportError& e) {
       said = e.what();
     }

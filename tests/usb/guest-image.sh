@@ -8,7 +8,8 @@
 # GUEST_SCRIPT, and the extra files given (programs with the shared libraries `ldd` names).
 #
 # usage: guest-image.sh CACHE_DIR OUT_INITRAMFS GUEST_SCRIPT [PROGRAM | SRC=GUEST_PATH]...
-#   PROGRAM goes to /opt/bin (stripped) with its libraries; SRC=GUEST_PATH copies a data file.
+#   PROGRAM goes to /opt/bin (stripped) with its libraries; SRC=GUEST_PATH copies a data file, or a shared
+#   object (*.so: an hmp module) stripped and with its libraries.
 # Prints nothing on success but what it downloads; exits 1 with one line saying what failed.
 set -euo pipefail
 cache=$1 out=$2 script=$3
@@ -52,19 +53,26 @@ done
 cp "$cache"/modules/*.ko "$root/lib/modules/"
 cp "$script" "$root/guest-test.sh"
 chmod +x "$root/guest-test.sh"
+# copy_libs FILE: the shared libraries FILE needs, at the paths the loader looks for them.
+copy_libs() {
+  { ldd "$1" 2>/dev/null || true; } | awk '/=> \//{print $3} /^\t\/lib/{print $1}' | while read -r lib; do
+    mkdir -p "$root$(dirname "$lib")"
+    cp -L "$lib" "$root$lib"
+  done
+}
 for f in "$@"; do
   if [[ $f == *=* ]]; then
-    mkdir -p "$root$(dirname "${f#*=}")"
-    cp "${f%%=*}" "$root${f#*=}"
+    src=${f%%=*} dst=${f#*=}
+    mkdir -p "$root$(dirname "$dst")"
+    case $src in
+      *.so) strip -o "$root$dst" "$src"; copy_libs "$src" ;;  # a module hmp loads: with its libraries
+      *) cp "$src" "$root$dst" ;;
+    esac
     continue
   fi
   mkdir -p "$root/opt/bin"
   strip -o "$root/opt/bin/$(basename "$f")" "$f"
-  # The shared libraries the program needs, at the paths the loader looks for them.
-  { ldd "$f" 2>/dev/null || true; } | awk '/=> \//{print $3} /^\t\/lib/{print $1}' | while read -r lib; do
-    mkdir -p "$root$(dirname "$lib")"
-    cp -L "$lib" "$root$lib"
-  done
+  copy_libs "$f"
 done
 cat > "$root/init" <<INIT
 #!/bin/sh

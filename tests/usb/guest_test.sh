@@ -15,7 +15,7 @@ trap 'rm -rf "$tmp"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
 
 "$repo/tests/usb/run-guest.sh" "$bin" "$cache" "$repo/tests/usb/guest_checks.sh" "$tmp/guest.log" \
-  "$bin/hmp" "$bin/hmp-full" "$song=/opt/data/song.mid"
+  "$bin/hmp" "$bin/../lib/hmp/hmp-usb.so=/opt/lib/hmp/hmp-usb.so" "$song=/opt/data/song.mid"
 qemu_rc=$?
 
 # Readable on failure: the guest's lines and the kernel's USB messages, the rig's log.

@@ -8,8 +8,7 @@
 # Needs midicsv and python3-mido (scripts/packages.txt).
 set -euo pipefail
 build=$1
-# hmp is the static front that runs `info` itself; building it builds hmp-full too (the program with every
-# command), whose start-up is shown beside it.
+# Building hmp builds its modules too (info loads none of them).
 targets=(hmp bench_midi_parse_inprocess)
 # A tree configured before tools/bench/midi_parse_inprocess.cpp existed does not know its target yet.
 cmake --build "$build" -j2 --target "${targets[@]}" >&2 ||

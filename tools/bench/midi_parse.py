@@ -18,9 +18,8 @@ interpreter, which leaves caches and TLB cold and costs any command ~0.07 ms:
   inside the interpreter (start-up and import excluded).
 Each tool's figure is its best round. Like is compared with like: speedup_vs_mido is in-process against
 in-process, speedup_vs_midicsv whole command against whole command. Last, hmp's start-up alone
-(`hmp --version`), which is most of its command's time on small files, and for reference that of hmp-full
-(the program with every command, which the static front `hmp` runs for commands other than info; it
-links the audio, plot and device libraries). Prints the JSON lines of design §2 on stdout.
+(`hmp --version`), which is most of its command's time on small files. Prints the JSON lines of design §2
+on stdout.
 """
 import argparse
 import json
@@ -128,13 +127,9 @@ def measure(hmp, loader, path, label, rounds):
 
 
 def startup(hmp, rounds):
-    """hmp's process start-up alone (`hmp --version`): the floor of every hmp figure above; and hmp-full's."""
-    full = os.path.join(os.path.dirname(hmp), "hmp-full")
-    for tool, program in (("hmp", hmp), ("hmp-full", full)):
-        if not os.path.exists(program):
-            continue
-        seconds = min(run_timed([program, "--version"])[0] for _ in range(rounds))
-        line("startup_seconds", seconds, "s", {"tool": tool, "command": f"{tool} --version", "rounds": rounds})
+    """hmp's process start-up alone (`hmp --version`): the floor of every hmp figure above."""
+    seconds = min(run_timed([hmp, "--version"])[0] for _ in range(rounds))
+    line("startup_seconds", seconds, "s", {"tool": "hmp", "command": "hmp --version", "rounds": rounds})
 
 
 def main():

@@ -1,4 +1,4 @@
-#include "host/output/trace_plot.hpp"
+#include "host/plot/drawings.hpp"
 
 #include <cairo.h>
 
@@ -7,11 +7,12 @@
 #include <cstdio>
 #include <memory>
 
-#include "host/common/error.hpp"
-#include "host/output/cairo_helpers.hpp"
-#include "host/output/output_file.hpp"
+#include "host/plot/cairo_helpers.hpp"
 
-namespace hmp::output {
+namespace hmp::plot {
+
+using output::Trace;
+using output::TracePlotSpec;
 
 namespace {
 
@@ -22,8 +23,7 @@ using cairo_helpers::text;
 
 }  // namespace
 
-void write_traces_png(const std::string& path, const std::vector<Trace>& traces, const TracePlotSpec& spec, bool force) {
-  check_writable(path, force);
+std::string draw_traces_png(const std::string& path, const std::vector<Trace>& traces, const TracePlotSpec& spec) {
   Surface surface(cairo_image_surface_create(CAIRO_FORMAT_RGB24, spec.width, spec.height), cairo_surface_destroy);
   Context context(cairo_create(surface.get()), cairo_destroy);
   cairo_t* cr = context.get();
@@ -111,9 +111,7 @@ void write_traces_png(const std::string& path, const std::vector<Trace>& traces,
   text(cr, left + w, spec.height - 8.0, "time (s)", 1.0);
   text(cr, 8, top - 4, spec.y_label, 0.0);
 
-  if (cairo_surface_write_to_png(surface.get(), path.c_str()) != CAIRO_STATUS_SUCCESS) {
-    throw BadInput(path + ": cannot write PNG");
-  }
+  return cairo_helpers::status_text(cairo_surface_write_to_png(surface.get(), path.c_str()));
 }
 
-}  // namespace hmp::output
+}  // namespace hmp::plot

@@ -1,4 +1,4 @@
-#include "host/audio/song_synth.hpp"
+#include "host/audio/fluid/song_synth.hpp"
 
 #include <fluidsynth.h>
 
@@ -6,7 +6,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "host/audio/fluid_runtime.hpp"
+#include "host/audio/fluid/fluid_runtime.hpp"
 #include "host/audio/soundfont.hpp"
 
 namespace hmp::audio {
@@ -58,9 +58,7 @@ SongSynth::~SongSynth() {
 }
 
 std::int64_t SongSynth::frame_of(std::int64_t song_us) const {
-  // Nearest frame, halves away from zero, exact in integers.
-  const std::int64_t scaled = song_us * settings_.sample_rate;
-  return scaled >= 0 ? (scaled + 500'000) / 1'000'000 : -((-scaled + 500'000) / 1'000'000);
+  return nearest_frame(song_us, settings_.sample_rate);
 }
 
 std::int64_t SongSynth::position_us() const { return pos_ * 1'000'000 / settings_.sample_rate; }

@@ -1,5 +1,5 @@
 #pragma once
-// FluidSynth rendering the song's audio events against a sample position it owns (design §14). The same
+// Part of the audio module (fluid/). FluidSynth rendering the song's audio events against a sample position it owns (design §14). The same
 // object feeds the live audio driver and the offline renderer, so what a test measures offline is what
 // the speaker plays.
 //
@@ -23,60 +23,53 @@
 #include <string>
 #include <vector>
 
-#include "host/audio/audio_events.hpp"
+#include "host/audio/audio_backend.hpp"
 
 struct _fluid_hashtable_t;  // FluidSynth's fluid_settings_t
 struct _fluid_synth_t;      // FluidSynth's fluid_synth_t
 
 namespace hmp::audio {
 
-struct SynthSettings {
-  int sample_rate = 48000;
-  float gain = 0.3f;  // FluidSynth's master gain (its default is 0.2; a GM mix rarely clips at 0.3)
-  bool reverb = true;
-  bool chorus = true;
-  bool onset_compensation = true;
-  double max_onset_lead_ms = 20.0;  // longer measured delays are taken as the instrument's sound, not lag
-};
 
-class SongSynth {
+class SongSynth final : public Synth {
  public:
   // `soundfont`: a path to load now (see load_soundfont); empty → none yet (render() writes silence).
   SongSynth(const SynthSettings& settings, const std::string& soundfont);
-  ~SongSynth();
+  ~SongSynth() override;
   SongSynth(const SongSynth&) = delete;
   SongSynth& operator=(const SongSynth&) = delete;
 
   // Loads a SoundFont (0.3–0.7 s for FluidR3_GM). false: FluidSynth could not load it; the synth stays
   // silent and load_error() says why.
-  bool load_soundfont(const std::string& path);
+  bool load_soundfont(const std::string& path) override;
   // Replaces the events (sorted as audio_events() returns them), measures onsets when compensation is
   // on, and goes to song time 0.
-  void set_events(const std::vector<AudioEvent>& events);
+  void set_events(const std::vector<AudioEvent>& events) override;
   // Moves to `song_us`: sounding voices stop at once; the next notes are those starting at or after it
   // (held notes that started before are not re-struck). FluidSynth's block grid is realigned so that
   // song frames that are multiples of the block are block starts: renders are reproducible.
-  void seek(std::int64_t song_us);
+  void seek(std::int64_t song_us) override;
   // Releases every sounding note (their release phase still plays): pause.
-  void release_all();
+  void release_all() override;
   // Writes `frames` frames of the song from the present position into left/right (overwritten) and
   // advances the position by as much. Events due in that stretch are applied on the way.
-  void render(float* left, float* right, std::size_t frames);
+  void render(float* left, float* right, std::size_t frames) override;
 
   std::int64_t position_frames() const { return pos_; }  // song frame of the next rendered sample
-  std::int64_t position_us() const;
-  std::int64_t frame_of(std::int64_t song_us) const;  // nearest frame
-  int sample_rate() const { return settings_.sample_rate; }
+  std::int64_t position_us() const override;
+  std::int64_t frame_of(std::int64_t song_us) const override;  // nearest frame
+  int sample_rate() const override { return settings_.sample_rate; }
   int block_frames() const { return block_; }
-  bool has_soundfont() const { return soundfont_id_ >= 0; }
-  const std::string& load_error() const { return load_error_; }
+  bool has_soundfont() const override { return soundfont_id_ >= 0; }
+  const std::string& load_error() const override { return load_error_; }
   // The measured onset delay of a note (0 before set_events measured it, or without a SoundFont).
   std::int64_t onset_lead_frames(std::uint8_t channel, std::uint8_t program, std::uint8_t key) const;
   // The song frame at which a note starting at `song_us` is first heard (−60 dB of its peak): its
   // note-on moved earlier by the onset lead, put on the block boundary render() applies it at, plus
   // the lead again. The haptic note is placed there (not at `song_us`), so the block grid adds no
   // audio–haptic skew. Without a SoundFont: frame_of(song_us).
-  std::int64_t heard_frame(std::uint8_t channel, std::uint8_t program, std::uint8_t key, std::int64_t song_us) const;
+  std::int64_t heard_frame(std::uint8_t channel, std::uint8_t program, std::uint8_t key,
+                           std::int64_t song_us) const override;
 
   _fluid_hashtable_t* fluid_settings() { return fluid_settings_; }
 

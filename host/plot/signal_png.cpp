@@ -1,4 +1,4 @@
-#include "host/output/signal_plot.hpp"
+#include "host/plot/drawings.hpp"
 
 #include <cairo.h>
 
@@ -8,11 +8,12 @@
 #include <memory>
 #include <stdexcept>
 
-#include "host/common/error.hpp"
-#include "host/output/cairo_helpers.hpp"
-#include "host/output/output_file.hpp"
+#include "host/plot/cairo_helpers.hpp"
 
-namespace hmp::output {
+namespace hmp::plot {
+
+using output::PlotNote;
+using output::PlotSpec;
 
 namespace {
 
@@ -106,9 +107,8 @@ void draw_waveform(cairo_t* cr, const Box& b, std::span<const float> s) {
 
 }  // namespace
 
-void write_signal_png(const std::string& path, std::span<const float> samples, std::span<const PlotNote> notes,
-                      const PlotSpec& spec, bool force) {
-  check_writable(path, force);
+std::string draw_signal_png(const std::string& path, std::span<const float> samples, std::span<const PlotNote> notes,
+                            const PlotSpec& spec) {
   Surface surface(cairo_image_surface_create(CAIRO_FORMAT_RGB24, spec.width, spec.height), cairo_surface_destroy);
   Context cr(cairo_create(surface.get()), cairo_destroy);
   cairo_set_source_rgb(cr.get(), 1, 1, 1);
@@ -137,9 +137,7 @@ void write_signal_png(const std::string& path, std::span<const float> samples, s
   text(cr.get(), wave.x + wave.w, spec.height - 8.0, "time (s)", 1.0);
   text(cr.get(), 8, wave.y - 8, "value (full scale)");
 
-  if (cairo_surface_write_to_png(surface.get(), path.c_str()) != CAIRO_STATUS_SUCCESS) {
-    throw BadInput(path + ": cannot write PNG");
-  }
+  return cairo_helpers::status_text(cairo_surface_write_to_png(surface.get(), path.c_str()));
 }
 
-}  // namespace hmp::output
+}  // namespace hmp::plot

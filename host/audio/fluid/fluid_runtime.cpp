@@ -1,4 +1,4 @@
-#include "host/audio/fluid_runtime.hpp"
+#include "host/audio/fluid/fluid_runtime.hpp"
 
 #include <SDL.h>
 #include <alsa/asoundlib.h>
@@ -46,7 +46,7 @@ std::vector<std::string> take_fluid_messages() {
   return out;
 }
 
-std::uint64_t audio_driver_attempts() { return g_driver_attempts.load(); }
+std::uint64_t fluid_driver_attempts() { return g_driver_attempts.load(); }
 void count_audio_driver_attempt() { g_driver_attempts.fetch_add(1); }
 
 bool sdl_audio_acquire() { return SDL_InitSubSystem(SDL_INIT_AUDIO) == 0; }

@@ -1,13 +1,13 @@
 #pragma once
-// Small pieces both PNG plots (signal_plot, trace_plot) draw with: owning cairo handles, axis tick spacing,
-// aligned text.
+// Small pieces the plot module's pictures draw with: owning cairo handles, axis tick spacing, aligned
+// text, cairo's status as our error text.
 #include <cairo.h>
 
 #include <cmath>
 #include <memory>
 #include <string>
 
-namespace hmp::output::cairo_helpers {
+namespace hmp::plot::cairo_helpers {
 
 using Surface = std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)>;
 using Context = std::unique_ptr<cairo_t, decltype(&cairo_destroy)>;
@@ -30,4 +30,9 @@ inline void text(cairo_t* cr, double x, double y, const std::string& s, double a
   cairo_show_text(cr, s.c_str());
 }
 
-}  // namespace hmp::output::cairo_helpers
+// "" for success, else cairo's own words.
+inline std::string status_text(cairo_status_t status) {
+  return status == CAIRO_STATUS_SUCCESS ? std::string() : std::string(cairo_status_to_string(status));
+}
+
+}  // namespace hmp::plot::cairo_helpers

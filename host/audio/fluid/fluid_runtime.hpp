@@ -17,7 +17,7 @@ void install_fluid_logging();
 std::vector<std::string> take_fluid_messages();
 
 // Audio drivers hmp has tried to open since the program started (successful or not).
-std::uint64_t audio_driver_attempts();
+std::uint64_t fluid_driver_attempts();
 void count_audio_driver_attempt();
 
 // FluidSynth's sdl2 driver needs the program to have initialised SDL's audio subsystem. Returns false

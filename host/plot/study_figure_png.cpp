@@ -1,15 +1,19 @@
-#include "host/study/figure.hpp"
+#include "host/plot/drawings.hpp"
 
 #include <algorithm>
 
 #include <fmt/format.h>
 
-#include "host/common/error.hpp"
-#include "host/output/cairo_helpers.hpp"
+#include "host/plot/cairo_helpers.hpp"
 
-namespace hmp::study {
+namespace hmp::plot {
 
-namespace ch = output::cairo_helpers;
+namespace ch = cairo_helpers;
+using study::envelope_name;
+using study::GroupAnalysis;
+using study::kEnvelopes;
+using study::kInstruments;
+using study::mapping_of_experiment;
 
 namespace {
 
@@ -78,7 +82,7 @@ void panel(cairo_t* cr, const std::vector<GroupAnalysis>& groups, int experiment
 
 }  // namespace
 
-void write_figure(const std::vector<GroupAnalysis>& groups, const std::string& path) {
+std::string draw_study_figure_png(const std::string& path, const std::vector<GroupAnalysis>& groups) {
   int max_votes = 1;
   for (const GroupAnalysis& g : groups) {
     for (const int v : g.first_votes) max_votes = std::max(max_votes, v);
@@ -104,9 +108,7 @@ void write_figure(const std::vector<GroupAnalysis>& groups, const std::string& p
   }
   ch::text(cr.get(), x + 20, kHeight - 26, "* Copeland winner (several: a tie)");
   cairo_surface_flush(surface.get());
-  if (cairo_surface_write_to_png(surface.get(), path.c_str()) != CAIRO_STATUS_SUCCESS) {
-    throw BadInput(fmt::format("{}: cannot write the PNG", path));
-  }
+  return cairo_helpers::status_text(cairo_surface_write_to_png(surface.get(), path.c_str()));
 }
 
-}  // namespace hmp::study
+}  // namespace hmp::plot

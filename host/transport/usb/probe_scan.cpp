@@ -1,0 +1,34 @@
+// Finding an STM32 in DFU mode and ST-LINK probes with libusb; no USB access is an empty list and a reason.
+#include "host/transport/usb/probe_scan.hpp"
+
+#include <libusb.h>
+
+#include <fmt/format.h>
+
+namespace hmp::flash {
+
+ScanResult scan_with_libusb() {
+  ScanResult out;
+  libusb_context* ctx = nullptr;
+  if (const int rc = libusb_init(&ctx); rc != 0) {
+    out.unavailable = fmt::format("libusb: {}", libusb_strerror(static_cast<libusb_error>(rc)));
+    return out;
+  }
+  libusb_device** list = nullptr;
+  const ssize_t n = libusb_get_device_list(ctx, &list);
+  if (n < 0) {
+    out.unavailable = fmt::format("libusb: {}", libusb_strerror(static_cast<libusb_error>(n)));
+  }
+  for (ssize_t i = 0; i < n; ++i) {
+    libusb_device_descriptor d{};
+    if (libusb_get_device_descriptor(list[i], &d) != 0) continue;
+    if (const UsbId* id = known_id(d.idVendor, d.idProduct)) {
+      out.found.push_back({id->kind, id->name, libusb_get_bus_number(list[i]), libusb_get_device_address(list[i])});
+    }
+  }
+  if (list != nullptr) libusb_free_device_list(list, 1);
+  libusb_exit(ctx);
+  return out;
+}
+
+}  // namespace hmp::flash
