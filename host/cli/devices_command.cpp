@@ -12,7 +12,7 @@
 
 #include "host/cli/commands.hpp"
 #include "host/common/error.hpp"
-#include "host/flash/usb_scan.hpp"
+#include "host/transport/usb_scan.hpp"
 #include "host/transport/handshake.hpp"
 #include "host/transport/hid_transport.hpp"
 #include "host/transport/usb_backend.hpp"
@@ -117,14 +117,14 @@ int run_devices(const DevicesOptions& o) {
   for (const transport::HidDeviceInfo& info : transport::enumerate_hid(id)) probes.push_back(probe(info, o.timeout_ms));
 
   // Boards that are not our HID device yet: an STM32 in its DFU bootloader, an ST-LINK probe (libusb).
-  const flash::ScanResult usb = flash::scan_usb();
+  const transport::ScanResult usb = transport::scan_usb();
 
   if (o.json) {
     nlohmann::json list = nlohmann::json::array();
     for (const Probe& p : probes) list.push_back(to_json(p));
     nlohmann::json flashable = nlohmann::json::array();
-    for (const flash::FoundProbe& f : usb.found) {
-      flashable.push_back({{"kind", f.kind == flash::ProbeKind::stm32_dfu ? "stm32_dfu" : "stlink"},
+    for (const transport::FoundProbe& f : usb.found) {
+      flashable.push_back({{"kind", f.kind == transport::ProbeKind::stm32_dfu ? "stm32_dfu" : "stlink"},
                            {"name", f.name}, {"bus", f.bus}, {"address", f.address}});
     }
     nlohmann::json out{{"id", transport::to_string(id)}, {"devices", list}, {"flashable", flashable}};
@@ -132,7 +132,7 @@ int run_devices(const DevicesOptions& o) {
     std::printf("%s\n", out.dump().c_str());
     return kExitOk;
   }
-  for (const flash::FoundProbe& f : usb.found) fmt::print("{}\n", flash::describe(f));
+  for (const transport::FoundProbe& f : usb.found) fmt::print("{}\n", transport::describe(f));
   if (probes.empty()) {
     fmt::print("no HID device {} found (the simulated device needs none: hmp play --device sim)\n",
                transport::to_string(id));

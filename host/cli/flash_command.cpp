@@ -28,7 +28,7 @@
 #include "host/flash/firmware_image.hpp"
 #include "host/flash/flash_plan.hpp"
 #include "host/flash/udev_rule.hpp"  // generated from host/flash/70-hmp.rules
-#include "host/flash/usb_scan.hpp"
+#include "host/transport/usb_scan.hpp"
 
 namespace hmp::cli {
 namespace {
@@ -175,15 +175,15 @@ int run_flash(const FlashOptions& o) {
     method = flash::parse_method(o.method);
     if (!method) throw BadInput(fmt::format("--method {}: expected dfu, stlink or openocd", o.method));
   }
-  flash::ScanResult scan;
-  if (!o.dry_run || !method) scan = flash::scan_usb();
-  auto found = [&](flash::ProbeKind kind) {
-    for (const flash::FoundProbe& p : scan.found) {
+  transport::ScanResult scan;
+  if (!o.dry_run || !method) scan = transport::scan_usb();
+  auto found = [&](transport::ProbeKind kind) {
+    for (const transport::FoundProbe& p : scan.found) {
       if (p.kind == kind) return true;
     }
     return false;
   };
-  if (!method) method = !found(flash::ProbeKind::stm32_dfu) && found(flash::ProbeKind::stlink) ? Method::stlink : Method::dfu;
+  if (!method) method = !found(transport::ProbeKind::stm32_dfu) && found(transport::ProbeKind::stlink) ? Method::stlink : Method::dfu;
 
   std::string build;  // why the image is built first; empty: it is not
   const fs::path image = choose_image(o, *method, build);
@@ -221,7 +221,7 @@ int run_flash(const FlashOptions& o) {
     }
   }
   const bool dfu = *method == Method::dfu;
-  if (!found(dfu ? flash::ProbeKind::stm32_dfu : flash::ProbeKind::stlink)) {
+  if (!found(dfu ? transport::ProbeKind::stm32_dfu : transport::ProbeKind::stlink)) {
     std::fprintf(stderr, "error: %s\n", flash::no_board_message(*method, scan.unavailable).c_str());
     return kExitFailure;
   }

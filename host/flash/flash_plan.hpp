@@ -1,4 +1,8 @@
 #pragma once
+// host/flash/: getting firmware onto a board — planning the flashing tool's command line, the image to
+// write (built when stale), and the udev rule that lets users flash and play without root. Which boards
+// are plugged in is transport/usb_scan.hpp's business.
+//
 // flash_plan: which tool writes the image, with which command line, and which Debian package has the
 // tool. Pure (no I/O), so that the command lines are tested as they are documented (boards/stm32f407/README.md):
 //   dfu      dfu-util -d 0483:df11 -a 0 -s 0x08000000:leave -D IMAGE.bin       (ROM bootloader, BOOT0 high)

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "host/flash/usb_scan.hpp"
+#include "host/transport/usb_scan.hpp"
 #include "host/transport/hid_transport.hpp"
 #include "host/transport/transport.hpp"
 
@@ -23,7 +23,7 @@ class UsbBackend {
   virtual std::vector<HidDeviceInfo> enumerate_hid(const HidId& id, std::string& error) const = 0;
   // The device at a /dev/hidrawN path, or null and `error` says why (permissions name the udev rule).
   virtual std::unique_ptr<Transport> open_hid_path(const std::string& path, std::string& error) const = 0;
-  virtual flash::ScanResult scan_usb() const = 0;
+  virtual ScanResult scan_usb() const = 0;
 
  protected:
   ~UsbBackend() = default;  // one static object in the module, never deleted through this

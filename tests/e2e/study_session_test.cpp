@@ -21,7 +21,7 @@
 #include <nlohmann/json.hpp>
 
 #include "host/study/plan.hpp"
-#include "../unit/midi_builder.hpp"
+#include "tests/support/midi_builder.hpp"
 #include "play_harness.hpp"
 
 namespace {

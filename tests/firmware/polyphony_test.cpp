@@ -1,6 +1,6 @@
 // Voices through the device (design §7): 16-voice chords, oldest-first stealing counted in Status, and the
 // three polyphony policies chosen by a Settings report. Expectations come from an independent
-// double-precision evaluation of design §6 (tests/unit/reference_envelope.hpp and sin()), not from the
+// double-precision evaluation of design §6 (tests/support/reference_envelope.hpp and sin()), not from the
 // synth::Engine the device runs; where the limiter or stealing decides the output, the engine's own
 // reference is compared as well.
 #include <gtest/gtest.h>
@@ -8,7 +8,7 @@
 #include <cmath>
 
 #include "tests/firmware/host_link.hpp"
-#include "tests/unit/reference_envelope.hpp"
+#include "tests/support/reference_envelope.hpp"
 
 namespace hmp::test {
 namespace {

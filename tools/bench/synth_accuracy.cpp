@@ -16,7 +16,7 @@
 #include "shared/synth/frequency.hpp"
 #include "shared/synth/sine.hpp"
 #include "shared/synth/voice.hpp"
-#include "tests/unit/reference_envelope.hpp"
+#include "tests/support/reference_envelope.hpp"
 
 namespace {
 

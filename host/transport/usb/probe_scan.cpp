@@ -5,7 +5,7 @@
 
 #include <fmt/format.h>
 
-namespace hmp::flash {
+namespace hmp::transport {
 
 ScanResult scan_with_libusb() {
   ScanResult out;
@@ -31,4 +31,4 @@ ScanResult scan_with_libusb() {
   return out;
 }
 
-}  // namespace hmp::flash
+}  // namespace hmp::transport

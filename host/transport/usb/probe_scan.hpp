@@ -1,9 +1,9 @@
 #pragma once
 // The usb module's look at the USB bus through libusb, for the boards hidapi cannot see (flash/usb_scan.hpp).
-#include "host/flash/usb_scan.hpp"
+#include "host/transport/usb_scan.hpp"
 
-namespace hmp::flash {
+namespace hmp::transport {
 
 ScanResult scan_with_libusb();
 
-}  // namespace hmp::flash
+}  // namespace hmp::transport

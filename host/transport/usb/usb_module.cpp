@@ -25,7 +25,7 @@ class HidapiBackend final : public UsbBackend {
       return nullptr;
     }
   }
-  flash::ScanResult scan_usb() const override { return flash::scan_with_libusb(); }
+  ScanResult scan_usb() const override { return scan_with_libusb(); }
 };
 
 }  // namespace

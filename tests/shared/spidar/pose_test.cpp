@@ -12,7 +12,7 @@
 
 #include "shared/spidar/geometry.hpp"
 #include "shared/spidar/pose.hpp"
-#include "tests/sim/spidar_reference.hpp"
+#include "tests/shared/spidar/spidar_reference.hpp"
 
 namespace {
 

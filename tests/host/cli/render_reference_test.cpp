@@ -14,7 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "reference_envelope.hpp"
+#include "tests/support/reference_envelope.hpp"
 
 namespace {
 

@@ -1,11 +1,11 @@
 #pragma once
 // Independent double-precision facts for the plant_* tests, written from design §11/§12 (not from
 // boards/sim/plant): the motor's stall tension and no-load speed, the finger law, and the static balance
-// of the grip computed with tests/sim/spidar_reference.hpp's geometry.
+// of the grip computed with tests/shared/spidar/spidar_reference.hpp's geometry.
 #include <array>
 #include <cmath>
 
-#include "tests/sim/spidar_reference.hpp"
+#include "tests/shared/spidar/spidar_reference.hpp"
 
 namespace plant_ref {
 

@@ -8,7 +8,7 @@
 #include <cmath>
 #include <string>
 
-#include "tests/sim/drive_rig.hpp"
+#include "tests/firmware/drive/drive_rig.hpp"
 
 namespace hmp::test {
 namespace {

@@ -12,6 +12,7 @@
 
 #include "host/common/error.hpp"
 #include "host/transport/hid_transport.hpp"
+#include "host/transport/usb_backend.hpp"
 
 namespace {
 
@@ -21,6 +22,9 @@ using hmp::transport::open_hid_path;
 using hmp::transport::TransportError;
 
 TEST(TransportHid, EnumerationWithoutADeviceIsEmptyNotAnError) {
+  // hidapi is in the usb module: without it every list would be empty and this test would prove nothing.
+  std::string why;
+  ASSERT_NE(hmp::transport::usb_backend(&why), nullptr) << why;
   std::vector<hmp::transport::HidDeviceInfo> found;
   ASSERT_NO_THROW(found = hmp::transport::enumerate_hid());
   for (const auto& d : found) {  // on a machine that does have one: only the protocol's interface

@@ -13,7 +13,7 @@
 #include "host/common/error.hpp"
 #include "host/midi/smf_detail.hpp"
 #include "host/midi/smf_reader.hpp"
-#include "midi_builder.hpp"
+#include "tests/support/midi_builder.hpp"
 
 using namespace midi_test;
 using hmp::midi::Note;

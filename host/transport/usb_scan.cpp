@@ -1,11 +1,11 @@
 // usb_scan: what the flasher looks for on the USB bus; the looking is done by the usb module (libusb).
-#include "host/flash/usb_scan.hpp"
+#include "host/transport/usb_scan.hpp"
 
 #include <fmt/format.h>
 
 #include "host/transport/usb_backend.hpp"
 
-namespace hmp::flash {
+namespace hmp::transport {
 
 const UsbId* known_id(std::uint16_t vid, std::uint16_t pid) {
   for (const UsbId& id : kKnownIds) {
@@ -16,7 +16,7 @@ const UsbId* known_id(std::uint16_t vid, std::uint16_t pid) {
 
 ScanResult scan_usb() {
   std::string why;
-  const transport::UsbBackend* backend = transport::usb_backend(&why);
+  const UsbBackend* backend = usb_backend(&why);
   if (backend == nullptr) return {{}, "the usb module is not available (" + why + ")"};
   return backend->scan_usb();
 }
@@ -26,4 +26,4 @@ std::string describe(const FoundProbe& p) {
                      p.kind == ProbeKind::stlink ? " --method stlink" : "");
 }
 
-}  // namespace hmp::flash
+}  // namespace hmp::transport

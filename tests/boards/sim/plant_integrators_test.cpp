@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "boards/sim/plant/plant.hpp"
-#include "tests/sim/plant_reference.hpp"
+#include "tests/boards/sim/plant_reference.hpp"
 
 namespace {
 

@@ -1,15 +1,13 @@
 #pragma once
-// host/flash/: getting firmware onto a board — finding boards that are not (yet) our HID device (an
-// STM32 waiting in its ROM DFU bootloader, an ST-LINK probe), planning the flashing tool's command line,
-// and the udev rule that lets users flash and play without root.
-//
-// usb_scan: the USB devices hidapi cannot see, through libusb. A machine without USB access (a container,
-// no /dev/bus/usb) has none: that is an empty list and a reason, never an error.
+// usb_scan: the boards on the USB bus that are not (yet) our HID device — an STM32 waiting in its ROM DFU
+// bootloader, an ST-LINK probe — which `hmp devices` lists and `hmp flash` writes through. The looking is
+// done by the usb module (libusb). A machine without USB access (a container, no /dev/bus/usb) has none:
+// that is an empty list and a reason, never an error.
 #include <cstdint>
 #include <string>
 #include <vector>
 
-namespace hmp::flash {
+namespace hmp::transport {
 
 enum class ProbeKind { stm32_dfu, stlink };
 
@@ -51,4 +49,4 @@ ScanResult scan_usb();
 // One line for `hmp devices`: "STM32 in DFU mode on bus 1 device 5 — run hmp flash".
 std::string describe(const FoundProbe& probe);
 
-}  // namespace hmp::flash
+}  // namespace hmp::transport

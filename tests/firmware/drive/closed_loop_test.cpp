@@ -6,7 +6,7 @@
 
 #include <cmath>
 
-#include "tests/sim/drive_rig.hpp"
+#include "tests/firmware/drive/drive_rig.hpp"
 
 namespace hmp::test {
 namespace {

@@ -6,8 +6,8 @@
 
 #include <cmath>
 
-#include "tests/sim/drive_rig.hpp"
-#include "tests/sim/spidar_reference.hpp"
+#include "tests/firmware/drive/drive_rig.hpp"
+#include "tests/shared/spidar/spidar_reference.hpp"
 
 namespace hmp::test {
 namespace {

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "reference_envelope.hpp"
+#include "tests/support/reference_envelope.hpp"
 #include "shared/envelope/envelope.hpp"
 
 namespace {

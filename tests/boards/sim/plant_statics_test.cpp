@@ -1,6 +1,6 @@
 // Plant simulator (boards/sim/plant) at rest and at its limits: with constant duties it must settle where
 // the motor stall equation and the geometry say (checked with the independent reference geometry of
-// tests/sim/spidar_reference.hpp), slack strings must carry nothing, duties saturate at ±1, the encoders
+// tests/shared/spidar/spidar_reference.hpp), slack strings must carry nothing, duties saturate at ±1, the encoders
 // count like the real ones, and the grip near the frame edge still balances.
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@
 #include <limits>
 
 #include "boards/sim/plant/plant.hpp"
-#include "tests/sim/plant_reference.hpp"
+#include "tests/boards/sim/plant_reference.hpp"
 
 namespace {
 

@@ -15,11 +15,12 @@
 
 #include "host/flash/flash_plan.hpp"
 #include "host/flash/udev_rule.hpp"
-#include "host/flash/usb_scan.hpp"
+#include "host/transport/usb_scan.hpp"
 
 namespace {
 
 namespace flash = hmp::flash;
+namespace transport = hmp::transport;
 using Args = std::vector<std::string>;
 
 TEST(FlashPlan, CommandLinesAsDocumented) {
@@ -58,15 +59,15 @@ TEST(FlashPlan, ShellLineSurvivesTheShell) {
 }
 
 TEST(FlashPlan, KnownUsbIds) {
-  const flash::UsbId* dfu = flash::known_id(0x0483, 0xdf11);
+  const transport::UsbId* dfu = transport::known_id(0x0483, 0xdf11);
   ASSERT_NE(dfu, nullptr);
-  EXPECT_EQ(dfu->kind, flash::ProbeKind::stm32_dfu);
-  ASSERT_NE(flash::known_id(0x0483, 0x3748), nullptr);
-  EXPECT_EQ(flash::known_id(0x0483, 0x3748)->kind, flash::ProbeKind::stlink);
-  EXPECT_EQ(flash::known_id(0x1209, 0x0001), nullptr) << "our own device is HID, listed by hidapi";
-  EXPECT_EQ(flash::known_id(0x0483, 0x5740), nullptr);
-  const flash::FoundProbe p{flash::ProbeKind::stm32_dfu, "STM32 in DFU mode", 1, 5};
-  EXPECT_EQ(flash::describe(p), "STM32 in DFU mode on bus 1 device 5 — run hmp flash");
+  EXPECT_EQ(dfu->kind, transport::ProbeKind::stm32_dfu);
+  ASSERT_NE(transport::known_id(0x0483, 0x3748), nullptr);
+  EXPECT_EQ(transport::known_id(0x0483, 0x3748)->kind, transport::ProbeKind::stlink);
+  EXPECT_EQ(transport::known_id(0x1209, 0x0001), nullptr) << "our own device is HID, listed by hidapi";
+  EXPECT_EQ(transport::known_id(0x0483, 0x5740), nullptr);
+  const transport::FoundProbe p{transport::ProbeKind::stm32_dfu, "STM32 in DFU mode", 1, 5};
+  EXPECT_EQ(transport::describe(p), "STM32 in DFU mode on bus 1 device 5 — run hmp flash");
 }
 
 // Each method with the image kind it takes; the image path goes through unchanged (no quoting in argv).
@@ -144,7 +145,7 @@ TEST(UdevRule, EachLineGrantsUaccessToOneId) {
   EXPECT_GT(n, 0);
   EXPECT_EQ(hidraw, (std::set<std::string>{"1209:0001"}));
   std::set<std::string> want{"1209:0001"};
-  for (const flash::UsbId& id : flash::kKnownIds) {
+  for (const transport::UsbId& id : transport::kKnownIds) {
     char buf[16];
     std::snprintf(buf, sizeof buf, "%04x:%04x", id.vid, id.pid);
     want.insert(buf);

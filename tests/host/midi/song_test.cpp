@@ -9,7 +9,7 @@
 
 #include "host/common/error.hpp"
 #include "host/midi/smf_reader.hpp"
-#include "midi_builder.hpp"
+#include "tests/support/midi_builder.hpp"
 
 using namespace midi_test;
 using namespace hmp::midi;

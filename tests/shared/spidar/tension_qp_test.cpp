@@ -12,7 +12,7 @@
 
 #include "shared/spidar/geometry.hpp"
 #include "shared/spidar/tension.hpp"
-#include "tests/sim/spidar_reference.hpp"
+#include "tests/shared/spidar/spidar_reference.hpp"
 
 namespace {
 

@@ -9,7 +9,7 @@
 #include <random>
 
 #include "shared/synth/frequency.hpp"
-#include "tests/unit/reference_envelope.hpp"
+#include "tests/support/reference_envelope.hpp"
 
 namespace {
 
