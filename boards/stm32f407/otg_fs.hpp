@@ -3,7 +3,7 @@
 // mode: the core copies every packet through the FIFOs, no DMA). A template over the register access
 // (`Io`: read(offset), write(offset, value), delay_ms(n); FIFO words through the FIFO offsets), so that
 // the same code runs on the chip (otg_fs.cpp's MMIO) and against a model of the controller in the unit
-// tests (tests/unit/stm32_otg_fs_test.cpp).
+// tests (tests/boards/stm32f407/otg_fs_test.cpp).
 //
 // Pitfalls handled (each has a test):
 //  - no VBUS sensing: boards that do not wire PA9 still enumerate (GCCFG.NOVBUSSENS);
