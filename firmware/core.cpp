@@ -151,6 +151,7 @@ void Core::run_drive() {
   if (t.flags & spidar::flag::saturated) ++stats_.drive_saturated;
   if (t.flags & spidar::flag::not_converged) ++stats_.drive_not_converged;
   force_n_ = t.force_n;
+  grip_ = t.grip;
   if (t.faults != 0) drive_fault(t.faults);
 }
 
@@ -178,6 +179,7 @@ void Core::run_split_drive(bool safe) {
   if (t.flags & spidar::flag::saturated) ++stats_.drive_saturated;
   if (t.flags & spidar::flag::not_converged) ++stats_.drive_not_converged;
   force_n_ = t.force_n;
+  grip_ = t.grip;
   if (fresh) {
     plan_seen_ = seq;
     if (plan.faults != 0) drive_fault(plan.faults);
@@ -303,6 +305,12 @@ protocol::Status Core::status() const {
   s.active_voices = engine_.active_voices();
   s.output = last_output_;
   s.force_n = has_drive_ ? force_n_ : last_output_ * settings_.peak_force_n;
+  // Only finite positions inside the report's range are sent (a wild estimate is "not known").
+  const float grip[3] = {grip_.position.x, grip_.position.y, grip_.position.z};
+  bool grip_ok = has_drive_ && grip_.known;
+  for (const float v : grip) grip_ok = grip_ok && v >= -protocol::kGripRangeM && v <= protocol::kGripRangeM;
+  s.grip_known = grip_ok ? 1 : 0;
+  for (int i = 0; i < 3; ++i) s.grip_m[i] = grip_ok ? grip[i] : 0.0f;
   return s;
 }
 

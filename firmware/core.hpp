@@ -198,6 +198,7 @@ class Core {
   std::uint32_t plan_countdown_ = 0;
   float duty_[kMotorCount]{};
   float force_n_ = 0.0f;  // the drive's achieved force along the direction (N)
+  GripReading grip_{};    // where the drive's pose puts the grip (Status)
   bool has_drive_ = false;
   protocol::Settings settings_{};
   protocol::Started started_{};

@@ -122,6 +122,12 @@ std::uint32_t Drive::check_sensing(const std::int32_t (&counts)[kMotors], float 
   return faults;
 }
 
+GripReading Drive::grip_reading(std::uint32_t sensing_faults) const {
+  // A pose flagged as diverged (or a misfit that persisted) says nothing about where the hand is.
+  if (sensing_faults & protocol::fault_pose_diverged) return {};
+  return {pose_.pose().position, true};
+}
+
 void Drive::calibrate_once(const std::int32_t (&counts)[kMotors]) {
   if (calibrated_) return;
   calibration_.calibrate(params_.frame, counts, motor_.metres_per_count());
@@ -135,6 +141,7 @@ DriveTick Drive::tick(float vibration, bool safe, const std::int32_t (&counts)[k
   calibrate_once(counts);
   float measured[kMotors];
   out.faults = check_sensing(counts, measured, tick_hz_);
+  out.grip = grip_reading(out.faults);
   if (safe || out.faults != 0) {
     hold(hold_duty(), duty);
     return out;
@@ -175,6 +182,7 @@ void Drive::plan(const PlanInput& in, DrivePlan& out) {
   take_staged_settings();
   calibrate_once(in.counts);
   out.faults = check_sensing(in.counts, out.speed, sense_hz_);
+  out.grip = grip_reading(out.faults);
   out.flags = 0;
   out.hold_duty = hold_duty();
   out.hold = in.safe || out.faults != 0;
@@ -213,6 +221,7 @@ void Drive::take_plan_speeds(const DrivePlan& plan) {
 DriveTick Drive::render(float vibration, bool safe, const DrivePlan& plan, float (&duty)[kMotors]) {
   DriveTick out;
   out.flags = plan.flags;
+  out.grip = plan.grip;
   if (safe || plan.hold || !(plan.force_max > 0.0f)) {
     hold(plan.hold_duty, duty);  // the plan's: no motor model in the tick
     return out;

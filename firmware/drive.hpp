@@ -62,11 +62,19 @@ struct DriveParams {
   float plan_headroom = 2.0f;
 };
 
+// Where the grip is, as this tick's (or plan's) pose estimate says: what the view's cursor follows
+// (Status bytes 45–57). Not known while the pose cannot be fitted.
+struct GripReading {
+  spidar::Vec3<float> position{};  // m, device frame
+  bool known = false;
+};
+
 // What one tick of the drive tells the core.
 struct DriveTick {
   std::uint32_t faults = 0;  // protocol fault bits found this tick (qp_infeasible, pose_diverged, ...)
   float force_n = 0.0f;      // the force along the direction the tensions make, beyond the bias (N)
   spidar::Flags flags = 0;   // pose, QP and motor flags of this tick (saturated, not_converged, ...)
+  GripReading grip;
 };
 
 // The split drive. At a fast tick (10 kHz on the STM32F407) the whole drive does not fit a tick, but only
@@ -94,6 +102,7 @@ struct DrivePlan {
   float applied_up = 0.0f, applied_down = 0.0f;  // the force those make along the direction, beyond the bias
   float along[spidar::kStrings]{};  // u_i · d
   float speed[spidar::kStrings]{};  // winding speed measured over the last plan period (rad/s)
+  GripReading grip;
 };
 
 class Drive {
@@ -127,6 +136,8 @@ class Drive {
   // ---- inspection ----
   bool calibrated() const { return calibrated_; }
   const spidar::Pose<float>& pose() const { return pose_.pose(); }
+  // The grip as the last sensing left it, given the faults that sensing found.
+  GripReading grip_reading(std::uint32_t sensing_faults) const;
   const float (&tensions() const)[kMotors] { return tension_; }
   const DriveParams& params() const { return params_; }
   const DriveCompensator& compensator() const { return compensator_; }

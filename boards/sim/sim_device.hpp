@@ -91,6 +91,10 @@ class SimDevice {
 
   // ---- the plant (null / no-ops without one) ----
   const plant::Plant* plant() const { return plant_.get(); }
+  // The hand on the grip moves: the finger's anchor goes to `anchor` (m, device frame).
+  void move_hand(const plant::Vec3d& anchor) {
+    if (plant_) plant_->set_finger_anchor(anchor);
+  }
   bool plant_unstable() const { return plant_ != nullptr && plant_->unstable(); }  // also logged once
   const float (&duties() const)[fw::kMotorCount] { return duty_; }  // the last ones the core sent
   // Called after every observed part of a tick (see PlantOptions::observe_substeps): plant time (s), output.

@@ -2,12 +2,16 @@
 
 #include <cstdio>
 #include <exception>
+#include <string>
 
 #include "host/common/error.hpp"
+#include "shared/protocol/protocol.hpp"
 
 namespace hmp::cli {
 
-std::string version_string() { return "hmp 0.1.0 (protocol 1)"; }
+std::string version_string() {
+  return "hmp 0.1.0 (protocol " + std::to_string(protocol::kProtocolVersion) + ")";
+}
 
 int run_command(const std::function<int()>& action) {
   try {

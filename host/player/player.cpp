@@ -397,6 +397,7 @@ void Player::update_snapshot() {
     s.queue_free = st->queue_free;
     s.device_state = st->state;
     s.active_voices = st->active_voices;
+    if (st->grip_known != 0) s.grip_m = std::array<float, 3>{st->grip_m[0], st->grip_m[1], st->grip_m[2]};
   }
   std::lock_guard lock(mutex_);
   snapshot_ = std::move(s);

@@ -8,6 +8,7 @@
 //
 // Threads: run() and everything it calls happen on the caller's thread (the receiver thread lives in
 // DeviceLink); post() and snapshot() may be called from any thread.
+#include <array>
 #include <chrono>
 #include <cstdint>
 #include <deque>
@@ -68,6 +69,7 @@ struct Snapshot {
   int queue_free = 0, queue_capacity = 0;
   protocol::State device_state = protocol::State::idle;
   std::uint8_t active_voices = 0;
+  std::optional<std::array<float, 3>> grip_m;  // the grip's position (m, device frame) when the device knows it
 };
 
 struct PlayerOptions {

@@ -200,6 +200,8 @@ void walk(IO& io, Msg& m) {
       io.u8(s.active_voices);
       io.f32(s.output);
       io.f32(s.force_n);
+      for (std::size_t i = 0; i < 3; ++i) io.f32(s.grip_m[i]);
+      io.u8(s.grip_known);
       break;
     }
     case Type::started: {
@@ -284,7 +286,11 @@ ErrorCode check(const HelloReply& h) {
 ErrorCode check(const Status& s) {
   const bool ok = static_cast<std::uint8_t>(s.state) <= static_cast<std::uint8_t>(State::fault) &&
                   (s.faults & ~kKnownFaults) == 0 && within(s.output, -1.0f, 1.0f) && is_finite(s.force_n);
-  return ok ? ErrorCode::none : ErrorCode::bad_value;
+  bool grip_ok = true;
+  for (const float v : s.grip_m) {
+    grip_ok = grip_ok && within(v, -kGripRangeM, kGripRangeM) && (s.grip_known != 0 || v == 0.0f);
+  }
+  return ok && grip_ok && s.grip_known <= 1 ? ErrorCode::none : ErrorCode::bad_value;
 }
 
 ErrorCode check(const Started& b) {

@@ -24,7 +24,8 @@
 namespace hmp::protocol {
 
 inline constexpr std::size_t kReportSize = 64;
-inline constexpr std::uint16_t kProtocolVersion = 1;
+// 2: Status carries the grip's position (bytes 45–57), for touching notes in the view.
+inline constexpr std::uint16_t kProtocolVersion = 2;
 inline constexpr std::uint16_t kUsbVid = 0x1209;  // pid.codes open-source VID
 inline constexpr std::uint16_t kUsbPid = 0x0001;  // pid.codes test PID (to be replaced by an allocated one)
 inline constexpr std::uint16_t kUsagePage = 0xFF00;
@@ -206,8 +207,11 @@ inline constexpr std::uint32_t kKnownFaults = 0xFFu;  // a status with any other
 // bytes 3–10 tick u64 | 11–12 queue free u16 | 13–14 last seq processed u16 | 15–18 late u32
 // | 19–22 stolen u32 | 23–26 rejected u32 | 27–30 started u32 | 31–34 faults u32 (kKnownFaults) | 35 state
 // | 36 active voices | 37–40 output f32 [-1,1] | 41–44 achieved force f32 (N, along the direction, finite)
+// | 45–56 grip position x, y, z f32 (m, device frame, each within ±kGripRangeM) | 57 grip known u8 (0/1;
+// 0: no drive or no pose, and the position is zero)
 // queue_free counts note reports (Notes or LongNote, each up to a full batch) the device will still accept
 // after the one numbered last_seq; counters are cumulative and wrap.
+inline constexpr float kGripRangeM = 4.0f;  // no SPIDAR frame is larger: beyond it the report is corrupt
 struct Status {
   std::uint64_t tick = 0;
   std::uint16_t queue_free = 0;
@@ -218,6 +222,8 @@ struct Status {
   std::uint8_t active_voices = 0;
   float output = 0.0f;
   float force_n = 0.0f;
+  float grip_m[3] = {0.0f, 0.0f, 0.0f};
+  std::uint8_t grip_known = 0;  // 0 or 1
   friend bool operator==(const Status&, const Status&) = default;
 };
 

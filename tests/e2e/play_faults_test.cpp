@@ -158,8 +158,10 @@ class SmallQueueLink : public Wrapper {
   int violations_ = 0, note_reports_ = 0;
 };
 
-// A device that answers Hello in another protocol version (2), as docs/protocol.md says it would:
+// A device that answers Hello in another protocol version (the next one), as docs/protocol.md says it would:
 // HelloReply with its version, then an Error version_mismatch.
+constexpr std::uint16_t kForeignVersion = protocol::kProtocolVersion + 1;
+
 class ForeignDevice : public hmp::transport::Transport {
  public:
   bool send(const Report& r) override {
@@ -167,7 +169,7 @@ class ForeignDevice : public hmp::transport::Transport {
     if (protocol::decode(r, m) != protocol::ErrorCode::none) return true;
     if (m.type == protocol::Type::hello) {
       protocol::Message reply = protocol::make(protocol::Type::hello_reply, 1);
-      reply.hello_reply.protocol_version = 2;
+      reply.hello_reply.protocol_version = kForeignVersion;
       protocol::Message error = protocol::make(protocol::Type::error, 2);
       error.error.code = protocol::ErrorCode::version_mismatch;
       error.error.seq = m.seq;
@@ -287,16 +289,16 @@ TEST(PlayFaults, DeviceOfAnotherProtocolVersionIsRefused) {
   hmp::player::DeviceLink link(device);
   try {
     link.connect();
-    FAIL() << "connected to a protocol 2 device";
+    FAIL() << "connected to a protocol " << kForeignVersion << " device";
   } catch (const hmp::player::LinkError& e) {
     const std::string m = e.what();
-    EXPECT_NE(m.find("protocol version 2"), std::string::npos) << m;
-    EXPECT_NE(m.find("version 1"), std::string::npos) << m;
+    EXPECT_NE(m.find("protocol version " + std::to_string(kForeignVersion)), std::string::npos) << m;
+    EXPECT_NE(m.find("version " + std::to_string(protocol::kProtocolVersion)), std::string::npos) << m;
     expect_one_line(m);
   }
 }
 
-// The same through the hmp binary: a protocol-2 device behind a unix socket (as a serial board would be).
+// The same through the hmp binary: a device of the next protocol version behind a unix socket (as a serial board would be).
 TEST(PlayFaults, CommandLineRefusesAnotherProtocolVersion) {
   const std::string dir = std::filesystem::temp_directory_path() / ("hmp-e2e-foreign-" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
@@ -326,7 +328,9 @@ TEST(PlayFaults, CommandLineRefusesAnotherProtocolVersion) {
   ::close(listener);
   std::filesystem::remove_all(dir);
   EXPECT_EQ(r.status, 1) << r.err;
-  EXPECT_NE(r.err.find("error: device serial:" + path + " speaks protocol version 2"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("error: device serial:" + path + " speaks protocol version " + std::to_string(kForeignVersion)),
+            std::string::npos)
+      << r.err;
 }
 
 TEST(PlayFaults, SmallDeviceQueueIsNeverOverrun) {

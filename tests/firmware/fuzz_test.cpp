@@ -124,7 +124,7 @@ class Generator {
     const std::uint64_t now = dev_.tick();
     p::Message m = p::make(type, static_cast<std::uint16_t>(rng_()));
     switch (m.type) {
-      case p::Type::hello: m.hello.protocol_version = pick(4) == 0 ? static_cast<std::uint16_t>(1 + pick(5)) : 1; break;
+      case p::Type::hello: m.hello.protocol_version = pick(4) == 0 ? static_cast<std::uint16_t>(1 + pick(5)) : p::kProtocolVersion; break;
       case p::Type::sync: m.sync.host_time_us = rng_(); break;
       case p::Type::notes:
         m.notes.count = static_cast<std::uint8_t>(1 + pick(5));

@@ -39,7 +39,7 @@ std::size_t documented_end(const Message& m) {
     case Type::estop: return 3;
     case Type::hello_reply: return 18;
     case Type::sync_reply: return 23;
-    case Type::status: return 45;
+    case Type::status: return 58;
     case Type::started: return 4 + 11 * std::size_t{m.started.count};
     case Type::error: return 7;
   }
@@ -150,6 +150,8 @@ class Gen {
         s.active_voices = u8();
         s.output = real(-1, 1);
         s.force_n = real(-100, 100);
+        s.grip_known = static_cast<std::uint8_t>(in(0, 1));
+        for (float& g : s.grip_m) g = s.grip_known != 0 ? real(-kGripRangeM, kGripRangeM) : 0.0f;
         break;
       }
       case Type::started: {
@@ -245,6 +247,10 @@ TEST(Protocol, StatusLayoutIsByteExact) {
   s.active_voices = 16;
   s.output = 0.5f;    // 0x3F000000
   s.force_n = -2.0f;  // 0xC0000000
+  s.grip_m[0] = 0.25f;   // 0x3E800000
+  s.grip_m[1] = -1.5f;   // 0xBFC00000
+  s.grip_m[2] = 2.0f;    // 0x40000000
+  s.grip_known = 1;
   const std::uint8_t bytes[] = {
       0x83, 0xEF, 0xBE,                                // type, seq
       0x08, 0x07, 0x06, 0x05, 0x04, 0x03, 0x02, 0x01,  // 3–10 tick
@@ -254,8 +260,10 @@ TEST(Protocol, StatusLayoutIsByteExact) {
       0x85, 0x00, 0x00, 0x00,                          // 31–34 faults
       0x01, 0x10,                                      // 35 state, 36 voices
       0x00, 0x00, 0x00, 0x3F, 0x00, 0x00, 0x00, 0xC0,  // 37–40 output, 41–44 force
+      0x00, 0x00, 0x80, 0x3E, 0x00, 0x00, 0xC0, 0xBF,  // 45–48 grip x, 49–52 grip y
+      0x00, 0x00, 0x00, 0x40, 0x01,                    // 53–56 grip z, 57 grip known
   };
-  static_assert(sizeof bytes == 45);
+  static_assert(sizeof bytes == 58);
   Bytes want{};
   std::memcpy(want.data(), bytes, sizeof bytes);
   EXPECT_EQ(encoded(m), want);
@@ -435,6 +443,19 @@ std::vector<BadField> bad_fields() {
     add("force " + std::to_string(x), Type::status, 41, le_f32(x), [x](Message& m) { m.status.force_n = x; },
         E::bad_value);
 
+  // The grip: a position only when known, finite and within the range; "known" is 0 or 1.
+  add("grip known 2", Type::status, 57, le(2, 1), [](Message& m) { m.status.grip_known = 2; }, E::bad_value);
+  add("grip position while not known", Type::status, 45, le_f32(0.1f), [](Message& m) { m.status.grip_m[0] = 0.1f; },
+      E::bad_value);
+  for (float x : {kNaN, kInf, -kInf, 4.01f, -5.0f}) {
+    std::vector<std::uint8_t> b;  // bytes 45–57: x = the bad value, y = z = 0, known = 1
+    for (std::uint8_t c : le_f32(x)) b.push_back(c);
+    b.insert(b.end(), 8, 0);
+    b.push_back(1);
+    add("grip x " + std::to_string(x), Type::status, 45, b,
+        [x](Message& m) { m.status.grip_m[0] = x; m.status.grip_known = 1; }, E::bad_value);
+  }
+
   for (int c : {0, 6, 200})
     add("started count " + std::to_string(c), Type::started, 3, le(c, 1),
         [c](Message& m) { m.started.count = static_cast<std::uint8_t>(c); }, E::bad_length_field);
@@ -491,6 +512,7 @@ TEST(Protocol, RangeEdgesAreAccepted) {
   check(Type::settings, [](Message& m) { m.settings.direction[0] = 0.6f; m.settings.direction[1] = -0.8f; m.settings.direction[2] = 0; }, "(0.6,-0.8,0)");
   check(Type::status, [](Message& m) { m.status.output = -1; m.status.faults = kKnownFaults; m.status.state = State::fault; }, "output -1, all faults");
   check(Type::status, [](Message& m) { m.status.output = 1; m.status.force_n = -1e30f; }, "output 1");
+  check(Type::status, [](Message& m) { m.status.grip_known = 1; m.status.grip_m[0] = kGripRangeM; m.status.grip_m[2] = -kGripRangeM; }, "grip at ±range");
   check(Type::transport, [](Message& m) { m.transport.op = TransportOp::seek; m.transport.tick = ~0ull; }, "seek anywhere");
   check(Type::error, [](Message& m) { m.error.code = ErrorCode::bad_slot; m.error.type = 0xFF; }, "last code");
 }
