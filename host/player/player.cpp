@@ -8,6 +8,7 @@
 
 #include "host/common/error.hpp"
 #include "host/midi/gm.hpp"
+#include "host/player/note_batcher.hpp"
 #include "host/transport/handshake.hpp"
 
 namespace hmp::player {
@@ -403,6 +404,65 @@ void Player::update_snapshot() {
   snapshot_ = std::move(s);
 }
 
+void Player::touch(std::uint32_t track, std::uint8_t key, double start_s) {
+  {
+    std::lock_guard lock(mutex_);
+    touches_.push_back({track, key, start_s});
+  }
+  link_.notify();
+}
+
+const haptics::HapticTrack* Player::haptic_track_of(std::uint32_t track) {
+  if (track == options_.track) return &track_;
+  auto it = other_tracks_.find(track);
+  if (it == other_tracks_.end()) {
+    try {
+      it = other_tracks_.emplace(track, haptics::build_haptic_track(song_, track, options_.haptic)).first;
+    } catch (const BadInput& e) {
+      message(fmt::format("touch: {}", e.what()));
+      return nullptr;
+    }
+  }
+  return &it->second;
+}
+
+void Player::handle_touches() {
+  std::deque<Touch> touches;
+  {
+    std::lock_guard lock(mutex_);
+    touches.swap(touches_);
+  }
+  for (const Touch& t : touches) {
+    if (paused_ || t.track >= song_.tracks.size()) continue;
+    const haptics::HapticTrack* track = haptic_track_of(t.track);
+    if (track == nullptr) continue;
+    const auto found = std::find_if(track->notes.begin(), track->notes.end(), [&](const haptics::HapticNote& n) {
+      return n.key == t.key && std::fabs(n.start_s - t.start_s) < 1e-6;
+    });
+    if (found == track->notes.end()) {
+      message(fmt::format("touch: track {} has no note {} at {:.3f} s", t.track, t.key, t.start_s));
+      continue;
+    }
+    // A user preset is on the device only for the haptic track (its slots are that track's).
+    if (track != &track_ && found->note.preset >= envelope::kFirstUserSlot) {
+      message(fmt::format("touch: the note's envelope is a user preset of track {}: not on the device", t.track));
+      continue;
+    }
+    const std::optional<double> position = link_.position(steady_us());
+    if (!position) continue;
+    DeviceNote note = found->note;
+    note.start_tick = static_cast<std::uint64_t>(std::ceil(*position + options_.touch_lead_s * tick_hz_));
+    PendingReport report;
+    make_report(std::span<const DeviceNote>(&note, 1), report.message);
+    report.notes.push_back({t.track, t.key, found->start_s, note.start_tick, note.duration_ticks});
+    const std::optional<std::uint16_t> seq = send(report.message);
+    if (!seq) return;
+    ++counters_.notes_sent;
+    last_note_end_tick_ = std::max(last_note_end_tick_, note.start_tick + note.duration_ticks);
+    sent_[*seq] = SentReport{epoch_, std::move(report), 0};
+  }
+}
+
 void Player::post(Command c) {
   {
     std::lock_guard lock(mutex_);
@@ -428,6 +488,7 @@ Outcome Player::run() {
     handle_events();
     check_device_state();
     if (handle_commands(outcome)) break;
+    handle_touches();
     if (steady_us() >= next_sync_us_) {
       link_.send_sync();
       next_sync_us_ = steady_us() + std::chrono::duration_cast<std::chrono::microseconds>(options_.sync_period).count();

@@ -85,6 +85,7 @@ struct PlayerOptions {
   double stale_s = 1.0;            // notes that ended this long ago are not sent any more
   std::chrono::milliseconds sync_period{100};  // also feeds the device's host watchdog (250 ms)
   std::chrono::microseconds loop_period{5000};
+  double touch_lead_s = 0.004;     // a touched note starts this long after the device's present tick
   std::function<void()> on_idle;   // every loop turn, on the player's thread (keys, status line)
   std::function<void(const StartedNote&)> on_started;
   std::function<void(const std::string&)> on_message;  // one-line notices (track switched, recovery)
@@ -100,6 +101,11 @@ class Player {
   Outcome run();
 
   void post(Command c);  // any thread
+  // Touch (the view, paper §5.3): play the note of `track` with this key that starts at `start_s` on the
+  // device at once (a few ms ahead of the device's present tick), as that track's haptic note would
+  // sound. While the song plays; a note that does not exist, or whose envelope is a user preset of
+  // another track (not uploaded), is a one-line message. Any thread.
+  void touch(std::uint32_t track, std::uint8_t key, double start_s);
   Snapshot snapshot() const;  // any thread
   Counters counters() const { return snapshot().counters; }
   const haptics::HapticTrack& haptic_track() const { return track_; }
@@ -121,6 +127,8 @@ class Player {
   void rebuild_track(std::int64_t song_us);
   void schedule();
   void handle_events();
+  void handle_touches();
+  const haptics::HapticTrack* haptic_track_of(std::uint32_t track);
   bool handle_commands(Outcome& outcome);  // true: leave run()
   void check_device_state();
   void recover(const std::string& why);
@@ -162,6 +170,13 @@ class Player {
 
   mutable std::mutex mutex_;  // commands_, snapshot_
   std::deque<Command> commands_;
+  struct Touch {
+    std::uint32_t track;
+    std::uint8_t key;
+    double start_s;
+  };
+  std::deque<Touch> touches_;
+  std::map<std::uint32_t, haptics::HapticTrack> other_tracks_;  // touched tracks other than the haptic one
   Snapshot snapshot_;
 };
 

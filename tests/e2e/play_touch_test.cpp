@@ -1,0 +1,81 @@
+// Touching a note (paper §5.3, the view's touch): Player::touch plays that note on the device at once —
+// its Started report arrives within 20 ms of the touch, for a note of the haptic track and for one of
+// another track — while the song plays on the real-time simulated device. A note that does not exist
+// plays nothing and says so. The notes are taken from the song as the MIDI reader reads it.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <optional>
+#include <thread>
+
+#include "host/midi/song.hpp"
+#include "host/transport/sim_transport.hpp"
+#include "play_harness.hpp"
+
+namespace {
+
+using namespace std::chrono_literals;
+namespace test = hmp::test;
+using Clock = std::chrono::steady_clock;
+
+constexpr std::uint32_t kFlute = 1;
+
+// The first note of `track` starting at or after `from_s` (and before to_s), from the song model.
+std::optional<hmp::midi::Note> note_of(std::uint32_t track, double from_s, double to_s) {
+  for (const hmp::midi::Note& n : test::demo_song().notes) {
+    const double s = test::demo_song().start_s(n);
+    if (n.track == track && s >= from_s && s < to_s) return n;
+  }
+  return std::nullopt;
+}
+
+// Touches a note and returns how long until the device reported starting it (nullopt: not within 1 s).
+std::optional<double> touch_latency_ms(test::Session& s, const hmp::midi::Note& n) {
+  const double start_s = test::demo_song().start_s(n);
+  auto started_now = [&] {
+    for (const hmp::player::StartedNote& st : s.started()) {
+      if (st.origin.track == n.track && st.origin.key == n.key && std::fabs(st.origin.start_s - start_s) < 1e-6) return true;
+    }
+    return false;
+  };
+  EXPECT_FALSE(started_now()) << "the note was played before it was touched: the test would prove nothing";
+  const auto t0 = Clock::now();
+  s.player().touch(n.track, n.key, start_s);
+  while (Clock::now() - t0 < 1s) {
+    if (started_now()) return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    std::this_thread::sleep_for(200us);
+  }
+  return std::nullopt;
+}
+
+TEST(PlayTouch, TouchedNotesStartWithin20ms) {
+  hmp::transport::SimTransport sim;  // real time, as `--device sim`
+  test::Session s(sim, test::passage(kFlute, 130, 150));
+  s.start();
+  const auto deadline = Clock::now() + 5s;
+  while (s.player().snapshot().counters.notes_played < 3 && Clock::now() < deadline) std::this_thread::sleep_for(5ms);
+  ASSERT_GE(s.player().snapshot().counters.notes_played, 3u);
+
+  // A flute note far ahead (not sent yet: the lookahead is 0.2 s) and a note of another track.
+  const auto flute = note_of(kFlute, 146, 150);
+  ASSERT_TRUE(flute.has_value());
+  const auto other = note_of(2, 140, 150);
+  ASSERT_TRUE(other.has_value());
+  for (const hmp::midi::Note& n : {*flute, *other}) {
+    const std::optional<double> ms = touch_latency_ms(s, n);
+    ASSERT_TRUE(ms.has_value()) << "track " << n.track << " key " << int(n.key) << " never started";
+    EXPECT_LE(*ms, 20.0) << "track " << n.track;
+    testing::Test::RecordProperty("touch_ms_track_" + std::to_string(n.track), std::to_string(*ms));
+  }
+
+  // A note that is not in the song: nothing starts.
+  const std::size_t before = s.started().size();
+  s.player().touch(kFlute, 20, 131.0);  // key 20 is below the flute's range
+  std::this_thread::sleep_for(50ms);
+  for (std::size_t i = before; i < s.started().size(); ++i) EXPECT_NE(s.started()[i].origin.key, 20);
+  s.player().post(hmp::player::Command::quit);
+  s.join();
+}
+
+}  // namespace
