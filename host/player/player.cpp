@@ -428,9 +428,19 @@ const haptics::HapticTrack* Player::haptic_track_of(std::uint32_t track) {
 
 void Player::handle_touches() {
   std::deque<Touch> touches;
+  std::optional<std::uint32_t> wanted;
   {
     std::lock_guard lock(mutex_);
     touches.swap(touches_);
+    wanted.swap(wanted_track_);
+  }
+  if (wanted && *wanted != options_.track) {
+    if (std::find(playable_tracks_.begin(), playable_tracks_.end(), *wanted) == playable_tracks_.end()) {
+      message(fmt::format("track {} has no notes to feel", *wanted));
+    } else {
+      options_.track = *wanted;
+      rebuild_track(song_now());
+    }
   }
   for (const Touch& t : touches) {
     if (paused_ || t.track >= song_.tracks.size()) continue;
@@ -461,6 +471,14 @@ void Player::handle_touches() {
     last_note_end_tick_ = std::max(last_note_end_tick_, note.start_tick + note.duration_ticks);
     sent_[*seq] = SentReport{epoch_, std::move(report), 0};
   }
+}
+
+void Player::select_track(std::uint32_t track) {
+  {
+    std::lock_guard lock(mutex_);
+    wanted_track_ = track;
+  }
+  link_.notify();
 }
 
 void Player::post(Command c) {

@@ -106,6 +106,9 @@ class Player {
   // sound. While the song plays; a note that does not exist, or whose envelope is a user preset of
   // another track (not uploaded), is a one-line message. Any thread.
   void touch(std::uint32_t track, std::uint8_t key, double start_s);
+  // Makes `track` the haptic track (the view's legend, or pushing into a track's bar), as `t` does for the
+  // next one. A track without notes or out of range is a one-line message. Any thread.
+  void select_track(std::uint32_t track);
   Snapshot snapshot() const;  // any thread
   Counters counters() const { return snapshot().counters; }
   const haptics::HapticTrack& haptic_track() const { return track_; }
@@ -176,6 +179,7 @@ class Player {
     double start_s;
   };
   std::deque<Touch> touches_;
+  std::optional<std::uint32_t> wanted_track_;
   std::map<std::uint32_t, haptics::HapticTrack> other_tracks_;  // touched tracks other than the haptic one
   Snapshot snapshot_;
 };

@@ -1,7 +1,7 @@
 // Touching a note (paper §5.3, the view's touch): Player::touch plays that note on the device at once —
 // its Started report arrives within 20 ms of the touch, for a note of the haptic track and for one of
 // another track — while the song plays on the real-time simulated device. A note that does not exist
-// plays nothing and says so. The notes are taken from the song as the MIDI reader reads it.
+// plays nothing. Selecting a track (the view's legend, pushing into a bar) makes it the haptic track. The notes are taken from the song as the MIDI reader reads it.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -74,6 +74,21 @@ TEST(PlayTouch, TouchedNotesStartWithin20ms) {
   s.player().touch(kFlute, 20, 131.0);  // key 20 is below the flute's range
   std::this_thread::sleep_for(50ms);
   for (std::size_t i = before; i < s.started().size(); ++i) EXPECT_NE(s.started()[i].origin.key, 20);
+
+  // Selecting a track makes it the haptic track: the notes the device starts from then on are its notes.
+  s.player().select_track(999);  // no such track: nothing changes
+  std::this_thread::sleep_for(30ms);
+  EXPECT_EQ(s.player().snapshot().track, kFlute);
+  s.player().select_track(2);
+  const auto t0 = Clock::now();
+  while (s.player().snapshot().track != 2 && Clock::now() - t0 < 1s) std::this_thread::sleep_for(1ms);
+  ASSERT_EQ(s.player().snapshot().track, 2u);
+  const std::size_t at_switch = s.started().size();
+  const auto t1 = Clock::now();
+  while (s.started().size() < at_switch + 3 && Clock::now() - t1 < 3s) std::this_thread::sleep_for(5ms);
+  const auto started = s.started();
+  ASSERT_GE(started.size(), at_switch + 3);
+  for (std::size_t i = at_switch; i < started.size(); ++i) EXPECT_EQ(started[i].origin.track, 2u);
   s.player().post(hmp::player::Command::quit);
   s.join();
 }
