@@ -58,6 +58,10 @@ TEST(TransportHid, OpeningAMissingDeviceSaysWhichOne) {
 // What a user without the udev rule sees. Root can open any node, so as root (CI) the open runs in a child
 // that has dropped to the unprivileged "nobody" ids first: the test runs everywhere instead of skipping.
 TEST(TransportHid, UnreadableNodeNamesTheUdevRule) {
+  // The usb module is loaded here, before the child drops its privileges: a user runs hmp from files they
+  // can read, which "nobody" cannot always do in a build tree (a fresh machine's clone, for one).
+  std::string why;
+  ASSERT_NE(hmp::transport::usb_backend(&why), nullptr) << why;
   const auto path = std::filesystem::temp_directory_path() / ("hmp-hidraw-" + std::to_string(::getpid()));
   std::ofstream(path).put('x');
   std::filesystem::permissions(path, std::filesystem::perms::none);
