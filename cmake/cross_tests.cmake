@@ -15,4 +15,5 @@ add_test(NAME firmware_no_heap_symbols
   COMMAND ${PROJECT_SOURCE_DIR}/cmake/check_no_heap_symbols.sh ${CMAKE_NM} ${hmp_image_files})
 set_tests_properties(firmware_no_heap_symbols PROPERTIES LABELS firmware TIMEOUT 60)
 
-include(${PROJECT_SOURCE_DIR}/boards/${HMP_BOARD}/tests.cmake OPTIONAL)
+# Every firmware board has its own tests (its image as the board or its emulator takes it).
+include(${PROJECT_SOURCE_DIR}/boards/${HMP_BOARD}/tests.cmake)

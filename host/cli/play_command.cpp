@@ -92,7 +92,7 @@ int run_play(const PlayOptions& o) {
   if (o.log) output::check_writable(*o.log, o.force);
 
   const midi::ReadResult r = midi::load_song(o.song);
-  for (const midi::Warning& w : r.warnings) std::fprintf(stderr, "warning: %s\n", w.message.c_str());
+  for (const midi::Warning& w : r.warnings) warn_on_stderr(w.message);
   const midi::Song& song = r.song;
   check_window(o, song);
   const std::uint32_t track = o.track ? select_track(song, *o.track) : default_track(song);

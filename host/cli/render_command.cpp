@@ -30,7 +30,7 @@ int run_render(const RenderOptions& o) {
   const output::SignalExport out{o.out, o.audible, o.force};
   const haptics::HapticOptions opts = resolve(o.haptic);
   output::check_export(out);  // fail before the work, not after
-  const TrackWindow w = load_track_window(o.song, o.track, opts, o.from_s, o.to_s);
+  const TrackWindow w = load_track_window(o.song, o.track, opts, o.from_s, o.to_s, warn_on_stderr);
   const midi::ReadResult& r = w.read;
   const std::uint32_t track = w.track;
   const haptics::HapticTrack& ht = w.haptic;

@@ -61,7 +61,7 @@ int run_sim(const SimCliOptions& o) {
   const haptics::HapticOptions opts = resolve(o.haptic);
   output::check_writable(o.out, o.force);
 
-  const TrackWindow w = load_track_window(o.song, o.track, opts, o.from_s, o.to_s);
+  const TrackWindow w = load_track_window(o.song, o.track, opts, o.from_s, o.to_s, warn_on_stderr);
   const midi::ReadResult& r = w.read;
   const std::uint32_t track = w.track;
   const haptics::HapticTrack& ht = w.haptic;

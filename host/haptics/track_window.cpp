@@ -1,0 +1,82 @@
+#include "host/haptics/track_window.hpp"
+
+#include <cmath>
+#include <cstdlib>
+
+#include "host/common/error.hpp"
+#include "host/midi/gm.hpp"
+
+namespace hmp::haptics {
+
+namespace {
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+std::string describe(const midi::Track& t) {
+  return std::to_string(t.index) + " \"" + t.name + "\" (" + midi::gm_instrument_name(t.program(), t.channel()) + ")";
+}
+}  // namespace
+
+std::uint32_t select_track(const midi::Song& song, const std::string& query) {
+  if (song.tracks.empty()) throw BadInput("the song has no tracks");
+  char* end = nullptr;
+  const long index = std::strtol(query.c_str(), &end, 10);
+  if (!query.empty() && *end == '\0') {
+    if (index < 0 || static_cast<std::size_t>(index) >= song.tracks.size()) {
+      throw BadInput("--track " + query + ": no such track (0–" + std::to_string(song.tracks.size() - 1) + ")");
+    }
+    return static_cast<std::uint32_t>(index);
+  }
+  const std::string q = lower(query);
+  std::vector<const midi::Track*> matches;
+  for (const midi::Track& t : song.tracks) {
+    const std::string name = lower(t.name);
+    const std::string instrument = lower(midi::gm_instrument_name(t.program(), t.channel()));
+    if (t.note_count > 0 && (name == q || instrument == q) && matches.empty()) {
+      // An exact match is unambiguous even when other names contain the text.
+      bool unique_exact = true;
+      for (const midi::Track& o : song.tracks) {
+        if (&o != &t && o.note_count > 0 && lower(o.name) == q) unique_exact = false;
+      }
+      if (unique_exact && name == q) return t.index;
+    }
+    if (t.note_count > 0 && (name.find(q) != std::string::npos || instrument.find(q) != std::string::npos)) {
+      matches.push_back(&t);
+    }
+  }
+  if (matches.size() == 1) return matches.front()->index;
+  std::string list;
+  for (const midi::Track* t : matches.empty() ? std::vector<const midi::Track*>{} : matches) list += "; " + describe(*t);
+  if (matches.empty()) {
+    for (const midi::Track& t : song.tracks) {
+      if (t.note_count > 0) list += "; " + describe(t);
+    }
+    throw BadInput("--track '" + query + "': no track matches (tracks with notes: " + list.substr(2) + ")");
+  }
+  throw BadInput("--track '" + query + "' is ambiguous (candidates: " + list.substr(2) + ")");
+}
+
+TrackWindow load_track_window(const std::string& song, const std::string& track, const HapticOptions& opts,
+                              std::optional<double> from_s, std::optional<double> to_s, const WarningSink& warn) {
+  for (const auto& t : {from_s, to_s}) {
+    if (t && !(std::isfinite(*t) && *t >= 0)) throw BadInput("--from/--to: must be seconds ≥ 0");
+  }
+  TrackWindow w;
+  w.read = midi::load_song(song);
+  for (const midi::Warning& warning : w.read.warnings) warn(warning.message);
+  w.track = select_track(w.read.song, track);
+  w.haptic = build_haptic_track(w.read.song, w.track, opts);
+  std::uint64_t song_end = seconds_to_tick(w.read.song.duration_us, opts.tick_hz);
+  for (const HapticNote& n : w.haptic.notes) {
+    song_end = std::max(song_end, n.note.start_tick + n.note.duration_ticks);
+  }
+  const auto to_tick = [&](double s) { return seconds_to_tick(std::llround(s * 1e6), opts.tick_hz); };
+  w.first_tick = from_s ? to_tick(*from_s) : 0;
+  w.end_tick = to_s ? to_tick(*to_s) : song_end;
+  if (w.end_tick <= w.first_tick) throw BadInput("--from/--to: empty window");
+  return w;
+}
+
+}  // namespace hmp::haptics
