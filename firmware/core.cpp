@@ -147,12 +147,17 @@ void Core::run_drive() {
   std::int32_t counts[kMotorCount];
   board_.read_encoders(board_.ctx, counts);
   const DriveTick t = drive_.tick(last_output_, safe, counts, duty_);
+  apply_drive_tick(t);
+  if (t.faults != 0) drive_fault(t.faults);
+}
+
+// What every drive tick (whole or split) ends with: the duties out, the counters, what Status reports.
+void Core::apply_drive_tick(const DriveTick& t) {
   board_.motor_output(board_.ctx, duty_);
   if (t.flags & spidar::flag::saturated) ++stats_.drive_saturated;
   if (t.flags & spidar::flag::not_converged) ++stats_.drive_not_converged;
   force_n_ = t.force_n;
   grip_ = t.grip;
-  if (t.faults != 0) drive_fault(t.faults);
 }
 
 // The split drive's tick: every ticks_per_plan() ticks a plan is asked for (with this tick's counts), and
@@ -174,12 +179,7 @@ void Core::run_split_drive(bool safe) {
   const std::uint32_t seq = plan_seq_.load(std::memory_order_acquire);
   const bool fresh = plan_seen_ != seq;
   if (fresh) drive_.take_plan_speeds(plan);
-  const DriveTick t = drive_.render(last_output_, safe, plan, duty_);
-  board_.motor_output(board_.ctx, duty_);
-  if (t.flags & spidar::flag::saturated) ++stats_.drive_saturated;
-  if (t.flags & spidar::flag::not_converged) ++stats_.drive_not_converged;
-  force_n_ = t.force_n;
-  grip_ = t.grip;
+  apply_drive_tick(drive_.render(last_output_, safe, plan, duty_));
   if (fresh) {
     plan_seen_ = seq;
     if (plan.faults != 0) drive_fault(plan.faults);

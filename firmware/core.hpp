@@ -148,6 +148,7 @@ class Core {
   void send_periodic_reports();
   void run_drive();
   void run_split_drive(bool safe);
+  void apply_drive_tick(const DriveTick& t);
   void drive_fault(std::uint32_t faults);
   std::uint64_t rx_tick64(std::uint32_t rx_tick) const;
   // core_commands.cpp: one handler per host report type
