@@ -1,0 +1,81 @@
+#include "host/view/roll_layout.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace hmp::view {
+
+RollLayout::RollLayout(const LayoutParams& p, std::uint32_t tracks, std::uint32_t haptic)
+    : p_(p), haptic_(haptic), depth_(tracks, 0) {
+  std::uint32_t next = 1;
+  for (std::uint32_t t = 0; t < tracks; ++t) depth_[t] = t == haptic ? 0 : next++;
+}
+
+namespace {
+std::int64_t half_span_us(const LayoutParams& p) { return std::llround(p.seconds_across * 0.5e6); }
+double px_per_us(const LayoutParams& p) { return p.width_px / (p.seconds_across * 1e6); }
+}  // namespace
+
+std::int64_t RollLayout::window_begin_us(std::int64_t now_us) const {
+  // A layer d is shifted right by d·step px: a bar that ends left of the window's edge can still show.
+  const double shift_px = static_cast<double>(p_.depth_step_px) * static_cast<double>(depth_.size());
+  const auto shift_us = static_cast<std::int64_t>(std::ceil(shift_px / px_per_us(p_)));
+  return now_us - half_span_us(p_) - shift_us;
+}
+
+std::int64_t RollLayout::window_end_us(std::int64_t now_us) const { return now_us + half_span_us(p_); }
+
+float RollLayout::x_of(std::int64_t t_us, std::int64_t now_us) const {
+  return static_cast<float>(p_.width_px * 0.5 + static_cast<double>(t_us - now_us) * px_per_us(p_));
+}
+
+float RollLayout::row_height() const {
+  const int rows = std::max(1, p_.key_high - p_.key_low + 1);
+  return (static_cast<float>(p_.height_px) - 2.0f * p_.margin_px) / static_cast<float>(rows);
+}
+
+float RollLayout::y_of(int key) const { return p_.margin_px + static_cast<float>(p_.key_high - key) * row_height(); }
+
+Rect RollLayout::bar_rect(const Bar& b, std::int64_t now_us) const {
+  const float shift = p_.depth_step_px * static_cast<float>(depth_of(b.track));
+  // A zero-length note still shows as a sliver one pixel wide.
+  const float x0 = x_of(b.start_us, now_us) + shift;
+  const float x1 = std::max(x_of(b.end_us, now_us) + shift, x0 + 1.0f);
+  const float y0 = y_of(b.key) - shift;
+  return {x0, y0, x1, y0 + std::max(1.0f, row_height() - 1.0f)};
+}
+
+Rgb RollLayout::colour(const Bar& b, std::int64_t now_us) const {
+  const bool sounding = NoteIndex::sounding(b, now_us);
+  if (b.track == haptic_) return sounding ? kSoundingYellow : kHapticBlue;
+  if (sounding) return kSoundingWhite;
+  return kTrackHues[(depth_of(b.track) - 1) % kTrackHues.size()];
+}
+
+std::optional<Bar> RollLayout::pick(std::span<const Bar> visible, std::int64_t now_us, float x, float y) const {
+  std::optional<Bar> best;
+  for (const Bar& b : visible) {
+    if (!bar_rect(b, now_us).contains(x, y)) continue;
+    if (!best || depth_of(b.track) < depth_of(best->track)) best = b;
+  }
+  return best;
+}
+
+std::pair<int, int> key_range(const midi::Song& song) {
+  int lo = 127, hi = 0;
+  for (const midi::Track& t : song.tracks) {
+    if (t.note_count == 0) continue;
+    lo = std::min(lo, t.key_min());
+    hi = std::max(hi, t.key_max());
+  }
+  if (lo > hi) return {48, 72};
+  lo = std::max(0, lo - 2);
+  hi = std::min(127, hi + 2);
+  while (hi - lo < 24) {  // at least two octaves, centred on what is there
+    if (lo > 0) --lo;
+    if (hi - lo < 24 && hi < 127) ++hi;
+  }
+  return {lo, hi};
+}
+
+}  // namespace hmp::view

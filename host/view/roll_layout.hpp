@@ -1,0 +1,75 @@
+#pragma once
+// Where the animation puts things (paper Figure 1, docs/view.md): time runs right to left across the
+// window at the song's pace, the present at the centre line, the future on the right; pitch upwards; each
+// track one depth layer, the haptic track in front, the others behind it in track order, each layer drawn
+// a little up and to the right of the one before (an oblique view of the 3D bars). Pixels, origin at the
+// top left, y down. The drawing and the cursor's pick use these same numbers.
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "host/view/note_index.hpp"
+
+namespace hmp::view {
+
+struct Rgb {
+  float r = 0, g = 0, b = 0;
+  friend bool operator==(const Rgb&, const Rgb&) = default;
+};
+
+// Colour-blind-safe (Okabe–Ito): the haptic track blue, a sounding haptic note yellow, other sounding notes
+// white; the other tracks cycle through the remaining Okabe–Ito hues, which blue and yellow stay clear of.
+inline constexpr Rgb kHapticBlue{0.0f, 114 / 255.0f, 178 / 255.0f};
+inline constexpr Rgb kSoundingYellow{240 / 255.0f, 228 / 255.0f, 66 / 255.0f};
+inline constexpr Rgb kSoundingWhite{1.0f, 1.0f, 1.0f};
+inline constexpr std::array<Rgb, 5> kTrackHues{{{230 / 255.0f, 159 / 255.0f, 0.0f},          // orange
+                                                {86 / 255.0f, 180 / 255.0f, 233 / 255.0f},   // sky blue
+                                                {0.0f, 158 / 255.0f, 115 / 255.0f},          // bluish green
+                                                {213 / 255.0f, 94 / 255.0f, 0.0f},           // vermillion
+                                                {204 / 255.0f, 121 / 255.0f, 167 / 255.0f}}};  // reddish purple
+
+struct Rect {
+  float x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // x0 < x1, y0 < y1
+  bool contains(float x, float y) const { return x >= x0 && x < x1 && y >= y0 && y < y1; }
+};
+
+struct LayoutParams {
+  int width_px = 1280, height_px = 720;
+  double seconds_across = 12.0;        // the window shows this much song time (zoom: + and − keys)
+  int key_low = 21, key_high = 108;    // the keys shown (piano range unless the song says otherwise)
+  float margin_px = 40.0f;             // above and below the roll (overlay, vibration strip)
+  float depth_step_px = 6.0f;          // each layer behind is this much up and to the right
+};
+
+class RollLayout {
+ public:
+  // `tracks`: how many; `haptic`: the haptic track (in front).
+  RollLayout(const LayoutParams& p, std::uint32_t tracks, std::uint32_t haptic);
+
+  const LayoutParams& params() const { return p_; }
+  // The song-time window drawn around `now_us`: [now − half, now + half), half = seconds_across / 2,
+  // widened on the left by the layers' offset so that shifted bars are not cut early.
+  std::int64_t window_begin_us(std::int64_t now_us) const;
+  std::int64_t window_end_us(std::int64_t now_us) const;
+  float x_of(std::int64_t t_us, std::int64_t now_us) const;  // before the layer's shift
+  float row_height() const;
+  float y_of(int key) const;                                 // top of the key's row, before the shift
+  std::uint32_t depth_of(std::uint32_t track) const { return depth_.at(track); }  // 0 = front (haptic)
+  Rect bar_rect(const Bar& b, std::int64_t now_us) const;
+  Rgb colour(const Bar& b, std::int64_t now_us) const;
+
+  // The front-most bar under (x, y) among `visible` (any order, any tracks); null if none.
+  std::optional<Bar> pick(std::span<const Bar> visible, std::int64_t now_us, float x, float y) const;
+
+ private:
+  LayoutParams p_;
+  std::uint32_t haptic_;
+  std::vector<std::uint32_t> depth_;  // per track
+};
+
+// The keys to show for a song: its lowest to highest key with a little room, at least two octaves.
+std::pair<int, int> key_range(const midi::Song& song);
+
+}  // namespace hmp::view
