@@ -96,7 +96,7 @@ int run_sim(const SimCliOptions& o) {
   const std::uint64_t base = dev.tick() + (static_cast<std::uint64_t>(settings.ramp_in_ms) + 100) * opts.tick_hz / 1000;
   const std::vector<synth::Note> notes = simulate::window_notes(ht, first, end, base);
   const std::uint64_t lookahead = opts.tick_hz / 5, sync_period = opts.tick_hz / 10;
-  const double dir_y = settings.direction[1];  // the direction is (0, 1, 0) unless configured
+  const double dir_y = static_cast<double>(settings.direction[1]);  // the direction is (0, 1, 0) unless configured
 
   std::vector<simulate::ForceSample> samples;
   samples.reserve(end - first);

@@ -341,7 +341,7 @@ void register_study(CLI::App& app, Registry& registry) {
   analyze->add_flag("--json", a->json, "JSON instead of the table");
   analyze->add_option("--out", a->figure, "PNG like the paper's Figure 3");
   analyze->callback([a, &registry] { registry.set([a] { return run_analyze(*a); }); });
-  cmd->callback([o, cmd, analyze, &registry] {
+  cmd->callback([o, analyze, &registry] {
     if (analyze->parsed()) return;
     registry.set([o] { return run_study(*o); });
   });

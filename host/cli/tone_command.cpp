@@ -1,6 +1,7 @@
 // hmp tone — one note, for inspection and tests (design §3).
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <optional>
 #include <string>
 
@@ -19,9 +20,9 @@ namespace hmp::cli {
 namespace {
 
 struct ToneOptions {
-  double freq_hz = NAN;
-  double amp = NAN;
-  double ms = NAN;
+  double freq_hz = std::numeric_limits<double>::quiet_NaN();
+  double amp = std::numeric_limits<double>::quiet_NaN();
+  double ms = std::numeric_limits<double>::quiet_NaN();
   std::optional<std::string> instrument;
   std::optional<std::string> adsr;
   std::string out = "-";
