@@ -29,6 +29,7 @@ void register_info(CLI::App& app, Registry& registry);
 void register_render(CLI::App& app, Registry& registry);
 void register_devices(CLI::App&, Registry&);
 void register_play(CLI::App& app, Registry& registry);
+void register_view(CLI::App& app, Registry& registry);
 void register_sim(CLI::App& app, Registry& registry);
 void register_study(CLI::App& app, Registry& registry);
 void register_flash(CLI::App& app, Registry& registry);

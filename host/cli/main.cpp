@@ -18,6 +18,7 @@ constexpr Command kCommands[] = {
     {"tone", hmp::cli::register_tone},       {"devices", hmp::cli::register_devices},
     {"flash", hmp::cli::register_flash},     {"play", hmp::cli::register_play},
     {"sim", hmp::cli::register_sim},         {"study", hmp::cli::register_study},
+    {"view", hmp::cli::register_view},
 };
 
 // The command named first on the command line, or null (help, --version, a typo: every command is

@@ -13,6 +13,7 @@
 #include "host/audio/audio_player.hpp"
 #include "host/cli/commands.hpp"
 #include "host/cli/open_link.hpp"
+#include "host/cli/play_view.hpp"
 #include "host/cli/song_options.hpp"
 #include "host/common/error.hpp"
 #include "host/config/config.hpp"
@@ -38,30 +39,12 @@ struct PlayOptions {
   std::optional<std::string> audio_driver;
   std::optional<std::string> soundfont;
   bool no_view = false;
+  bool fullscreen = false;
   std::optional<double> from_s, to_s;
   std::optional<std::string> log;
   bool force = false;
   HapticCliOptions haptic;
 };
-
-std::string describe_track(const midi::Song& song, std::uint32_t index) {
-  const midi::Track& t = song.tracks[index];
-  return fmt::format("{} \"{}\" ({})", t.index, t.name, midi::gm_instrument_name(t.program(), t.channel()));
-}
-
-// No --track: the first track with notes whose instrument has its own envelope in Table 1 (design §6:
-// organ … contrabass), else the first track with notes.
-std::uint32_t default_track(const midi::Song& song) {
-  std::optional<std::uint32_t> first;
-  for (const midi::Track& t : song.tracks) {
-    if (t.note_count == 0) continue;
-    if (!first) first = t.index;
-    const auto preset = static_cast<std::uint8_t>(midi::auto_preset(t.program(), t.channel()));
-    if (preset <= static_cast<std::uint8_t>(envelope::Preset::contrabass)) return t.index;
-  }
-  if (!first) throw BadInput("the song has no notes to play");
-  return *first;
-}
 
 void check_window(const PlayOptions& o, const midi::Song& song) {
   for (const auto& t : {o.from_s, o.to_s}) {
@@ -95,7 +78,7 @@ int run_play(const PlayOptions& o) {
   for (const midi::Warning& w : r.warnings) warn_on_stderr(w.message);
   const midi::Song& song = r.song;
   check_window(o, song);
-  const std::uint32_t track = o.track ? select_track(song, *o.track) : default_track(song);
+  const std::uint32_t track = o.track ? select_track(song, *o.track) : default_haptic_track(song);
   if (!o.track) {
     std::fprintf(stderr, "haptic track %s (the first with a Table 1 instrument; choose with --track or the t key)\n",
                  describe_track(song, track).c_str());
@@ -152,6 +135,16 @@ int run_play(const PlayOptions& o) {
   player::Player player(link, audio, song, po);
   running = &player;
   if (keys.active()) status.message("keys: space pause/resume, ←/→ seek 5 s, t/T track, e envelope, m mapping, q quit");
+  // The animation (design §14): where there is no window to be had, one warning and the song plays on.
+  std::unique_ptr<view::LiveView> window;
+  if (!o.no_view) {
+    haptics::HapticOptions strip = haptic;
+    strip.tick_hz = hello.tick_hz;  // the strip shows what the device plays, at its rate
+    std::string why;
+    window = open_play_view(song, player, audio, strip,
+                            {fmt::format("hmp — {}", o.song), opened.transport->name(), o.fullscreen}, why);
+    if (!window) std::fprintf(stderr, "warning: no animation window: %s; the song plays on without it (--no-view: do not try)\n", why.c_str());
+  }
 
   player::Outcome outcome = player::Outcome::finished;
   try {
@@ -192,6 +185,7 @@ void register_play(CLI::App& app, Registry& registry) {
   cmd->add_option("--soundfont", o->soundfont, "SoundFont (.sf2/.sf3) for the song's audio (default: the GM one installed)")
       ->check(CLI::ExistingFile);
   cmd->add_flag("--no-view", o->no_view, "No animation window");
+  cmd->add_flag("--fullscreen", o->fullscreen, "The animation window fills the screen (f toggles)");
   cmd->add_option("--from", o->from_s, "Start of the passage in seconds of the song");
   cmd->add_option("--to", o->to_s, "End of the passage in seconds of the song");
   cmd->add_option("--log", o->log, "JSON lines: every note the device started, then a summary");

@@ -3,6 +3,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <optional>
+
+#include <fmt/format.h>
 
 #include "host/common/error.hpp"
 #include "host/midi/gm.hpp"
@@ -63,6 +66,23 @@ haptics::HapticOptions resolve(const HapticCliOptions& o) {
   if (o.tick_hz) h.tick_hz = *o.tick_hz;
   haptics::validate(h);
   return h;
+}
+
+std::string describe_track(const midi::Song& song, std::uint32_t index) {
+  const midi::Track& t = song.tracks[index];
+  return fmt::format("{} \"{}\" ({})", t.index, t.name, midi::gm_instrument_name(t.program(), t.channel()));
+}
+
+std::uint32_t default_haptic_track(const midi::Song& song) {
+  std::optional<std::uint32_t> first;
+  for (const midi::Track& t : song.tracks) {
+    if (t.note_count == 0) continue;
+    if (!first) first = t.index;
+    const auto preset = static_cast<std::uint8_t>(midi::auto_preset(t.program(), t.channel()));
+    if (preset <= static_cast<std::uint8_t>(envelope::Preset::contrabass)) return t.index;
+  }
+  if (!first) throw BadInput("the song has no notes to play");
+  return *first;
 }
 
 }  // namespace hmp::cli

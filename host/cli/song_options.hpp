@@ -28,6 +28,12 @@ struct HapticCliOptions {
 void add_haptic_options(CLI::App* cmd, HapticCliOptions& o);
 haptics::HapticOptions resolve(const HapticCliOptions& o);
 
+// No --track: the first track with notes whose instrument has its own envelope in Table 1 (design §6:
+// organ … contrabass), else the first track with notes. A song without notes is bad input.
+std::uint32_t default_haptic_track(const midi::Song& song);
+// `2 "Flute" (Flute)`
+std::string describe_track(const midi::Song& song, std::uint32_t index);
+
 // "warning: MESSAGE" on stderr: where the commands send the reader's warnings.
 void warn_on_stderr(const std::string& message);
 

@@ -52,9 +52,18 @@ std::optional<Key> KeyDecoder::feed(unsigned char byte) {
     if (byte == 'D') return Key::left;
     return std::nullopt;  // another sequence (up/down, function keys): ignored
   }
-  switch (byte) {
-    case 0x1B: escape_ = 1; return std::nullopt;
+  if (byte == 0x1B) {
+    escape_ = 1;
+    return std::nullopt;
+  }
+  return key_for_char(static_cast<char>(byte));
+}
+
+std::optional<Key> key_for_char(char c) {
+  switch (c) {
     case ' ': return Key::space;
+    case '<': return Key::left;
+    case '>': return Key::right;
     case 't': return Key::next_track;
     case 'T': return Key::previous_track;
     case 'e': return Key::envelope;

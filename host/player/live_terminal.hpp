@@ -19,6 +19,9 @@ enum class Key { space, left, right, next_track, previous_track, envelope, mappi
 // The command a key stands for (design §14 keys: pause, seek, switch track/envelope/mapping, quit).
 Command command_for(Key k);
 
+// A printable key's meaning (the window's keys too; '<' and '>' stand for the arrows there).
+std::optional<Key> key_for_char(char c);
+
 // Decodes key bytes: printable keys, and the arrow escape sequences ESC [ C / ESC [ D (ESC O C / D in
 // application mode). Feed bytes one at a time; a key comes out when complete.
 class KeyDecoder {

@@ -50,7 +50,7 @@ Player::Player(DeviceLink& link, audio::AudioPlayer& audio, const midi::Song& so
   protocol::Message m = protocol::make(protocol::Type::settings, 0);
   m.settings = options_.settings;
   if (protocol::validate(m) != protocol::ErrorCode::none) throw BadInput("device settings out of range (check the config's [device])");
-  track_ = haptics::build_haptic_track(song_, options_.track, options_.haptic);
+  set_track(haptics::build_haptic_track(song_, options_.track, options_.haptic));
   update_snapshot();
 }
 
@@ -146,6 +146,13 @@ void Player::flush_device(protocol::TransportOp op, std::int64_t song_us) {
   last_note_end_tick_ = 0;
 }
 
+void Player::set_track(haptics::HapticTrack&& track) {
+  track_ = std::move(track);
+  auto published = std::make_shared<const haptics::HapticTrack>(track_);
+  std::lock_guard lock(mutex_);
+  published_track_ = std::move(published);
+}
+
 void Player::rebuild_track(std::int64_t song_us) {
   haptics::HapticTrack rebuilt;
   try {
@@ -154,7 +161,7 @@ void Player::rebuild_track(std::int64_t song_us) {
     message(fmt::format("cannot switch: {}", e.what()));
     return;
   }
-  track_ = std::move(rebuilt);
+  set_track(std::move(rebuilt));
   send_presets();
   if (!paused_) flush_device(protocol::TransportOp::seek, song_us);
   ++epoch_;
@@ -238,7 +245,7 @@ void Player::recover(const std::string& why) {
   if (hello.tick_hz != tick_hz_) {
     tick_hz_ = hello.tick_hz;
     options_.haptic.tick_hz = tick_hz_;
-    track_ = haptics::build_haptic_track(song_, options_.track, options_.haptic);
+    set_track(haptics::build_haptic_track(song_, options_.track, options_.haptic));
     scheduler_.load(track_, song_now());
   }
   set_up_device();
@@ -277,12 +284,34 @@ void Player::check_device_state() {
   }
 }
 
+void Player::seek(std::int64_t target) {
+  target = std::clamp(target, options_.from_us, window_end_us());
+  if (paused_) {
+    paused_at_us_ = target;
+    audio_.seek(target);  // the clock (and the view) show the new position while paused
+  } else {
+    flush_device(protocol::TransportOp::seek, target);
+    start_at(target, options_.seek_preroll_s);
+  }
+}
+
+void Player::seek_to(std::int64_t song_us) {
+  {
+    std::lock_guard lock(mutex_);
+    wanted_seek_us_ = song_us;
+  }
+  link_.notify();
+}
+
 bool Player::handle_commands(Outcome& outcome) {
   std::deque<Command> commands;
+  std::optional<std::int64_t> seek_to;
   {
     std::lock_guard lock(mutex_);
     commands.swap(commands_);
+    seek_to.swap(wanted_seek_us_);
   }
+  if (seek_to) seek(*seek_to);
   for (const Command c : commands) {
     switch (c) {
       case Command::toggle_pause:
@@ -298,13 +327,7 @@ bool Player::handle_commands(Outcome& outcome) {
       case Command::seek_back:
       case Command::seek_forward: {
         const double step = c == Command::seek_back ? -options_.seek_step_s : options_.seek_step_s;
-        const std::int64_t target = std::clamp(song_now() + seconds(step), options_.from_us, window_end_us());
-        if (paused_) {
-          paused_at_us_ = target;
-        } else {
-          flush_device(protocol::TransportOp::seek, target);
-          start_at(target, options_.seek_preroll_s);
-        }
+        seek(song_now() + seconds(step));
         break;
       }
       case Command::next_track:
@@ -393,6 +416,7 @@ void Player::update_snapshot() {
   s.envelope = options_.haptic.envelope;
   s.mapping = mapping::name(options_.haptic.mapping);
   s.counters = counters_;
+  s.begin_us = options_.from_us;
   s.queue_capacity = link_.hello().queue_capacity;
   if (const auto st = link_.status()) {
     s.queue_free = st->queue_free;
@@ -401,6 +425,7 @@ void Player::update_snapshot() {
     if (st->grip_known != 0) s.grip_m = std::array<float, 3>{st->grip_m[0], st->grip_m[1], st->grip_m[2]};
   }
   std::lock_guard lock(mutex_);
+  s.haptic = published_track_;
   snapshot_ = std::move(s);
 }
 

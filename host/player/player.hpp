@@ -14,6 +14,7 @@
 #include <deque>
 #include <functional>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <set>
@@ -70,6 +71,8 @@ struct Snapshot {
   protocol::State device_state = protocol::State::idle;
   std::uint8_t active_voices = 0;
   std::optional<std::array<float, 3>> grip_m;  // the grip's position (m, device frame) when the device knows it
+  std::int64_t begin_us = 0;                   // the passage's start (--from)
+  std::shared_ptr<const haptics::HapticTrack> haptic;  // the haptic track's notes as now sent (the view's strip)
 };
 
 struct PlayerOptions {
@@ -109,6 +112,9 @@ class Player {
   // Makes `track` the haptic track (the view's legend, or pushing into a track's bar), as `t` does for the
   // next one. A track without notes or out of range is a one-line message. Any thread.
   void select_track(std::uint32_t track);
+  // Moves to `song_us` (clamped to the passage), playing or paused as before (the view's progress bar).
+  // Any thread.
+  void seek_to(std::int64_t song_us);
   Snapshot snapshot() const;  // any thread
   Counters counters() const { return snapshot().counters; }
   const haptics::HapticTrack& haptic_track() const { return track_; }
@@ -128,6 +134,8 @@ class Player {
   void start_at(std::int64_t song_us, double preroll_s);
   void flush_device(protocol::TransportOp op, std::int64_t song_us);
   void rebuild_track(std::int64_t song_us);
+  void set_track(haptics::HapticTrack&& track);  // track_, and its copy published in the snapshot
+  void seek(std::int64_t target);
   void schedule();
   void handle_events();
   void handle_touches();
@@ -180,6 +188,8 @@ class Player {
   };
   std::deque<Touch> touches_;
   std::optional<std::uint32_t> wanted_track_;
+  std::optional<std::int64_t> wanted_seek_us_;
+  std::shared_ptr<const haptics::HapticTrack> published_track_;
   std::map<std::uint32_t, haptics::HapticTrack> other_tracks_;  // touched tracks other than the haptic one
   Snapshot snapshot_;
 };

@@ -36,8 +36,24 @@ float RollLayout::row_height() const {
 
 float RollLayout::y_of(int key) const { return p_.margin_px + static_cast<float>(p_.key_high - key) * row_height(); }
 
+void RollLayout::set_depth_blend(std::uint32_t previous, float blend) {
+  blend_ = std::clamp(blend, 0.0f, 1.0f);
+  if (blend_ >= 1.0f || previous >= depth_.size()) {
+    previous_depth_.clear();
+    return;
+  }
+  previous_depth_ = RollLayout(p_, static_cast<std::uint32_t>(depth_.size()), previous).depth_;
+}
+
+float RollLayout::shift_of(std::uint32_t track) const {
+  const float now = static_cast<float>(depth_of(track));
+  if (previous_depth_.empty()) return p_.depth_step_px * now;
+  const float before = static_cast<float>(previous_depth_.at(track));
+  return p_.depth_step_px * (before + (now - before) * blend_);
+}
+
 Rect RollLayout::bar_rect(const Bar& b, std::int64_t now_us) const {
-  const float shift = p_.depth_step_px * static_cast<float>(depth_of(b.track));
+  const float shift = shift_of(b.track);
   // A zero-length note still shows as a sliver one pixel wide.
   const float x0 = x_of(b.start_us, now_us) + shift;
   const float x1 = std::max(x_of(b.end_us, now_us) + shift, x0 + 1.0f);
@@ -59,6 +75,28 @@ std::optional<Bar> RollLayout::pick(std::span<const Bar> visible, std::int64_t n
     if (!best || depth_of(b.track) < depth_of(best->track)) best = b;
   }
   return best;
+}
+
+Chrome chrome_layout(const LayoutParams& p, float scale) {
+  const auto w = static_cast<float>(p.width_px), h = static_cast<float>(p.height_px);
+  Chrome c;
+  c.text_px = 13.0f * scale;
+  c.overlay = {0.0f, 0.0f, w, p.margin_px};
+  const float strip_h = std::min(30.0f, p.margin_px * 0.75f);
+  c.strip = {0.0f, h - strip_h, w, h};
+  c.progress = {0.0f, h - p.margin_px + 1.0f, w, h - strip_h - 1.0f};
+  c.legend_row = 18.0f * scale;
+  c.legend_width = std::min(w * 0.3f, 300.0f * scale);
+  c.legend_x0 = w - c.legend_width - 6.0f * scale;
+  c.legend_y0 = p.margin_px + 4.0f * scale;
+  return c;
+}
+
+std::int64_t progress_time(const Chrome& c, float x, std::int64_t begin_us, std::int64_t end_us) {
+  const float width = c.progress.x1 - c.progress.x0;
+  if (!(width > 0.0f) || end_us <= begin_us) return begin_us;
+  const double f = std::clamp(static_cast<double>((x - c.progress.x0) / width), 0.0, 1.0);
+  return begin_us + std::llround(f * static_cast<double>(end_us - begin_us));
 }
 
 std::pair<int, int> key_range(const midi::Song& song) {

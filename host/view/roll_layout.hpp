@@ -58,6 +58,9 @@ class RollLayout {
   float y_of(int key) const;                                 // top of the key's row, before the shift
   std::uint32_t depth_of(std::uint32_t track) const { return depth_.at(track); }  // 0 = front (haptic)
   Rect bar_rect(const Bar& b, std::int64_t now_us) const;
+  // After a switch of the haptic track the layers glide to their new depth: `blend` 0 is the old order
+  // (`previous` in front), 1 the new one. Bars are placed at the interpolated depth.
+  void set_depth_blend(std::uint32_t previous, float blend);
   Rgb colour(const Bar& b, std::int64_t now_us) const;
 
   // The front-most bar under (x, y) among `visible` (any order, any tracks); null if none.
@@ -66,8 +69,31 @@ class RollLayout {
  private:
   LayoutParams p_;
   std::uint32_t haptic_;
+  float shift_of(std::uint32_t track) const;  // px up and right of the track's layer
+
   std::vector<std::uint32_t> depth_;  // per track
+  std::vector<std::uint32_t> previous_depth_;  // per track, before the switch (empty: no glide)
+  float blend_ = 1.0f;
 };
+
+// The parts around the roll (docs/view.md): the overlay line in the top margin, the legend at the top
+// right over the roll, the progress bar and the vibration strip in the bottom margin. `scale` is the
+// screen's pixels per logical pixel (HiDPI), so text and rows keep their size.
+struct Chrome {
+  Rect overlay;      // the top margin
+  Rect progress;     // click or drag: seek
+  Rect strip;        // the vibration the device plays now
+  float legend_x0 = 0, legend_y0 = 0, legend_row = 0, legend_width = 0;
+  Rect legend_row_rect(std::size_t i) const {
+    const float y = legend_y0 + legend_row * static_cast<float>(i);
+    return {legend_x0, y, legend_x0 + legend_width, y + legend_row};
+  }
+  float text_px = 13.0f;  // font size
+};
+Chrome chrome_layout(const LayoutParams& p, float scale = 1.0f);
+
+// The song time at x on the progress bar for a song (or passage) [begin_us, end_us).
+std::int64_t progress_time(const Chrome& c, float x, std::int64_t begin_us, std::int64_t end_us);
 
 // The keys to show for a song: its lowest to highest key with a little room, at least two octaves.
 std::pair<int, int> key_range(const midi::Song& song);

@@ -20,24 +20,51 @@ struct ViewSetup {
   bool hidden = false;               // tests: draw without showing
   bool capture = false;              // keep every frame's pixels for read_pixels (tests, screenshots)
   bool vsync = true;                 // wait for the display's refresh (off: as fast as it draws)
+  bool draw_everything = false;      // the view-frame benchmark's comparison: every note of the song sent and
+                                     // drawn each frame, as players that do not index their notes do
+};
+
+// What the last frame cost (the view-frame benchmark): the CPU time of this thread to work out the frame
+// (visible notes, layout, instances, text), of the whole frame() call (plus the GL driver's work on this
+// thread), and the wall time from the call to the end of the buffer swap.
+struct FrameCost {
+  double prepare_cpu_ms = 0, frame_cpu_ms = 0, wall_ms = 0;
+  std::size_t instances = 0;
+};
+
+// One row of the legend (top right): a track's name, instrument, and whether it is the haptic track or hidden.
+struct LegendEntry {
+  std::uint32_t track = 0;
+  std::string label;                 // "2 Flute (Flute)"
+  bool haptic = false;
+  bool hidden = false;               // its bars are not drawn (clicked off in the legend)
 };
 
 // What one frame shows.
 struct FrameState {
   std::int64_t song_us = 0;          // the song time this frame shows (when it reaches the screen)
+  std::int64_t end_us = 0;           // the song's (or the passage's) end: the progress bar's right edge
   std::uint32_t haptic_track = 0;
+  float depth_blend = 1.0f;          // 0 → 1 after a switch of the haptic track: layers glide to their new depth
+  std::uint32_t previous_haptic = 0; // the haptic track before that switch
   bool paused = false;
   double seconds_across = 12.0;      // zoom
+  std::string overlay;               // the line at the top: time, track, envelope, mapping, device, late/stolen
+  std::vector<LegendEntry> legend;   // one row each, top down (tracks without notes are not listed)
+  std::vector<std::string> help;     // lines of the help box (the h key); empty: none
+  bool cursor = false;               // the touch cursor (grip or mouse) at (cursor_x, cursor_y) window pixels
+  float cursor_x = 0, cursor_y = 0;
+  bool cursor_pressing = false;      // pushing in (button held / grip pushed into a bar)
   float vibration[256] = {};         // the strip under the roll: the device's output over the last frames
   int vibration_samples = 0;
 };
 
 // What the user did since the last frame.
 struct ViewEvent {
-  enum class Kind { quit, key, click, cursor } kind = Kind::key;
+  enum class Kind { quit, key, press, release, cursor } kind = Kind::key;
   char key = 0;                      // Kind::key: ' ', 'q', 't', 'T', 'e', 'm', '+', '-', '[', ']', 'f', 'h',
                                      // '<' / '>' for the arrow keys
-  float x = 0, y = 0;                // Kind::click / cursor: window pixels, origin top left
+  float x = 0, y = 0;                // Kind::press / release / cursor: window pixels, origin top left
 };
 
 class ViewWindow {
@@ -45,15 +72,21 @@ class ViewWindow {
   virtual ~ViewWindow() = default;
   // Draws one frame and collects the window's events; false once the window is gone (closed).
   virtual bool frame(const FrameState& state, std::vector<ViewEvent>& events) = 0;
+  // Collects the window's events without drawing (between frames); false once the window is gone.
+  virtual bool poll(std::vector<ViewEvent>& events) = 0;
   // The last frame's pixels, RGB, rows from the top (tests, screenshots).
   virtual bool read_pixels(std::vector<std::uint8_t>& rgb, int& width, int& height) = 0;
+  virtual FrameCost last_cost() const = 0;
   virtual std::string renderer() const = 0;  // the GL renderer's name ("llvmpipe (LLVM 15.0.6, 256 bits)")
+  // The drawable's size in pixels (more than the logical size on HiDPI screens), and pixels per logical
+  // pixel: events come in logical pixels, layouts are in drawable pixels.
+  virtual void size(int& width_px, int& height_px, float& scale) const = 0;
 };
 
 class ViewBackend {
  public:
   static constexpr const char* kModule = "view";
-  static constexpr int kAbi = 1;
+  static constexpr int kAbi = 2;
   // A window, or null and `error` says why (no display, no OpenGL 3.3, …) in one line.
   virtual std::unique_ptr<ViewWindow> open(const ViewSetup& setup, std::string& error) const = 0;
 

@@ -151,6 +151,7 @@ class Session {
   }
   player::Player& player() { return *player_; }
   player::DeviceLink& link() { return link_; }
+  audio::AudioPlayer& audio() { return audio_; }
   std::optional<player::Outcome> outcome() const { return outcome_; }
   std::string error() {
     std::lock_guard lock(mutex_);

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "host/view/gl/roll_renderer.hpp"
 #include "host/view/note_index.hpp"
 #include "host/view/roll_layout.hpp"
 #include "host/view/view_backend.hpp"
@@ -14,7 +15,7 @@ struct SDL_Window;
 
 namespace hmp::view::gl {
 
-class RollRenderer;
+class TextLayer;
 
 class SdlGlWindow final : public ViewWindow {
  public:
@@ -25,12 +26,14 @@ class SdlGlWindow final : public ViewWindow {
   SdlGlWindow& operator=(const SdlGlWindow&) = delete;
 
   bool frame(const FrameState& state, std::vector<ViewEvent>& events) override;
+  bool poll(std::vector<ViewEvent>& events) override;
   bool read_pixels(std::vector<std::uint8_t>& rgb, int& width, int& height) override;
   std::string renderer() const override { return renderer_name_; }
+  FrameCost last_cost() const override { return cost_; }
+  void size(int& width_px, int& height_px, float& scale) const override;
 
  private:
   SdlGlWindow(const ViewSetup& setup, SDL_Window* window, void* context);
-  void poll(std::vector<ViewEvent>& events);
 
   ViewSetup setup_;
   SDL_Window* window_;
@@ -38,10 +41,13 @@ class SdlGlWindow final : public ViewWindow {
   NoteIndex index_;
   LayoutParams layout_params_;
   std::unique_ptr<RollRenderer> renderer_;
+  std::unique_ptr<TextLayer> text_;
   std::string renderer_name_;
   std::vector<Bar> visible_;
+  std::vector<Instance> instances_;  // this frame's rectangles (kept: no allocation per frame)
   std::vector<std::uint8_t> pixels_;
   int pixels_w_ = 0, pixels_h_ = 0;
+  FrameCost cost_;
   bool open_ = true;
   bool fullscreen_ = false;
 };

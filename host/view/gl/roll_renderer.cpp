@@ -4,6 +4,8 @@
 
 #include <cstddef>
 
+#include "host/view/gl/shader.hpp"
+
 namespace hmp::view::gl {
 namespace {
 
@@ -27,41 +29,11 @@ out vec4 out_colour;
 void main() { out_colour = vec4(v_colour, 1.0); }
 )";
 
-unsigned compile(GLenum kind, const char* source, std::string& error) {
-  const GLuint shader = glCreateShader(kind);
-  glShaderSource(shader, 1, &source, nullptr);
-  glCompileShader(shader);
-  GLint ok = 0;
-  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    char log[512] = {};
-    glGetShaderInfoLog(shader, sizeof log, nullptr, log);
-    error = std::string("shader: ") + log;
-    glDeleteShader(shader);
-    return 0;
-  }
-  return shader;
-}
-
 }  // namespace
 
 RollRenderer::RollRenderer() {
-  const unsigned vs = compile(GL_VERTEX_SHADER, kVertex, error_);
-  const unsigned fs = vs != 0 ? compile(GL_FRAGMENT_SHADER, kFragment, error_) : 0;
-  if (vs == 0 || fs == 0) return;
-  const GLuint program = glCreateProgram();
-  glAttachShader(program, vs);
-  glAttachShader(program, fs);
-  glLinkProgram(program);
-  glDeleteShader(vs);
-  glDeleteShader(fs);
-  GLint linked = 0;
-  glGetProgramiv(program, GL_LINK_STATUS, &linked);
-  if (!linked) {
-    error_ = "shader program does not link";
-    glDeleteProgram(program);
-    return;
-  }
+  const unsigned program = link_program(kVertex, kFragment, error_);
+  if (program == 0) return;
   program_ = program;
   screen_uniform_ = glGetUniformLocation(program_, "screen");
   glGenVertexArrays(1, &vao_);

@@ -1,0 +1,207 @@
+// hmp view SONG [--track T] [--from S] [--to S] [--no-audio] … — the animation with the song's audio and
+// no device (design §14): the window of `hmp play` driven by the audio clock alone. Keys and clicks
+// pause, seek and choose the haptic track (the blue one, whose signal the strip shows).
+#include <unistd.h>
+
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <deque>
+#include <mutex>
+#include <thread>
+
+#include <fmt/format.h>
+
+#include "host/audio/audio_events.hpp"
+#include "host/audio/audio_player.hpp"
+#include "host/cli/commands.hpp"
+#include "host/cli/play_view.hpp"
+#include "host/cli/song_options.hpp"
+#include "host/common/error.hpp"
+#include "host/haptics/signal_tail.hpp"
+#include "host/player/live_terminal.hpp"
+
+namespace hmp::cli {
+
+namespace {
+
+struct ViewOptions {
+  std::string song;
+  std::optional<std::string> track;
+  bool no_audio = false;
+  std::optional<std::string> audio_driver, soundfont;
+  std::optional<double> from_s, to_s;
+  bool fullscreen = false;
+  HapticCliOptions haptic;
+};
+
+// What the window asked for, handed from its thread to the main loop.
+struct Requests {
+  std::mutex mutex;
+  std::deque<char> keys;
+  std::optional<std::int64_t> seek_us;
+  std::optional<std::uint32_t> track;
+};
+
+char char_of(player::Key k) {
+  switch (k) {
+    case player::Key::space: return ' ';
+    case player::Key::left: return '<';
+    case player::Key::right: return '>';
+    case player::Key::next_track: return 't';
+    case player::Key::previous_track: return 'T';
+    case player::Key::envelope: return 'e';
+    case player::Key::mapping: return 'm';
+    case player::Key::quit: return 'q';
+  }
+  return 0;
+}
+
+int run_view(const ViewOptions& o) {
+  const haptics::HapticOptions haptic = resolve(o.haptic);
+  const midi::ReadResult r = midi::load_song(o.song);
+  for (const midi::Warning& w : r.warnings) warn_on_stderr(w.message);
+  const midi::Song& song = r.song;
+  for (const auto& t : {o.from_s, o.to_s}) {
+    if (t && !(std::isfinite(*t) && *t >= 0)) throw BadInput("--from/--to: must be seconds ≥ 0");
+  }
+  const std::int64_t begin_us = o.from_s ? std::llround(*o.from_s * 1e6) : 0;
+  const std::int64_t end_us = o.to_s ? std::llround(*o.to_s * 1e6) : std::llround(song.duration_s() * 1e6);
+  if (begin_us >= end_us) throw BadInput(fmt::format("--from/--to: empty window (the song ends at {:.3f} s)", song.duration_s()));
+  std::uint32_t track = o.track ? select_track(song, *o.track) : default_haptic_track(song);
+
+  audio::AudioOptions audio_options;
+  audio_options.enabled = !o.no_audio;
+  if (o.audio_driver) audio_options.drivers = {*o.audio_driver};
+  if (o.soundfont) audio_options.soundfont = *o.soundfont;
+  audio::AudioPlayer audio(audio_options);
+  audio.set_events(audio::audio_events(song));
+
+  std::mutex strip_mutex;  // the haptic track whose signal the strip shows
+  auto build = [&](std::uint32_t t) { return std::make_shared<haptics::SignalTail>(
+                                          std::make_shared<const haptics::HapticTrack>(haptics::build_haptic_track(song, t, haptic)), haptic); };
+  std::shared_ptr<haptics::SignalTail> strip = build(track);
+  std::atomic<std::uint32_t> shown_track{track};
+  std::atomic<bool> paused{false};
+  Requests requests;
+  const std::uint32_t tracks = static_cast<std::uint32_t>(song.tracks.size());
+
+  view::LiveViewOptions options;
+  options.setup.title = fmt::format("hmp view — {}", o.song);
+  options.setup.fullscreen = o.fullscreen;
+  options.track_labels = legend_labels(song);
+  view::LiveViewHooks hooks;
+  hooks.song_time = [&audio](view::Clock::time_point t) { return audio.song_time_us(t); };
+  hooks.state = [&] {
+    view::LiveState st;
+    st.haptic_track = shown_track.load();
+    st.paused = paused.load();
+    st.begin_us = begin_us;
+    st.end_us = end_us;
+    const midi::Track& t = song.tracks[st.haptic_track];
+    st.overlay = fmt::format("{}  {} / {}   track {} \"{}\"   audio {}   no device   (h: help)", st.paused ? "paused" : "playing",
+                             player::format_time(audio.song_time_us()), player::format_time(end_us), t.index, t.name,
+                             audio.driver_name());
+    return st;
+  };
+  hooks.key = [&](char k) {
+    std::lock_guard lock(requests.mutex);
+    requests.keys.push_back(k);
+  };
+  hooks.seek_to = [&](std::int64_t us) {
+    std::lock_guard lock(requests.mutex);
+    requests.seek_us = us;
+  };
+  hooks.select_track = [&](std::uint32_t t) {
+    std::lock_guard lock(requests.mutex);
+    requests.track = t;
+  };
+  hooks.vibration = [&](std::int64_t song_us, float* out, int max) {
+    std::shared_ptr<haptics::SignalTail> s;
+    {
+      std::lock_guard lock(strip_mutex);
+      s = strip;
+    }
+    return s->samples(song_us, out, max);
+  };
+  std::string why;
+  const std::unique_ptr<view::LiveView> window = view::LiveView::open(song, std::move(options), std::move(hooks), why);
+  if (!window) {
+    std::fprintf(stderr, "error: no animation window: %s\n", why.c_str());
+    return kExitFailure;
+  }
+  std::fprintf(stderr, "view: %s, audio %s; h in the window lists the keys\n", window->renderer().c_str(), audio.driver_name().c_str());
+
+  player::RawKeys keys;
+  player::install_stop_signals();
+  audio.start(begin_us);
+  auto switch_to = [&](std::uint32_t t) {
+    if (t >= tracks || song.tracks[t].note_count == 0) return;
+    std::shared_ptr<haptics::SignalTail> s = build(t);
+    std::lock_guard lock(strip_mutex);
+    strip = std::move(s);
+    shown_track = t;
+  };
+  auto step_track = [&](int dir) {
+    for (std::uint32_t i = 1; i <= tracks; ++i) {
+      const std::uint32_t t = (shown_track.load() + tracks + static_cast<std::uint32_t>(dir) * i) % tracks;
+      if (song.tracks[t].note_count > 0) return switch_to(t);
+    }
+  };
+  auto seek = [&](std::int64_t us) { audio.seek(std::clamp<std::int64_t>(us, begin_us, end_us)); };
+  int rc = kExitOk;
+  for (;;) {
+    std::deque<char> pending;
+    std::optional<std::int64_t> seek_us;
+    std::optional<std::uint32_t> wanted;
+    {
+      std::lock_guard lock(requests.mutex);
+      pending.swap(requests.keys);
+      seek_us.swap(requests.seek_us);
+      wanted.swap(requests.track);
+    }
+    while (auto k = keys.poll()) pending.push_back(char_of(*k));
+    bool quit = window->closed() || player::stop_signal() != 0;
+    if (player::stop_signal() != 0) rc = 128 + player::stop_signal();
+    if (seek_us) seek(*seek_us);
+    if (wanted) switch_to(*wanted);
+    for (const char k : pending) {
+      switch (k) {
+        case ' ':
+          if (paused.exchange(!paused.load())) audio.resume(); else audio.pause();
+          break;
+        case '<': seek(audio.song_time_us() - 5'000'000); break;
+        case '>': seek(audio.song_time_us() + 5'000'000); break;
+        case 't': step_track(1); break;
+        case 'T': step_track(-1); break;
+        case 'q': quit = true; break;
+        default: break;
+      }
+    }
+    if (quit || (!paused && audio.song_time_us() >= end_us)) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  audio.stop();
+  keys.restore();
+  return rc;
+}
+
+}  // namespace
+
+void register_view(CLI::App& app, Registry& registry) {
+  auto o = std::make_shared<ViewOptions>();
+  CLI::App* cmd = app.add_subcommand("view", "The animation with the song's audio, no device");
+  cmd->add_option("SONG", o->song, "MIDI file")->required();
+  cmd->add_option("--track", o->track, "The haptic track shown in front (default: as hmp play chooses)");
+  cmd->add_flag("--no-audio", o->no_audio, "No sound: the animation runs on the host clock");
+  cmd->add_option("--audio-driver", o->audio_driver, "Audio output (as hmp play)")
+      ->check(CLI::IsMember({"pulseaudio", "alsa", "sdl2", "jack", "oss", "pipewire", "virtual"}));
+  cmd->add_option("--soundfont", o->soundfont, "SoundFont (.sf2/.sf3)")->check(CLI::ExistingFile);
+  cmd->add_option("--from", o->from_s, "Start in seconds of the song");
+  cmd->add_option("--to", o->to_s, "End in seconds of the song");
+  cmd->add_flag("--fullscreen", o->fullscreen, "Fill the screen (f toggles)");
+  add_haptic_options(cmd, o->haptic);
+  cmd->callback([o, &registry] { registry.set([o] { return run_view(*o); }); });
+}
+
+}  // namespace hmp::cli
