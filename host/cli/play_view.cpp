@@ -51,7 +51,11 @@ std::unique_ptr<view::LiveView> open_play_view(const midi::Song& song, player::P
     return st;
   };
   hooks.key = [&player](char k) {
-    if (const auto key = player::key_for_char(k)) player.post(player::command_for(*key));
+    if (k == '[' || k == ']') {
+      player.notice("playback speed (the [ and ] keys) is not available yet: the song plays at its own pace");
+    } else if (const auto key = player::key_for_char(k)) {
+      player.post(player::command_for(*key));
+    }
   };
   hooks.seek_to = [&player](std::int64_t us) { player.seek_to(us); };
   hooks.touch = [&player](const view::Bar& b) { player.touch(b.track, b.key, static_cast<double>(b.start_us) / 1e6); };

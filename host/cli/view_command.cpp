@@ -175,6 +175,8 @@ int run_view(const ViewOptions& o) {
         case 't': step_track(1); break;
         case 'T': step_track(-1); break;
         case 'q': quit = true; break;
+        case '[':
+        case ']': std::fprintf(stderr, "playback speed (the [ and ] keys) is not available yet\n"); break;
         default: break;
       }
     }

@@ -115,6 +115,9 @@ class Player {
   // Moves to `song_us` (clamped to the passage), playing or paused as before (the view's progress bar).
   // Any thread.
   void seek_to(std::int64_t song_us);
+  // A one-line notice for the user, delivered through on_message on the player's thread (the view's
+  // thread must not print over the status line). Any thread.
+  void notice(std::string text);
   Snapshot snapshot() const;  // any thread
   Counters counters() const { return snapshot().counters; }
   const haptics::HapticTrack& haptic_track() const { return track_; }
@@ -189,6 +192,7 @@ class Player {
   std::deque<Touch> touches_;
   std::optional<std::uint32_t> wanted_track_;
   std::optional<std::int64_t> wanted_seek_us_;
+  std::deque<std::string> notices_;
   std::shared_ptr<const haptics::HapticTrack> published_track_;
   std::map<std::uint32_t, haptics::HapticTrack> other_tracks_;  // touched tracks other than the haptic one
   Snapshot snapshot_;
