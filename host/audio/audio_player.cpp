@@ -1,6 +1,7 @@
 #include "host/audio/audio_player.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "host/audio/soundfont.hpp"
 
@@ -124,19 +125,43 @@ void AudioPlayer::render(int len, int nout, float* out[]) {
   synth_->render(out[0], right, static_cast<std::size_t>(len));
 }
 
+std::int64_t AudioPlayer::to_play(std::int64_t song_us) const {
+  return speed_ == 1.0 ? song_us : std::llround(static_cast<double>(song_us) / speed_);
+}
+
+std::int64_t AudioPlayer::to_song(std::int64_t play_us) const {
+  return speed_ == 1.0 ? play_us : std::llround(static_cast<double>(play_us) * speed_);
+}
+
+void AudioPlayer::load_events() {
+  if (!synth_) return;
+  if (speed_ == 1.0) {
+    synth_->set_events(events_);
+    return;
+  }
+  std::vector<AudioEvent> scaled = events_;
+  for (AudioEvent& e : scaled) e.time_us = to_play(e.time_us);
+  synth_->set_events(scaled);
+}
+
 void AudioPlayer::set_events(const std::vector<AudioEvent>& events) {
   std::lock_guard lock(mutex_);
   playing_ = false;
   clock_.pause(now());
   clock_.set_paused_position(0);
-  if (synth_) synth_->set_events(events);
+  events_ = events;
+  load_events();
+}
+
+void AudioPlayer::start_locked(std::int64_t song_us) {
+  if (synth_) synth_->seek(to_play(song_us));
+  clock_.start(to_play(song_us), now() + latency());
+  playing_ = true;
 }
 
 void AudioPlayer::start(std::int64_t song_us) {
   std::lock_guard lock(mutex_);
-  if (synth_) synth_->seek(song_us);
-  clock_.start(song_us, now() + latency());
-  playing_ = true;
+  start_locked(song_us);
 }
 
 void AudioPlayer::pause() {
@@ -148,33 +173,46 @@ void AudioPlayer::pause() {
 }
 
 void AudioPlayer::resume() {
-  std::int64_t at = 0;
-  {
-    std::lock_guard lock(mutex_);
-    if (playing_) return;
-    at = clock_.song_us(now());
-  }
-  start(at);
+  std::lock_guard lock(mutex_);
+  if (playing_) return;
+  start_locked(to_song(clock_.song_us(now())));
 }
 
 void AudioPlayer::seek(std::int64_t song_us) {
-  bool was_playing = false;
-  {
-    std::lock_guard lock(mutex_);
-    was_playing = playing_;
-    if (!was_playing) {
-      if (synth_) synth_->seek(song_us);
-      clock_.set_paused_position(song_us);
-    }
+  std::lock_guard lock(mutex_);
+  if (playing_) {
+    start_locked(song_us);
+    return;
   }
-  if (was_playing) start(song_us);
+  if (synth_) synth_->seek(to_play(song_us));
+  clock_.set_paused_position(to_play(song_us));
+}
+
+void AudioPlayer::set_speed(double speed) {
+  speed = std::clamp(speed, 0.5, 2.0);
+  std::lock_guard lock(mutex_);
+  if (speed == speed_) return;
+  const std::int64_t at = to_song(clock_.song_us(now()));
+  speed_ = speed;
+  load_events();  // the events at the new pace (the synthesizer stops; playing restarts just below)
+  if (playing_) {
+    start_locked(at);
+  } else {
+    if (synth_) synth_->seek(to_play(at));
+    clock_.set_paused_position(to_play(at));
+  }
+}
+
+double AudioPlayer::speed() const {
+  std::lock_guard lock(mutex_);
+  return speed_;
 }
 
 void AudioPlayer::stop() {
   std::lock_guard lock(mutex_);
   if (playing_) clock_.pause(now());
   playing_ = false;
-  if (synth_) synth_->seek(clock_.song_us(now()));  // seek cuts every voice at once
+  if (synth_) synth_->seek(clock_.song_us(now()));  // seek cuts every voice at once (play time, as inside)
 }
 
 bool AudioPlayer::playing() const {
@@ -184,19 +222,19 @@ bool AudioPlayer::playing() const {
 
 std::int64_t AudioPlayer::song_time_us(TimePoint t) const {
   std::lock_guard lock(mutex_);
-  return clock_.song_us(t);
+  return to_song(clock_.song_us(t));
 }
 
 AudioPlayer::TimePoint AudioPlayer::heard_at(std::int64_t song_us) const {
   std::lock_guard lock(mutex_);
-  return clock_.heard_at(song_us);
+  return clock_.heard_at(to_play(song_us));
 }
 
 AudioPlayer::TimePoint AudioPlayer::heard_onset_at(std::uint8_t channel, std::uint8_t program, std::uint8_t key,
                                                    std::int64_t song_us) const {
   std::lock_guard lock(mutex_);
-  if (!synth_ || !audible()) return clock_.heard_at(song_us);
-  const std::int64_t frame = synth_->heard_frame(channel, program, key, song_us);
+  if (!synth_ || !audible()) return clock_.heard_at(to_play(song_us));
+  const std::int64_t frame = synth_->heard_frame(channel, program, key, to_play(song_us));
   // Nearest µs of that frame (the clock counts µs; half a µs is far below anything heard).
   const std::int64_t rate = synth_->sample_rate();
   const std::int64_t scaled = frame * 1'000'000;

@@ -44,6 +44,12 @@ class AudioPlayer {
   void seek(std::int64_t song_us);
   // Stops at once (no release tails); the position stays.
   void stop();
+  // Playback speed (0.5–2; 1 = the song's own pace): the song's events come that much faster, at their
+  // own pitch (the synthesizer plays them, nothing is resampled). Takes effect at once from the present
+  // position, playing or paused. Every time in this interface stays song time; inside, the synthesizer
+  // and the clock run on "play time" = song time / speed.
+  void set_speed(double speed);
+  double speed() const;
   bool playing() const;
 
   // The clock: song time heard at `t` (now by default), and its inverse.
@@ -84,7 +90,13 @@ class AudioPlayer {
   std::string silence_reason_;
 
   mutable std::mutex mutex_;  // synth_, clock_, playing_ between the control calls and the audio thread
-  PlaybackClock clock_;
+  PlaybackClock clock_;                  // in play time
+  double speed_ = 1.0;
+  std::vector<AudioEvent> events_;       // in song time
+  std::int64_t to_play(std::int64_t song_us) const;
+  std::int64_t to_song(std::int64_t play_us) const;
+  void load_events();                    // events_ at the present speed into the synthesizer
+  void start_locked(std::int64_t song_us);
   bool playing_ = false;
   std::atomic<int> period_seen_{0};  // frames per callback the driver actually uses
   std::atomic<std::uint64_t> callbacks_{0};

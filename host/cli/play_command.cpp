@@ -40,6 +40,7 @@ struct PlayOptions {
   std::optional<std::string> soundfont;
   bool no_view = false;
   bool fullscreen = false;
+  double speed = 1.0;
   std::optional<double> from_s, to_s;
   std::optional<std::string> log;
   bool force = false;
@@ -70,6 +71,8 @@ void print_summary(const player::Counters& c, const player::Snapshot& s, std::si
 
 int run_play(const PlayOptions& o) {
   haptics::HapticOptions haptic = resolve(o.haptic);
+  haptic.speed = o.speed;
+  haptics::validate(haptic);
   // Refuse an existing log before any work (design §3: never overwrite without --force).
   player::PlayLog log;
   if (o.log) output::check_writable(*o.log, o.force);
@@ -134,7 +137,7 @@ int run_play(const PlayOptions& o) {
   };
   player::Player player(link, audio, song, po);
   running = &player;
-  if (keys.active()) status.message("keys: space pause/resume, ←/→ seek 5 s, t/T track, e envelope, m mapping, q quit");
+  if (keys.active()) status.message("keys: space pause/resume, ←/→ seek 5 s, t/T track, e envelope, m mapping, [/] speed, q quit");
   // The animation (design §14): where there is no window to be had, one warning and the song plays on.
   std::unique_ptr<view::LiveView> window;
   if (!o.no_view) {
@@ -186,6 +189,8 @@ void register_play(CLI::App& app, Registry& registry) {
       ->check(CLI::ExistingFile);
   cmd->add_flag("--no-view", o->no_view, "No animation window");
   cmd->add_flag("--fullscreen", o->fullscreen, "The animation window fills the screen (f toggles)");
+  cmd->add_option("--speed", o->speed, "Playback speed 0.5–2 (sound and device follow; [ and ] change it while playing)")
+      ->capture_default_str();
   cmd->add_option("--from", o->from_s, "Start of the passage in seconds of the song");
   cmd->add_option("--to", o->to_s, "End of the passage in seconds of the song");
   cmd->add_option("--log", o->log, "JSON lines: every note the device started, then a summary");

@@ -45,17 +45,14 @@ std::unique_ptr<view::LiveView> open_play_view(const midi::Song& song, player::P
     st.begin_us = s.begin_us;
     st.end_us = s.end_us;
     st.grip_m = s.grip_m;
-    st.overlay = fmt::format("{}  {} / {}   track {} \"{}\"   envelope {}   mapping {}   {}   late {}  stolen {}   (h: help)",
+    st.overlay = fmt::format("{}  {} / {}{}   track {} \"{}\"   envelope {}   mapping {}   {}   late {}  stolen {}   (h: help)",
                              s.paused ? "paused" : "playing", player::format_time(s.song_us), player::format_time(s.end_us),
-                             s.track, s.track_name, s.envelope, s.mapping, device, s.counters.late, s.counters.stolen);
+                             s.speed != 1.0 ? fmt::format("   speed {:g}×", s.speed) : "", s.track, s.track_name,
+                             s.envelope, s.mapping, device, s.counters.late, s.counters.stolen);
     return st;
   };
   hooks.key = [&player](char k) {
-    if (k == '[' || k == ']') {
-      player.notice("playback speed (the [ and ] keys) is not available yet: the song plays at its own pace");
-    } else if (const auto key = player::key_for_char(k)) {
-      player.post(player::command_for(*key));
-    }
+    if (const auto key = player::key_for_char(k)) player.post(player::command_for(*key));
   };
   hooks.seek_to = [&player](std::int64_t us) { player.seek_to(us); };
   hooks.touch = [&player](const view::Bar& b) { player.touch(b.track, b.key, static_cast<double>(b.start_us) / 1e6); };

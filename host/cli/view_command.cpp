@@ -25,6 +25,8 @@ namespace hmp::cli {
 
 namespace {
 
+constexpr double kSpeeds[] = {0.5, 0.75, 1.0, 1.25, 1.5, 2.0};
+
 struct ViewOptions {
   std::string song;
   std::optional<std::string> track;
@@ -32,6 +34,7 @@ struct ViewOptions {
   std::optional<std::string> audio_driver, soundfont;
   std::optional<double> from_s, to_s;
   bool fullscreen = false;
+  double speed = 1.0;
   HapticCliOptions haptic;
 };
 
@@ -52,13 +55,17 @@ char char_of(player::Key k) {
     case player::Key::previous_track: return 'T';
     case player::Key::envelope: return 'e';
     case player::Key::mapping: return 'm';
+    case player::Key::slower: return '[';
+    case player::Key::faster: return ']';
     case player::Key::quit: return 'q';
   }
   return 0;
 }
 
 int run_view(const ViewOptions& o) {
-  const haptics::HapticOptions haptic = resolve(o.haptic);
+  haptics::HapticOptions haptic = resolve(o.haptic);
+  haptic.speed = o.speed;
+  haptics::validate(haptic);
   const midi::ReadResult r = midi::load_song(o.song);
   for (const midi::Warning& w : r.warnings) warn_on_stderr(w.message);
   const midi::Song& song = r.song;
@@ -99,9 +106,10 @@ int run_view(const ViewOptions& o) {
     st.begin_us = begin_us;
     st.end_us = end_us;
     const midi::Track& t = song.tracks[st.haptic_track];
-    st.overlay = fmt::format("{}  {} / {}   track {} \"{}\"   audio {}   no device   (h: help)", st.paused ? "paused" : "playing",
-                             player::format_time(audio.song_time_us()), player::format_time(end_us), t.index, t.name,
-                             audio.driver_name());
+    const double speed = audio.speed();
+    st.overlay = fmt::format("{}  {} / {}{}   track {} \"{}\"   audio {}   no device   (h: help)", st.paused ? "paused" : "playing",
+                             player::format_time(audio.song_time_us()), player::format_time(end_us),
+                             speed != 1.0 ? fmt::format("   speed {:g}×", speed) : "", t.index, t.name, audio.driver_name());
     return st;
   };
   hooks.key = [&](char k) {
@@ -134,6 +142,7 @@ int run_view(const ViewOptions& o) {
 
   player::RawKeys keys;
   player::install_stop_signals();
+  audio.set_speed(o.speed);
   audio.start(begin_us);
   auto switch_to = [&](std::uint32_t t) {
     if (t >= tracks || song.tracks[t].note_count == 0) return;
@@ -176,7 +185,12 @@ int run_view(const ViewOptions& o) {
         case 'T': step_track(-1); break;
         case 'q': quit = true; break;
         case '[':
-        case ']': std::fprintf(stderr, "playback speed (the [ and ] keys) is not available yet\n"); break;
+        case ']': {
+          const double* here = std::find(std::begin(kSpeeds), std::end(kSpeeds), audio.speed());
+          const std::ptrdiff_t i = here == std::end(kSpeeds) ? 2 : here - std::begin(kSpeeds);
+          audio.set_speed(kSpeeds[std::clamp<std::ptrdiff_t>(i + (k == ']' ? 1 : -1), 0, std::size(kSpeeds) - 1)]);
+          break;
+        }
         default: break;
       }
     }
@@ -202,6 +216,7 @@ void register_view(CLI::App& app, Registry& registry) {
   cmd->add_option("--from", o->from_s, "Start in seconds of the song");
   cmd->add_option("--to", o->to_s, "End in seconds of the song");
   cmd->add_flag("--fullscreen", o->fullscreen, "Fill the screen (f toggles)");
+  cmd->add_option("--speed", o->speed, "Playback speed 0.5–2 ([ and ] change it)")->capture_default_str();
   add_haptic_options(cmd, o->haptic);
   cmd->callback([o, &registry] { registry.set([o] { return run_view(*o); }); });
 }

@@ -90,6 +90,7 @@ void validate(const HapticOptions& o) {
     throw BadInput("--amp-range-db: need finite min ≤ max");
   }
   if (!(o.end_fade_ms >= 0 && o.end_fade_ms <= 1000)) throw BadInput("--end-fade-ms: must be in [0, 1000]");
+  if (!(o.speed >= 0.5 && o.speed <= 2.0)) throw BadInput(fmt::format("--speed: must be in [0.5, 2] (got {:g})", o.speed));
   for (const auto& [program, name] : o.gm_presets) {
     envelope::Preset p;
     if (!o.user_presets.count(name) && !envelope::find_builtin(name.c_str(), p)) {
@@ -150,6 +151,10 @@ HapticTrack build_haptic_track(const midi::Song& song, std::uint32_t track, cons
   const bool legacy = opts.mapping == mapping::Mode::legacy2013;
 
   out.notes.reserve(notes.size());
+  out.speed = opts.speed;
+  const auto play_us = [&](std::int64_t us) {
+    return opts.speed == 1.0 ? us : std::llround(static_cast<double>(us) / opts.speed);
+  };
   for (const midi::Note& n : notes) {
     HapticNote h;
     h.key = n.key;
@@ -165,8 +170,8 @@ HapticTrack build_haptic_track(const midi::Song& song, std::uint32_t track, cons
     std::string preset = opts.envelope;
     if (is_auto(preset)) preset = legacy ? "legacy2013" : auto_preset_name(opts, n.program, n.channel);
 
-    const std::uint64_t start = seconds_to_tick(start_us, opts.tick_hz);
-    const std::uint64_t end = seconds_to_tick(end_us, opts.tick_hz);
+    const std::uint64_t start = seconds_to_tick(play_us(start_us), opts.tick_hz);
+    const std::uint64_t end = seconds_to_tick(play_us(end_us), opts.tick_hz);
     h.note.start_tick = start;
     h.note.duration_ticks = static_cast<std::uint32_t>(std::clamp<std::uint64_t>(end > start ? end - start : 1, 1, UINT32_MAX));
     h.note.freq_q20 = synth::freq_to_q20(m.freq_hz);

@@ -24,6 +24,9 @@ struct HapticOptions {
   synth::Polyphony polyphony = synth::Polyphony::sum;
   double end_fade_ms = 2.0;
   std::uint32_t tick_hz = synth::kNominalTickHz;
+  // Playback speed (`hmp play`'s [ and ]): the device's ticks are play time = song time / speed, so a
+  // note lasts 1/speed as long on the device; the notes' start_s/end_s stay song time.
+  double speed = 1.0;
   std::map<std::string, envelope::Adsr> user_presets;  // from the config
   std::map<std::uint8_t, std::string> gm_presets;      // program → preset name, from the config
 };
@@ -53,6 +56,7 @@ struct HapticTrack {
   std::vector<std::string> slot_names; // preset name of every slot used (index = slot), "" if unused
   mapping::KeySet keys;
   double jnd_steps = 0;
+  double speed = 1.0;                  // the options' speed: the notes' ticks are song time / speed
 
   std::vector<synth::Note> device_notes() const;
 };

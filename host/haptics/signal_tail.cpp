@@ -1,6 +1,7 @@
 #include "host/haptics/signal_tail.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace hmp::haptics {
 
@@ -16,7 +17,8 @@ SignalTail::SignalTail(std::shared_ptr<const HapticTrack> track, const HapticOpt
 
 int SignalTail::samples(std::int64_t song_us, float* out, int max) const {
   if (!track_ || max <= 0 || song_us < 0) return 0;
-  const std::uint64_t now = seconds_to_tick(song_us, tick_hz_) + 1;
+  const double speed = track_->speed > 0 ? track_->speed : 1.0;
+  const std::uint64_t now = seconds_to_tick(std::llround(static_cast<double>(song_us) / speed), tick_hz_) + 1;
   const std::uint64_t n = std::min<std::uint64_t>(static_cast<std::uint64_t>(max), now);
   const std::uint64_t first = now - n;
   // Only notes that start before `now` and may still sound at `first`.

@@ -36,6 +36,8 @@ Command command_for(Key k) {
     case Key::previous_track: return Command::previous_track;
     case Key::envelope: return Command::cycle_envelope;
     case Key::mapping: return Command::cycle_mapping;
+    case Key::slower: return Command::slower;
+    case Key::faster: return Command::faster;
     case Key::quit: return Command::quit;
   }
   return Command::quit;
@@ -68,6 +70,8 @@ std::optional<Key> key_for_char(char c) {
     case 'T': return Key::previous_track;
     case 'e': return Key::envelope;
     case 'm': return Key::mapping;
+    case '[': return Key::slower;
+    case ']': return Key::faster;
     case 'q': return Key::quit;
     default: return std::nullopt;
   }
@@ -113,8 +117,9 @@ std::string format_time(std::int64_t us) {
 std::string format_status(const Snapshot& s) {
   // Most important first: a narrow terminal cuts the end (envelope and mapping).
   const Counters& c = s.counters;
-  return fmt::format("{} {}/{}  track {} \"{}\"  sent {} played {}  queue {}/{}  late {} stolen {}  env {} map {}",
-                     s.paused ? "paused " : "playing", format_time(s.song_us), format_time(s.end_us), s.track,
+  return fmt::format("{} {}/{}{}  track {} \"{}\"  sent {} played {}  queue {}/{}  late {} stolen {}  env {} map {}",
+                     s.paused ? "paused " : "playing", format_time(s.song_us), format_time(s.end_us),
+                     s.speed != 1.0 ? fmt::format(" ×{:g}", s.speed) : "", s.track,
                      s.track_name, c.notes_sent, c.notes_played, s.queue_capacity - s.queue_free, s.queue_capacity,
                      c.late, c.stolen, s.envelope, s.mapping);
 }

@@ -14,7 +14,7 @@
 
 namespace hmp::player {
 
-enum class Key { space, left, right, next_track, previous_track, envelope, mapping, quit };
+enum class Key { space, left, right, next_track, previous_track, envelope, mapping, slower, faster, quit };
 
 // The command a key stands for (design §14 keys: pause, seek, switch track/envelope/mapping, quit).
 Command command_for(Key k);

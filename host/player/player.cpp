@@ -26,6 +26,7 @@ std::int64_t seconds(double s) { return std::llround(s * 1e6); }
 std::uint32_t since(std::uint32_t now, std::uint32_t base) { return now - base; }  // wrapping counters
 
 const char* const kEnvelopeCycle[] = {"auto", "square", "triangle"};
+constexpr double kSpeeds[] = {0.5, 0.75, 1.0, 1.25, 1.5, 2.0};
 const mapping::Mode kMappingCycle[] = {mapping::Mode::paper, mapping::Mode::rank, mapping::Mode::constant,
                                        mapping::Mode::legacy2013};
 
@@ -134,8 +135,9 @@ void Player::start_at(std::int64_t song_us, double preroll_s) {
   scheduler_.seek(song_us);
   const bool resume = paused_ || !audio_.playing();
   paused_ = false;
-  // The sound starts a little before the position, so that the first notes can reach the device in time.
-  audio_.start(song_us - seconds(preroll_s));
+  // The sound starts a little before the position, so that the first notes can reach the device in time
+  // (a preroll of real time: more song time at a higher speed).
+  audio_.start(song_us - seconds(preroll_s * options_.haptic.speed));
   if (resume) send_transport(protocol::TransportOp::play);
 }
 
@@ -303,6 +305,23 @@ void Player::notice(std::string text) {
   link_.notify();
 }
 
+void Player::set_speed(double speed) {
+  {
+    std::lock_guard lock(mutex_);
+    wanted_speed_ = std::clamp(speed, kSpeeds[0], kSpeeds[std::size(kSpeeds) - 1]);
+  }
+  link_.notify();
+}
+
+void Player::apply_speed(double speed) {
+  if (speed == options_.haptic.speed) return;
+  const std::int64_t at = song_now();
+  options_.haptic.speed = speed;
+  audio_.set_speed(speed);  // the sound goes on from `at` at the new pace
+  rebuild_track(at);        // the device's notes last 1/speed as long; resent from `at`
+  message(fmt::format("speed {:g}×", speed));
+}
+
 void Player::seek_to(std::int64_t song_us) {
   {
     std::lock_guard lock(mutex_);
@@ -315,13 +334,16 @@ bool Player::handle_commands(Outcome& outcome) {
   std::deque<Command> commands;
   std::optional<std::int64_t> seek_to;
   std::deque<std::string> notices;
+  std::optional<double> speed;
   {
     std::lock_guard lock(mutex_);
     commands.swap(commands_);
     seek_to.swap(wanted_seek_us_);
     notices.swap(notices_);
+    speed.swap(wanted_speed_);
   }
   for (const std::string& text : notices) message(text);
+  if (speed) apply_speed(*speed);
   if (seek_to) seek(*seek_to);
   for (const Command c : commands) {
     switch (c) {
@@ -370,6 +392,15 @@ bool Player::handle_commands(Outcome& outcome) {
           options_.haptic.ranges.f_max_hz = mapping::kLegacyFmaxHz;
         }
         rebuild_track(song_now());
+        break;
+      }
+      case Command::slower:
+      case Command::faster: {
+        const double* here = std::find(std::begin(kSpeeds), std::end(kSpeeds), options_.haptic.speed);
+        const std::ptrdiff_t i = here == std::end(kSpeeds) ? 2 : here - std::begin(kSpeeds);
+        const std::ptrdiff_t next = std::clamp<std::ptrdiff_t>(i + (c == Command::faster ? 1 : -1), 0,
+                                                               static_cast<std::ptrdiff_t>(std::size(kSpeeds)) - 1);
+        apply_speed(kSpeeds[next]);
         break;
       }
       case Command::quit:
@@ -428,6 +459,7 @@ void Player::update_snapshot() {
   s.mapping = mapping::name(options_.haptic.mapping);
   s.counters = counters_;
   s.begin_us = options_.from_us;
+  s.speed = options_.haptic.speed;
   s.queue_capacity = link_.hello().queue_capacity;
   if (const auto st = link_.status()) {
     s.queue_free = st->queue_free;
@@ -534,6 +566,7 @@ Outcome Player::run() {
   set_up_device();
   scheduler_.load(track_, options_.from_us);
   paused_ = true;  // the device is idle: start_at sends play
+  audio_.set_speed(options_.haptic.speed);
   start_at(options_.from_us, options_.start_preroll_s);
   Outcome outcome = Outcome::finished;
   for (;;) {

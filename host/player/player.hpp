@@ -54,6 +54,8 @@ enum class Command {
   previous_track,
   cycle_envelope,  // auto → square → triangle → auto
   cycle_mapping,   // paper → rank → constant → legacy2013 → paper
+  slower,          // playback speed one step down (2, 1.5, 1.25, 1, 0.75, 0.5)
+  faster,          // one step up
   quit,
   interrupt,  // Ctrl-C: like quit, reported as interrupted
 };
@@ -72,6 +74,7 @@ struct Snapshot {
   std::uint8_t active_voices = 0;
   std::optional<std::array<float, 3>> grip_m;  // the grip's position (m, device frame) when the device knows it
   std::int64_t begin_us = 0;                   // the passage's start (--from)
+  double speed = 1.0;
   std::shared_ptr<const haptics::HapticTrack> haptic;  // the haptic track's notes as now sent (the view's strip)
 };
 
@@ -115,6 +118,8 @@ class Player {
   // Moves to `song_us` (clamped to the passage), playing or paused as before (the view's progress bar).
   // Any thread.
   void seek_to(std::int64_t song_us);
+  // Playback speed 0.5–2 (clamped): the sound and the device follow from the present position. Any thread.
+  void set_speed(double speed);
   // A one-line notice for the user, delivered through on_message on the player's thread (the view's
   // thread must not print over the status line). Any thread.
   void notice(std::string text);
@@ -139,6 +144,7 @@ class Player {
   void rebuild_track(std::int64_t song_us);
   void set_track(haptics::HapticTrack&& track);  // track_, and its copy published in the snapshot
   void seek(std::int64_t target);
+  void apply_speed(double speed);
   void schedule();
   void handle_events();
   void handle_touches();
@@ -192,6 +198,7 @@ class Player {
   std::deque<Touch> touches_;
   std::optional<std::uint32_t> wanted_track_;
   std::optional<std::int64_t> wanted_seek_us_;
+  std::optional<double> wanted_speed_;
   std::deque<std::string> notices_;
   std::shared_ptr<const haptics::HapticTrack> published_track_;
   std::map<std::uint32_t, haptics::HapticTrack> other_tracks_;  // touched tracks other than the haptic one

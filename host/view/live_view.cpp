@@ -16,7 +16,7 @@ bool same_bar(const Bar& a, const Bar& b) { return a.track == b.track && a.start
 
 std::vector<std::string> LiveView::help_lines() {
   return {"space  pause / resume          \u2190 \u2192  seek 5 s",
-          "t / T  next / previous track    e  envelope    m  mapping",
+          "t / T  next / previous track    e  envelope    m  mapping    [ / ]  speed",
           "+ / \u2212  zoom    f  fullscreen    h  this help    q  quit",
           "click or drag the bar at the bottom: seek",
           "click a track in the legend: show / hide it",
@@ -266,9 +266,12 @@ void LiveView::handle(const ViewEvent& e, const LiveState& state, Clock::time_po
 
 void LiveView::update_touch(FrameState& f, const LiveState& state, Clock::time_point now) {
   const std::int64_t song_us = f.song_us;
-  // The cursor: the grip's position when it moves, else the mouse's.
+  // The cursor: the grip's position when it moves, else the mouse's. It touches the roll while the mouse
+  // button is held, or while the grip is in the roll's plane (z ≤ 0): a pointer merely resting on the
+  // window plays nothing.
   float x = mouse_x_, y = mouse_y_;
   bool have = mouse_seen_;
+  bool touching = pressing_;
   bool pushing = pressing_;
   if (state.grip_m) {
     const auto& g = *state.grip_m;
@@ -284,12 +287,16 @@ void LiveView::update_touch(FrameState& f, const LiveState& state, Clock::time_p
       if (in && !push_start_) push_start_ = now, push_done_ = false;
       if (!in && !pressing_) push_start_.reset();
       pushing = in || pressing_;
+      touching = g[2] <= 0.0f || pressing_;
     }
   }
   f.cursor = have;
   f.cursor_x = x;
   f.cursor_y = y;
-  if (!have || dragging_progress_) return;
+  if (!have || !touching || dragging_progress_) {
+    touched_.reset();
+    return;
+  }
   const auto tracks = static_cast<std::uint32_t>(index_.tracks());
   if (tracks == 0) return;
   const RollLayout layout = make_layout();

@@ -137,7 +137,7 @@ class LiveView {
 };
 
 // Where the grip's position (m, device frame: x right, y up, z towards the user) puts the cursor:
-// ±kGripSpanM in x and y spans the roll. Pushing in is z below −kPushDepthM.
+// ±kGripSpanM in x and y spans the roll. At z ≤ 0 it touches the roll; pushing in is z below −kPushDepthM.
 inline constexpr float kGripSpanM = 0.1f;
 inline constexpr float kPushDepthM = 0.01f;
 

@@ -63,4 +63,13 @@ class Xvfb {
   std::string display_;
 };
 
+// The process's one private display, started on first use and stopped at exit. Tests share it: SDL keeps
+// its video subsystem (and its X connection) for the whole process, so a display stopped after one test
+// and started again for the next would leave SDL talking to a dead server.
+inline Xvfb& xvfb() {
+  static Xvfb display;
+  if (display.running()) ::setenv("DISPLAY", display.display().c_str(), 1);  // a test may have unset it
+  return display;
+}
+
 }  // namespace hmp::test

@@ -1,7 +1,7 @@
 // The window while a song plays (host/view/live_view.hpp), on a private Xvfb with Mesa's llvmpipe:
 // - sync: every frame's song time against the audio clock (the virtual sound card's, as `hmp play
 //   --audio-driver virtual`) read when the frame's swap returned — within one 60 Hz frame period at p99,
-//   over a run with two seeks, a pause and a resume;
+//   over a run with two seeks, a pause, a resume and two speed changes (2×, then 0.5×);
 // - input: a click in the legend hides that track, a click on the progress bar seeks to where it was
 //   clicked (computed here from the bar's rectangle), + zooms in, the player's keys are passed on and
 //   the window's own (h) are not.
@@ -36,8 +36,7 @@ bool wait_for(Pred pred, std::chrono::milliseconds limit = 2000ms) {
 }
 
 TEST(LiveViewSync, FramesShowTheAudioClockWhenTheyReachTheScreen) {
-  hmp::test::Xvfb x;
-  ASSERT_TRUE(x.running()) << "Xvfb did not start (package xvfb)";
+  ASSERT_TRUE(hmp::test::xvfb().running()) << "Xvfb did not start (package xvfb)";
   const hmp::midi::Song& song = test::demo_song();
   hmp::audio::AudioOptions ao;
   ao.drivers = {"virtual"};
@@ -77,7 +76,11 @@ TEST(LiveViewSync, FramesShowTheAudioClockWhenTheyReachTheScreen) {
   audio.resume();
   std::this_thread::sleep_for(1300ms);
   audio.seek(60'000'000);
-  std::this_thread::sleep_for(1500ms);
+  std::this_thread::sleep_for(1000ms);
+  audio.set_speed(2.0);
+  std::this_thread::sleep_for(1000ms);
+  audio.set_speed(0.5);
+  std::this_thread::sleep_for(800ms);
   view.reset();
   audio.stop();
 
@@ -110,8 +113,7 @@ TEST(LiveViewSync, FramesShowTheAudioClockWhenTheyReachTheScreen) {
 }
 
 TEST(LiveViewInput, LegendProgressBarZoomAndKeys) {
-  hmp::test::Xvfb x;
-  ASSERT_TRUE(x.running()) << "Xvfb did not start (package xvfb)";
+  ASSERT_TRUE(hmp::test::xvfb().running()) << "Xvfb did not start (package xvfb)";
   const hmp::midi::Song& song = test::demo_song();
   const std::int64_t end_us = std::llround(song.duration_s() * 1e6);
   std::mutex mutex;

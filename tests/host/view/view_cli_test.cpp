@@ -27,8 +27,7 @@ TEST(ViewCli, PlayWithoutADisplayWarnsOnceAndPlaysOn) {
 }
 
 TEST(ViewCli, PlayWithoutOpenGL33WarnsOnceAndPlaysOn) {
-  hmp::test::Xvfb x;
-  ASSERT_TRUE(x.running()) << "Xvfb did not start (package xvfb)";
+  ASSERT_TRUE(hmp::test::xvfb().running()) << "Xvfb did not start (package xvfb)";
   // Mesa made to offer OpenGL 3.0 only: no 3.3 core context (an old driver, a VM, WSL).
   const test::CommandResult r =
       test::run_command("MESA_GL_VERSION_OVERRIDE=3.0 " + test::kHmp + " play '" + test::kDemo + "'" + kPassage);
@@ -38,8 +37,7 @@ TEST(ViewCli, PlayWithoutOpenGL33WarnsOnceAndPlaysOn) {
 }
 
 TEST(ViewCli, PlayWithADisplayOpensTheWindowWithoutWarnings) {
-  hmp::test::Xvfb x;
-  ASSERT_TRUE(x.running()) << "Xvfb did not start (package xvfb)";
+  ASSERT_TRUE(hmp::test::xvfb().running()) << "Xvfb did not start (package xvfb)";
   const test::CommandResult r = test::run_command(test::kHmp + " play '" + test::kDemo + "'" + kPassage);
   EXPECT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
@@ -47,8 +45,7 @@ TEST(ViewCli, PlayWithADisplayOpensTheWindowWithoutWarnings) {
 }
 
 TEST(ViewCli, ViewPlaysThePassageAndEnds) {
-  hmp::test::Xvfb x;
-  ASSERT_TRUE(x.running()) << "Xvfb did not start (package xvfb)";
+  ASSERT_TRUE(hmp::test::xvfb().running()) << "Xvfb did not start (package xvfb)";
   const auto t0 = std::chrono::steady_clock::now();
   const test::CommandResult r =
       test::run_command(test::kHmp + " view '" + test::kDemo + "' --audio-driver virtual --from 30 --to 31.5");

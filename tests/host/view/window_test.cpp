@@ -82,8 +82,7 @@ TEST(ViewWindow, WithoutADisplayItSaysSoInOneLine) {
 }
 
 TEST(ViewWindow, FramesShowTheNotesWhereTheyBelong) {
-  hmp::test::Xvfb x;
-  ASSERT_TRUE(x.running()) << "Xvfb did not start (package xvfb)";
+  ASSERT_TRUE(hmp::test::xvfb().running()) << "Xvfb did not start (package xvfb)";
   const hmp::midi::Song song = two_tracks();
   ViewSetup setup;
   setup.song = &song;

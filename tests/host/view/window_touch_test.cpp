@@ -2,7 +2,8 @@
 // simulated device, under a private Xvfb. A scripted cursor put on a flute bar ahead of the present makes
 // the device start that very note within 20 ms of the cursor's arrival (its Started report); a cursor
 // that follows a violin bar with the button held for more than 0.5 s makes the violin the haptic track.
-// The bars' places come from the window's own layout at the time of each event.
+// A pointer resting on the window (no button) plays nothing. The bars' places come from the window's own
+// layout at the time of each event.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -41,8 +42,7 @@ std::pair<float, float> centre_of(const hmp::view::LiveView& view, const hmp::vi
 }
 
 TEST(ViewTouch, TheCursorOnABarStartsThatNoteAndHoldingSwitchesTheTrack) {
-  hmp::test::Xvfb x;
-  ASSERT_TRUE(x.running()) << "Xvfb did not start (package xvfb)";
+  ASSERT_TRUE(hmp::test::xvfb().running()) << "Xvfb did not start (package xvfb)";
   hmp::transport::SimTransport sim;  // real time, as `--device sim`
   test::Session s(sim, test::passage(kFlute, 130, 150));
   hmp::haptics::HapticOptions haptic;
@@ -71,13 +71,22 @@ TEST(ViewTouch, TheCursorOnABarStartsThatNoteAndHoldingSwitchesTheTrack) {
   ASSERT_FALSE(started(*flute));
   const auto [fx, fy] = centre_of(*view, *flute, s.audio().song_time_us());
   const auto t0 = Clock::now();
-  view->inject({hmp::view::ViewEvent::Kind::cursor, 0, fx, fy});
+  view->inject({hmp::view::ViewEvent::Kind::press, 0, fx, fy});  // the button down on it: a touch
   while (!started(*flute) && Clock::now() - t0 < 1s) std::this_thread::sleep_for(200us);
   ASSERT_TRUE(started(*flute)) << "the touched note never started";
   const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
   RecordProperty("touch_ms", std::to_string(ms));
   std::printf("cursor on the bar → Started: %.1f ms\n", ms);
   EXPECT_LE(ms, 20.0);
+  view->inject({hmp::view::ViewEvent::Kind::release, 0, fx, fy});
+
+  // A pointer resting on the window touches nothing: bars passing under it for 0.5 s start no note of
+  // their own (the player's own notes of the flute go on).
+  const std::size_t before = s.started().size();
+  view->inject({hmp::view::ViewEvent::Kind::cursor, 0, 640.0f, 360.0f});
+  std::this_thread::sleep_for(500ms);
+  const std::vector<hmp::player::StartedNote> after = s.started();
+  for (std::size_t i = before; i < after.size(); ++i) EXPECT_EQ(after[i].origin.track, kFlute) << "a resting pointer played a note";
 
   // Follow a violin bar (the cursor moves with it as it scrolls), button held: after 0.5 s the violin
   // is the haptic track.

@@ -1,0 +1,152 @@
+// Playback speed (`hmp play --speed`, the [ and ] keys): at 2× the sound and the device both follow.
+// A song of piano notes 3 s apart (every release tail is below −60 dB by the next), 80 ms long, played
+// at speed 2 on the real-time simulated device with the virtual sound card: the device starts the notes
+// 1.5 s apart (the device's own clock: the host time of each Started tick), each note lasts 40 ticks on
+// the device, and each sound onset found in the card's recording (the first frame 60 dB under the
+// note's peak after silence) is heard within 5 ms of its haptic onset (as at speed 1, bench
+// e2e-timing). Changing the speed while playing keeps the position and changes the pace.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "host/audio/audio_events.hpp"
+#include "host/audio/audio_player.hpp"
+#include "host/audio/soundfont.hpp"
+#include "host/player/device_link.hpp"
+#include "host/player/player.hpp"
+#include "host/transport/sim_transport.hpp"
+
+namespace {
+
+using namespace std::chrono_literals;
+
+constexpr int kNotes = 6;
+constexpr std::int64_t kSpacingUs = 3'000'000, kLengthUs = 80'000, kFirstUs = 700'000;
+
+// One track, channel 0, piano; a 1 ms tick (500 ticks per quarter at 120 bpm).
+hmp::midi::Song piano_song() {
+  hmp::midi::Song song;
+  song.tempo_map = hmp::midi::TempoMap::metrical(500, {});
+  song.tracks.resize(1);
+  for (int i = 0; i < kNotes; ++i) {
+    hmp::midi::Note n;
+    n.track = 0;
+    n.start_tick = static_cast<std::uint64_t>((kFirstUs + i * kSpacingUs) / 1000);
+    n.end_tick = n.start_tick + kLengthUs / 1000;
+    n.key = static_cast<std::uint8_t>(60 + (i * 5) % 13);
+    n.velocity = 100;
+    song.notes.push_back(n);
+    song.tracks[0].note_count++;
+    song.tracks[0].keys.add(n.key);
+  }
+  song.duration_us = song.tempo_map.micros(song.notes.back().end_tick);
+  return song;
+}
+
+// The first frame 60 dB under the peak of the 130 ms from `around` − 30 ms, after 30 ms of silence; −1
+// when there is none.
+std::int64_t onset_frame(const std::vector<float>& level, std::int64_t around, int rate) {
+  const std::int64_t ms30 = 30 * rate / 1000;
+  if (around - 2 * ms30 < 0) return -1;
+  const auto from = static_cast<std::size_t>(around - ms30);
+  const std::size_t end = std::min(level.size(), from + static_cast<std::size_t>(130 * rate / 1000));
+  float peak = 0, before = 0;
+  for (std::size_t i = from; i < end; ++i) peak = std::max(peak, level[i]);
+  for (std::size_t i = from - static_cast<std::size_t>(ms30); i < from; ++i) before = std::max(before, level[i]);
+  const float threshold = 1e-3f * peak;
+  if (!(peak > 0) || before >= 0.1f * threshold) return -1;
+  std::size_t i = from;
+  while (i < end && level[i] < threshold) ++i;
+  return static_cast<std::int64_t>(i);
+}
+
+double seconds_between(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
+  return std::chrono::duration<double>(a - b).count();
+}
+
+TEST(PlaySpeed, AtTwiceTheSpeedSoundAndDeviceFollow) {
+  ASSERT_TRUE(hmp::audio::find_soundfont().has_value()) << "no GM SoundFont (fluid-soundfont-gm)";
+  const hmp::midi::Song song = piano_song();
+  hmp::transport::SimTransport sim;
+  hmp::player::DeviceLink link(sim);
+  link.connect();
+  hmp::audio::AudioOptions ao;
+  ao.drivers = {"virtual"};
+  ao.synth.reverb = ao.synth.chorus = false;
+  ao.virtual_record_frames = static_cast<std::size_t>(8.0 * ao.synth.sample_rate);
+  hmp::audio::AudioPlayer audio(ao);
+  ASSERT_NE(audio.virtual_card(), nullptr) << audio.silence_reason();
+  audio.set_events(hmp::audio::audio_events(song));
+
+  hmp::player::PlayerOptions options;
+  options.track = 0;
+  options.haptic.speed = 2.0;
+  std::vector<hmp::player::StartedNote> started;
+  options.on_started = [&](const hmp::player::StartedNote& n) { started.push_back(n); };
+  hmp::player::Player player(link, audio, song, options);
+  const auto t0 = std::chrono::steady_clock::now();
+  EXPECT_EQ(player.run(), hmp::player::Outcome::finished);
+  const double took = seconds_between(std::chrono::steady_clock::now(), t0);
+  EXPECT_LT(took, 0.5 * static_cast<double>(song.duration_us) * 1e-6 + 1.5) << "not played at twice the speed";
+
+  for (const auto& n : player.haptic_track().notes) EXPECT_NEAR(n.note.duration_ticks, kLengthUs / 1000 / 2, 1);
+  ASSERT_EQ(started.size(), static_cast<std::size_t>(kNotes));
+  std::sort(started.begin(), started.end(), [](const auto& a, const auto& b) { return a.origin.start_s < b.origin.start_s; });
+
+  const hmp::audio::VirtualCard& card = *audio.virtual_card();
+  const std::vector<float> level = card.recording();
+  const int rate = ao.synth.sample_rate;
+  std::vector<double> skews_ms;
+  for (std::size_t i = 0; i < started.size(); ++i) {
+    const auto haptic = sim.tick_due_at(started[i].actual_tick);
+    if (i > 0) {
+      const double gap_ms = seconds_between(haptic, sim.tick_due_at(started[i - 1].actual_tick)) * 1e3;
+      EXPECT_NEAR(gap_ms, kSpacingUs / 1000.0 / 2, 2.0) << "note " << i;
+    }
+    const double frame_at_haptic = seconds_between(haptic, card.heard_at(0)) * rate;
+    const std::int64_t onset = onset_frame(level, std::llround(frame_at_haptic), rate);
+    if (onset < 0) continue;
+    skews_ms.push_back(seconds_between(haptic, card.heard_at(static_cast<double>(onset))) * 1e3);
+  }
+  ASSERT_GE(skews_ms.size(), static_cast<std::size_t>(kNotes - 1)) << "sound onsets not found";
+  double worst = 0;
+  for (const double s : skews_ms) worst = std::max(worst, std::fabs(s));
+  RecordProperty("worst_skew_ms", std::to_string(worst));
+  std::printf("speed 2: %zu notes, worst audio–haptic skew %.2f ms\n", skews_ms.size(), worst);
+  EXPECT_LE(worst, 5.0);
+}
+
+TEST(PlaySpeed, ChangingSpeedKeepsThePositionAndChangesThePace) {
+  hmp::audio::AudioOptions ao;
+  ao.enabled = false;
+  hmp::audio::AudioPlayer audio(ao, [](const std::string&) {});
+  audio.start(10'000'000);
+  std::this_thread::sleep_for(100ms);
+  const auto before = audio.song_time_us();
+  audio.set_speed(2.0);
+  const auto after = audio.song_time_us();
+  EXPECT_NEAR(static_cast<double>(after - before), 0.0, 5'000.0) << "the position jumped";
+  const auto t1 = std::chrono::steady_clock::now();
+  const auto s1 = audio.song_time_us(t1);
+  std::this_thread::sleep_for(200ms);
+  const auto t2 = std::chrono::steady_clock::now();
+  const auto s2 = audio.song_time_us(t2);
+  EXPECT_NEAR(static_cast<double>(s2 - s1) / 1e6 / seconds_between(t2, t1), 2.0, 1e-3);
+  EXPECT_NEAR(static_cast<double>((audio.heard_at(s2) - t2).count()), 0.0, 2e3);  // inverse, ns
+  audio.pause();
+  const auto paused = audio.song_time_us();
+  audio.set_speed(0.5);  // paused: the position stays
+  EXPECT_NEAR(static_cast<double>(audio.song_time_us() - paused), 0.0, 2.0);
+  audio.resume();
+  const auto t3 = std::chrono::steady_clock::now();
+  const auto s3 = audio.song_time_us(t3);
+  std::this_thread::sleep_for(200ms);
+  const auto t4 = std::chrono::steady_clock::now();
+  EXPECT_NEAR(static_cast<double>(audio.song_time_us(t4) - s3) / 1e6 / seconds_between(t4, t3), 0.5, 1e-3);
+  audio.set_speed(7.0);  // out of range: clamped
+  EXPECT_EQ(audio.speed(), 2.0);
+}
+
+}  // namespace
