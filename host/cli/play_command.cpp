@@ -35,9 +35,7 @@ struct PlayOptions {
   std::string song;
   std::optional<std::string> track;
   std::string device = "auto";
-  bool no_audio = false;
-  std::optional<std::string> audio_driver;
-  std::optional<std::string> soundfont;
+  AudioCliOptions audio;
   bool no_view = false;
   bool fullscreen = false;
   double speed = 1.0;
@@ -96,11 +94,7 @@ int run_play(const PlayOptions& o) {
                  *o.haptic.tick_hz, hello.tick_hz);
   }
 
-  audio::AudioOptions audio_options;
-  audio_options.enabled = !o.no_audio;
-  if (o.audio_driver) audio_options.drivers = {*o.audio_driver};
-  if (o.soundfont) audio_options.soundfont = *o.soundfont;
-  audio::AudioPlayer audio(audio_options);
+  audio::AudioPlayer audio(audio_options(o.audio));
   audio.set_events(audio::audio_events(song));
   if (audio.audible()) {
     std::fprintf(stderr, "audio: %s, output latency %.1f ms (compensated)\n", audio.driver_name().c_str(),
@@ -178,15 +172,7 @@ void register_play(CLI::App& app, Registry& registry) {
                   "Haptic track: index, or part of its name or instrument (default: the first with a Table 1 instrument)");
   cmd->add_option("--device", o->device, "auto (HID, else the simulated device), sim, qemu, hid[:VID:PID], serial:PATH")
       ->capture_default_str();
-  cmd->add_flag("--no-audio", o->no_audio, "No sound: no audio device is opened");
-  // FluidSynth's drivers that take a callback (its `file` driver does not); `virtual` is the simulated
-  // sound card the skew benchmark measures with: it plays to nowhere, in real time.
-  cmd->add_option("--audio-driver", o->audio_driver,
-                  "Audio output: pulseaudio, alsa, sdl2, jack, oss, pipewire or virtual (default: the first of "
-                  "pulseaudio, alsa, sdl2 that opens)")
-      ->check(CLI::IsMember({"pulseaudio", "alsa", "sdl2", "jack", "oss", "pipewire", "virtual"}));
-  cmd->add_option("--soundfont", o->soundfont, "SoundFont (.sf2/.sf3) for the song's audio (default: the GM one installed)")
-      ->check(CLI::ExistingFile);
+  add_audio_options(cmd, o->audio);
   cmd->add_flag("--no-view", o->no_view, "No animation window");
   cmd->add_flag("--fullscreen", o->fullscreen, "The animation window fills the screen (f toggles)");
   cmd->add_option("--speed", o->speed, "Playback speed 0.5–2 (sound and device follow; [ and ] change it while playing)")

@@ -85,4 +85,24 @@ std::uint32_t default_haptic_track(const midi::Song& song) {
   return *first;
 }
 
+void add_audio_options(CLI::App* cmd, AudioCliOptions& o) {
+  cmd->add_flag("--no-audio", o.no_audio, "No sound: no audio device is opened");
+  // FluidSynth's drivers that take a callback (its `file` driver does not); `virtual` is the simulated
+  // sound card the skew benchmark measures with: it plays to nowhere, in real time.
+  cmd->add_option("--audio-driver", o.driver,
+                  "Audio output: pulseaudio, alsa, sdl2, jack, oss, pipewire or virtual (default: the first of "
+                  "pulseaudio, alsa, sdl2 that opens)")
+      ->check(CLI::IsMember({"pulseaudio", "alsa", "sdl2", "jack", "oss", "pipewire", "virtual"}));
+  cmd->add_option("--soundfont", o.soundfont, "SoundFont (.sf2/.sf3) for the song's audio (default: the GM one installed)")
+      ->check(CLI::ExistingFile);
+}
+
+audio::AudioOptions audio_options(const AudioCliOptions& o) {
+  audio::AudioOptions a;
+  a.enabled = !o.no_audio;
+  if (o.driver) a.drivers = {*o.driver};
+  if (o.soundfont) a.soundfont = *o.soundfont;
+  return a;
+}
+
 }  // namespace hmp::cli

@@ -7,6 +7,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "host/audio/audio_options.hpp"
 #include "host/haptics/haptic_track.hpp"
 #include "host/haptics/track_window.hpp"
 #include "host/midi/smf_reader.hpp"
@@ -33,6 +34,14 @@ haptics::HapticOptions resolve(const HapticCliOptions& o);
 std::uint32_t default_haptic_track(const midi::Song& song);
 // `2 "Flute" (Flute)`
 std::string describe_track(const midi::Song& song, std::uint32_t index);
+
+// The song's audio on the command line (play, view, study): --no-audio, --audio-driver, --soundfont.
+struct AudioCliOptions {
+  bool no_audio = false;
+  std::optional<std::string> driver, soundfont;
+};
+void add_audio_options(CLI::App* cmd, AudioCliOptions& o);
+audio::AudioOptions audio_options(const AudioCliOptions& o);
 
 // "warning: MESSAGE" on stderr: where the commands send the reader's warnings.
 void warn_on_stderr(const std::string& message);

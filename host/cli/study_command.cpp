@@ -42,8 +42,7 @@ struct StudyOptions {
   std::string song = HMP_DEMO_SONG;
   std::string out = ".";
   std::string device = "sim";
-  bool no_audio = false;
-  std::optional<std::string> audio_driver;
+  AudioCliOptions audio;
 };
 
 struct AnalyzeOptions {
@@ -204,10 +203,7 @@ int run_study(const StudyOptions& o) {
   player::DeviceLink link(*opened.transport, link_options_for(opened));
   connect_and_describe(link, opened);
 
-  audio::AudioOptions audio_options;
-  audio_options.enabled = !o.no_audio;
-  if (o.audio_driver) audio_options.drivers = {*o.audio_driver};
-  audio::AudioPlayer audio(audio_options);
+  audio::AudioPlayer audio(audio_options(o.audio));
 
   KeySource keys;
   const bool scripted = !isatty(STDIN_FILENO);
@@ -330,9 +326,7 @@ void register_study(CLI::App& app, Registry& registry) {
   cmd->add_option("--song", o->song, "The song (default: the demo)")->capture_default_str();
   cmd->add_option("--out", o->out, "Directory of study-results.csv and the session journals")->capture_default_str();
   cmd->add_option("--device", o->device, "sim (default), qemu, auto, hid[:VID:PID], serial:PATH")->capture_default_str();
-  cmd->add_flag("--no-audio", o->no_audio, "No sound: no audio device is opened");
-  cmd->add_option("--audio-driver", o->audio_driver, "Audio output, as for play")
-      ->check(CLI::IsMember({"pulseaudio", "alsa", "sdl2", "jack", "oss", "pipewire", "virtual"}));
+  add_audio_options(cmd, o->audio);
 
   auto a = std::make_shared<AnalyzeOptions>();
   CLI::App* analyze = cmd->add_subcommand(

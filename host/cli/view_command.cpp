@@ -30,8 +30,7 @@ constexpr double kSpeeds[] = {0.5, 0.75, 1.0, 1.25, 1.5, 2.0};
 struct ViewOptions {
   std::string song;
   std::optional<std::string> track;
-  bool no_audio = false;
-  std::optional<std::string> audio_driver, soundfont;
+  AudioCliOptions audio;
   std::optional<double> from_s, to_s;
   bool fullscreen = false;
   double speed = 1.0;
@@ -77,11 +76,7 @@ int run_view(const ViewOptions& o) {
   if (begin_us >= end_us) throw BadInput(fmt::format("--from/--to: empty window (the song ends at {:.3f} s)", song.duration_s()));
   std::uint32_t track = o.track ? select_track(song, *o.track) : default_haptic_track(song);
 
-  audio::AudioOptions audio_options;
-  audio_options.enabled = !o.no_audio;
-  if (o.audio_driver) audio_options.drivers = {*o.audio_driver};
-  if (o.soundfont) audio_options.soundfont = *o.soundfont;
-  audio::AudioPlayer audio(audio_options);
+  audio::AudioPlayer audio(audio_options(o.audio));
   audio.set_events(audio::audio_events(song));
 
   std::mutex strip_mutex;  // the haptic track whose signal the strip shows
@@ -209,10 +204,7 @@ void register_view(CLI::App& app, Registry& registry) {
   CLI::App* cmd = app.add_subcommand("view", "The animation with the song's audio, no device");
   cmd->add_option("SONG", o->song, "MIDI file")->required();
   cmd->add_option("--track", o->track, "The haptic track shown in front (default: as hmp play chooses)");
-  cmd->add_flag("--no-audio", o->no_audio, "No sound: the animation runs on the host clock");
-  cmd->add_option("--audio-driver", o->audio_driver, "Audio output (as hmp play)")
-      ->check(CLI::IsMember({"pulseaudio", "alsa", "sdl2", "jack", "oss", "pipewire", "virtual"}));
-  cmd->add_option("--soundfont", o->soundfont, "SoundFont (.sf2/.sf3)")->check(CLI::ExistingFile);
+  add_audio_options(cmd, o->audio);
   cmd->add_option("--from", o->from_s, "Start in seconds of the song");
   cmd->add_option("--to", o->to_s, "End in seconds of the song");
   cmd->add_flag("--fullscreen", o->fullscreen, "Fill the screen (f toggles)");

@@ -297,14 +297,6 @@ void Player::seek(std::int64_t target) {
   }
 }
 
-void Player::notice(std::string text) {
-  {
-    std::lock_guard lock(mutex_);
-    notices_.push_back(std::move(text));
-  }
-  link_.notify();
-}
-
 void Player::set_speed(double speed) {
   {
     std::lock_guard lock(mutex_);
@@ -333,16 +325,13 @@ void Player::seek_to(std::int64_t song_us) {
 bool Player::handle_commands(Outcome& outcome) {
   std::deque<Command> commands;
   std::optional<std::int64_t> seek_to;
-  std::deque<std::string> notices;
   std::optional<double> speed;
   {
     std::lock_guard lock(mutex_);
     commands.swap(commands_);
     seek_to.swap(wanted_seek_us_);
-    notices.swap(notices_);
     speed.swap(wanted_speed_);
   }
-  for (const std::string& text : notices) message(text);
   if (speed) apply_speed(*speed);
   if (seek_to) seek(*seek_to);
   for (const Command c : commands) {

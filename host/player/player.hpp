@@ -120,9 +120,6 @@ class Player {
   void seek_to(std::int64_t song_us);
   // Playback speed 0.5–2 (clamped): the sound and the device follow from the present position. Any thread.
   void set_speed(double speed);
-  // A one-line notice for the user, delivered through on_message on the player's thread (the view's
-  // thread must not print over the status line). Any thread.
-  void notice(std::string text);
   Snapshot snapshot() const;  // any thread
   Counters counters() const { return snapshot().counters; }
   const haptics::HapticTrack& haptic_track() const { return track_; }
@@ -199,7 +196,6 @@ class Player {
   std::optional<std::uint32_t> wanted_track_;
   std::optional<std::int64_t> wanted_seek_us_;
   std::optional<double> wanted_speed_;
-  std::deque<std::string> notices_;
   std::shared_ptr<const haptics::HapticTrack> published_track_;
   std::map<std::uint32_t, haptics::HapticTrack> other_tracks_;  // touched tracks other than the haptic one
   Snapshot snapshot_;

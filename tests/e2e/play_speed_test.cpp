@@ -17,6 +17,7 @@
 #include "host/player/device_link.hpp"
 #include "host/player/player.hpp"
 #include "host/transport/sim_transport.hpp"
+#include "tests/support/audio_onset.hpp"
 
 namespace {
 
@@ -43,23 +44,6 @@ hmp::midi::Song piano_song() {
   }
   song.duration_us = song.tempo_map.micros(song.notes.back().end_tick);
   return song;
-}
-
-// The first frame 60 dB under the peak of the 130 ms from `around` − 30 ms, after 30 ms of silence; −1
-// when there is none.
-std::int64_t onset_frame(const std::vector<float>& level, std::int64_t around, int rate) {
-  const std::int64_t ms30 = 30 * rate / 1000;
-  if (around - 2 * ms30 < 0) return -1;
-  const auto from = static_cast<std::size_t>(around - ms30);
-  const std::size_t end = std::min(level.size(), from + static_cast<std::size_t>(130 * rate / 1000));
-  float peak = 0, before = 0;
-  for (std::size_t i = from; i < end; ++i) peak = std::max(peak, level[i]);
-  for (std::size_t i = from - static_cast<std::size_t>(ms30); i < from; ++i) before = std::max(before, level[i]);
-  const float threshold = 1e-3f * peak;
-  if (!(peak > 0) || before >= 0.1f * threshold) return -1;
-  std::size_t i = from;
-  while (i < end && level[i] < threshold) ++i;
-  return static_cast<std::int64_t>(i);
 }
 
 double seconds_between(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
@@ -106,7 +90,7 @@ TEST(PlaySpeed, AtTwiceTheSpeedSoundAndDeviceFollow) {
       EXPECT_NEAR(gap_ms, kSpacingUs / 1000.0 / 2, 2.0) << "note " << i;
     }
     const double frame_at_haptic = seconds_between(haptic, card.heard_at(0)) * rate;
-    const std::int64_t onset = onset_frame(level, std::llround(frame_at_haptic), rate);
+    const std::int64_t onset = hmp::test::onset_frame(level, std::llround(frame_at_haptic), rate);
     if (onset < 0) continue;
     skews_ms.push_back(seconds_between(haptic, card.heard_at(static_cast<double>(onset))) * 1e3);
   }

@@ -33,6 +33,7 @@
 #include "host/player/device_link.hpp"
 #include "host/player/player.hpp"
 #include "host/transport/sim_transport.hpp"
+#include "tests/support/audio_onset.hpp"
 
 namespace {
 
@@ -83,24 +84,6 @@ std::string write_song(int notes, std::uint32_t seed) {
   std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(file.data()),
                                               static_cast<std::streamsize>(file.size()));
   return path.string();
-}
-
-// First frame at −60 dB of the peak of the 130 ms from `around` − 30 ms, searched from there; −1 when
-// there is no sound, or when what comes before is not silent enough (under a tenth of the threshold
-// over the 30 ms before the search) for the first crossing to be this note's.
-std::int64_t onset_frame(const std::vector<float>& level, std::int64_t around, int rate) {
-  const std::int64_t ms30 = 30 * rate / 1000;
-  if (around - 2 * ms30 < 0) return -1;
-  const auto from = static_cast<std::size_t>(around - ms30);
-  const std::size_t end = std::min(level.size(), from + static_cast<std::size_t>(130 * rate / 1000));
-  float peak = 0, before = 0;
-  for (std::size_t i = from; i < end; ++i) peak = std::max(peak, level[i]);
-  for (std::size_t i = from - static_cast<std::size_t>(ms30); i < from; ++i) before = std::max(before, level[i]);
-  const float threshold = 1e-3f * peak;
-  if (!(peak > 0) || before >= 0.1f * threshold) return -1;
-  std::size_t i = from;
-  while (i < end && level[i] < threshold) ++i;
-  return static_cast<std::int64_t>(i);
 }
 
 void emit(const char* metric, double value, const char* unit, const std::string& params) {
@@ -160,7 +143,7 @@ int main(int argc, char** argv) {
     const auto haptic = sim.tick_due_at(n.actual_tick);
     // Where to look: the card's frame heard at the haptic onset.
     const double frame_at_haptic = seconds_between(haptic, card.heard_at(0)) * rate * (1 + audio_options.virtual_ppm * 1e-6);
-    const std::int64_t onset = onset_frame(level, std::llround(frame_at_haptic), rate);
+    const std::int64_t onset = hmp::test::onset_frame(level, std::llround(frame_at_haptic), rate);
     if (onset < 0) continue;
     skews_ms.push_back(seconds_between(haptic, card.heard_at(static_cast<double>(onset))) * 1e3);
     if (verbose) {
