@@ -35,6 +35,9 @@ expect_light "info" info "$demo" --json
 expect_light "render to CSV" render "$demo" --track flute --to 2 --out "$tmp/a.csv"
 expect_light "play --no-audio --no-view on the simulated device" \
   play "$demo" --track flute --device sim --no-audio --no-view --from 30 --to 31
+# Without a display the window is not even tried: the view module (SDL2, GL) stays out.
+DISPLAY= WAYLAND_DISPLAY= expect_light "play --no-audio without a display" \
+  play "$demo" --track flute --device sim --no-audio --from 30 --to 31
 
 # The loader record can fail: a command that makes sound loads the audio module and FluidSynth with it.
 libs=$(loaded play "$demo" --track flute --device sim --audio-driver virtual --no-view --from 30 --to 31) ||
