@@ -235,6 +235,7 @@ void LiveView::handle(const ViewEvent& e, const LiveState& state, Clock::time_po
       mouse_moved_ = now;
       if (chrome.progress.contains(e.x, e.y)) {
         dragging_progress_ = true;
+        last_drag_seek_ = now;
         if (hooks_.seek_to) hooks_.seek_to(progress_time(chrome, e.x, state.begin_us, state.end_us));
         break;
       }
@@ -260,6 +261,12 @@ void LiveView::handle(const ViewEvent& e, const LiveState& state, Clock::time_po
       mouse_y_ = e.y;
       mouse_seen_ = true;
       mouse_moved_ = now;
+      // Dragging along the progress bar seeks as it goes, ten times a second at most (each seek flushes
+      // the device and restarts the sound).
+      if (dragging_progress_ && hooks_.seek_to && now - last_drag_seek_ >= std::chrono::milliseconds(100)) {
+        last_drag_seek_ = now;
+        hooks_.seek_to(progress_time(chrome, e.x, state.begin_us, state.end_us));
+      }
       break;
   }
 }

@@ -127,7 +127,7 @@ class LiveView {
   std::optional<Clock::time_point> glide_start_;
   float mouse_x_ = 0, mouse_y_ = 0;
   bool mouse_seen_ = false, pressing_ = false, dragging_progress_ = false;
-  Clock::time_point mouse_moved_{}, grip_moved_{};
+  Clock::time_point mouse_moved_{}, grip_moved_{}, last_drag_seek_{};
   std::optional<std::array<float, 3>> last_grip_;
   std::optional<Bar> touched_;
   std::optional<Clock::time_point> push_start_;

@@ -171,7 +171,24 @@ TEST(LiveViewInput, LegendProgressBarZoomAndKeys) {
     const double per_px = static_cast<double>(end_us) / static_cast<double>(c.progress.x1 - c.progress.x0);
     EXPECT_NEAR(static_cast<double>(seeks.front()), 0.25 * static_cast<double>(end_us), per_px);
   }
-  view->inject({ViewEvent::Kind::release, 0, px, py});
+  // Dragging to 75 %: the seeks follow the pointer; the release seeks to where it let go.
+  const float px2 = c.progress.x0 + 0.75f * (c.progress.x1 - c.progress.x0);
+  for (int i = 1; i <= 10; ++i) {
+    view->inject({ViewEvent::Kind::cursor, 0, px + (px2 - px) * static_cast<float>(i) / 10.0f, py});
+    std::this_thread::sleep_for(30ms);
+  }
+  view->inject({ViewEvent::Kind::release, 0, px2, py});
+  const double per_px = static_cast<double>(end_us) / static_cast<double>(c.progress.x1 - c.progress.x0);
+  EXPECT_TRUE(wait_for([&] {  // the release's seek
+    std::lock_guard lock(mutex);
+    return std::fabs(static_cast<double>(seeks.back()) - 0.75 * static_cast<double>(end_us)) <= per_px;
+  }));
+  {
+    std::lock_guard lock(mutex);
+    EXPECT_GE(seeks.size(), 3u) << "no seek while dragging";
+    EXPECT_TRUE(std::is_sorted(seeks.begin(), seeks.end())) << "the seeks went back while dragging forward";
+    EXPECT_LE(seeks.size(), 6u) << "more than ten seeks a second while dragging";
+  }
 
   const double before = view->layout_at().params().seconds_across;
   for (const char k : {'+', 'h', ' ', 't', 'q'}) view->inject({ViewEvent::Kind::key, k});
