@@ -59,7 +59,8 @@ TEST(PlaySpeed, AtTwiceTheSpeedSoundAndDeviceFollow) {
   hmp::audio::AudioOptions ao;
   ao.drivers = {"virtual"};
   ao.synth.reverb = ao.synth.chorus = false;
-  ao.virtual_record_frames = static_cast<std::size_t>(8.0 * ao.synth.sample_rate);
+  // The card records from its creation on: loading the SoundFont (seconds from a cold disk) comes first.
+  ao.virtual_record_frames = static_cast<std::size_t>(40.0 * ao.synth.sample_rate);
   hmp::audio::AudioPlayer audio(ao);
   ASSERT_NE(audio.virtual_card(), nullptr) << audio.silence_reason();
   audio.set_events(hmp::audio::audio_events(song));
