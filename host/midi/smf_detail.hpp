@@ -42,6 +42,7 @@ struct ParseState {
   std::vector<Note> notes;  // end_tick is a sounding link (below) until the note ends
   std::vector<Track> tracks;
   std::vector<ProgramChange> program_changes;  // file order
+  std::vector<Control> controls;               // file order (sorted by tick at the end)
   std::vector<TempoMap::Point> tempos;         // file order (format 2: patterns offset, resets added)
   std::vector<TimeSignature> time_signatures;  // file order
   WarningLog warnings;

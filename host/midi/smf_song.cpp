@@ -101,6 +101,8 @@ void finish_song(ParseState& st, Song& song) {
     stats.add(song.tracks[n.track], n);
   }
   song.notes = std::move(st.notes);
+  std::stable_sort(st.controls.begin(), st.controls.end(), [](const Control& a, const Control& b) { return a.tick < b.tick; });
+  song.controls = std::move(st.controls);
 
   song.end_tick = 0;
   for (Track& t : song.tracks) {

@@ -106,7 +106,17 @@ class TrackParser {
         }
         break;
       case 0x8: note_off(channel, d1, data_at); break;
-      case 0xC: st_.program_changes.push_back(ProgramChange{tick_, channel, d1}); break;
+      case 0xC:
+        st_.program_changes.push_back(ProgramChange{tick_, channel, d1});
+        st_.controls.push_back({tick_, Control::Kind::program, channel, d1, 0});
+        break;
+      case 0xB:
+        if (is_sound_controller(d1)) st_.controls.push_back({tick_, Control::Kind::controller, channel, d1, d2});
+        break;
+      case 0xD: st_.controls.push_back({tick_, Control::Kind::pressure, channel, 0, d1}); break;
+      case 0xE:
+        st_.controls.push_back({tick_, Control::Kind::pitch_bend, channel, 0, static_cast<std::uint16_t>(d1 | (d2 << 7))});
+        break;
       default: break;
     }
     return true;

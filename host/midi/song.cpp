@@ -47,4 +47,29 @@ std::optional<std::uint32_t> find_track(const Song& song, std::string_view query
   return first_match;
 }
 
+bool is_sound_controller(std::uint8_t number) {
+  return std::find(std::begin(kSoundControllers), std::end(kSoundControllers), number) != std::end(kSoundControllers);
+}
+
+std::string controller_name(std::uint8_t number) {
+  switch (number) {
+    case 0: case 32: return "bank select";
+    case 1: return "modulation";
+    case 6: case 38: return "data entry";
+    case 100: case 101: return "RPN";
+    case 7: return "volume";
+    case 10: return "pan";
+    case 11: return "expression";
+    case 64: return "sustain";
+    case 66: return "sostenuto";
+    case 67: return "soft pedal";
+    case 91: return "reverb";
+    case 93: return "chorus";
+    case 120: return "all sound off";
+    case 121: return "reset controllers";
+    case 123: return "all notes off";
+    default: return "CC " + std::to_string(number);
+  }
+}
+
 }  // namespace hmp::midi

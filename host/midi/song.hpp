@@ -34,6 +34,30 @@ struct Note {
 };
 static_assert(sizeof(Note) == 24, "Note must stay compact");
 
+// A channel message other than a note (issue 16, design §17): what the song's sound needs besides the
+// notes. Controllers are per channel in MIDI: a track's controllers are those on its channels.
+struct Control {
+  enum class Kind : std::uint8_t { controller = 0xB, program = 0xC, pressure = 0xD, pitch_bend = 0xE };
+  std::uint64_t tick = 0;
+  Kind kind = Kind::controller;
+  std::uint8_t channel = 0;
+  std::uint8_t number = 0;   // controller number; program number for `program`
+  std::uint16_t value = 0;   // 0–127; pitch bend 0–16383 (8192 = none)
+};
+
+// The controllers the song's sound follows (CC numbers): the rest are read and dropped.
+inline constexpr std::uint8_t kSoundControllers[] = {
+    0, 32,               // bank select (FluidSynth picks the bank with them)
+    1,                   // modulation
+    6, 38, 100, 101,     // data entry and RPN select (RPN 0: pitch bend range)
+    7, 10, 11,           // volume, pan, expression
+    64, 66, 67,          // sustain, sostenuto, soft pedals
+    91, 93,              // reverb and chorus sends
+    120, 121, 123};      // all sound off, reset all controllers, all notes off
+bool is_sound_controller(std::uint8_t number);
+// "sustain", "volume", …, "CC 20" for the others.
+std::string controller_name(std::uint8_t number);
+
 // A (channel, program) pair some notes of a track were played with.
 struct ProgramUse {
   std::uint8_t channel = 0;
@@ -85,6 +109,8 @@ struct Song {
   TempoMap tempo_map;
   std::vector<TempoChange> tempo_changes;   // the map's segments: [0] is the starting tempo at tick 0
   std::vector<TimeSignature> time_signatures;
+  std::vector<Control> controls;            // by tick (file order at equal ticks): the sound's controllers,
+                                            // pitch bends, channel pressure, program changes
   std::uint64_t end_tick = 0;               // the latest track end
   std::int64_t duration_us = 0;
 

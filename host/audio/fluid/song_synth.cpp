@@ -98,6 +98,10 @@ void SongSynth::set_events(const std::vector<AudioEvent>& events) {
   std::array<std::ptrdiff_t, 16 * 128> last_off;
   last_off.fill(-1);
   for (const AudioEvent& e : events) {
+    if (e.kind == AudioEvent::Kind::control) {  // on time (a note's lead moves its sound's onset only)
+      events_.push_back({frame_of(e.time_us), e});
+      continue;
+    }
     const std::size_t slot = static_cast<std::size_t>(e.channel & 0x0F) * 128 + (e.key & 0x7F);
     if (e.kind == AudioEvent::Kind::note_on) {
       lead_of_key[slot] = applied_lead(e.channel, e.program, e.key);
@@ -197,6 +201,25 @@ void SongSynth::seek(std::int64_t song_us) {
   next_ = static_cast<std::size_t>(
       std::lower_bound(events_.begin(), events_.end(), from, [](const Timed& t, std::int64_t f) { return t.frame < f; }) -
       events_.begin());
+  restore_controls(next_);
+}
+
+void SongSynth::restore_controls(std::size_t before) {
+  // The channels as the song has them at the new position: every controller, bend and pressure back to
+  // its default, then the last value of each before the position (pedal down, volume, pan, bend range…).
+  for (int channel = 0; channel < 16; ++channel) {
+    fluid_synth_cc(synth_, channel, 121, 0);  // reset all controllers
+    fluid_synth_cc(synth_, channel, 7, 100);  // volume and pan are not reset by 121 (GM): their defaults
+    fluid_synth_cc(synth_, channel, 10, 64);
+    fluid_synth_pitch_bend(synth_, channel, 8192);
+  }
+  // Replayed in order: RPN selects and data entry must arrive as they did (the bend range).
+  for (std::size_t i = 0; i < before; ++i) {
+    const AudioEvent& e = events_[i].event;
+    if (e.kind != AudioEvent::Kind::control || e.control == midi::Control::Kind::program) continue;
+    if (e.control == midi::Control::Kind::controller && (e.key == 120 || e.key == 123)) continue;  // momentary
+    apply(e);
+  }
 }
 
 void SongSynth::release_all() { fluid_synth_all_notes_off(synth_, -1); }
@@ -204,6 +227,15 @@ void SongSynth::release_all() { fluid_synth_all_notes_off(synth_, -1); }
 void SongSynth::apply(const AudioEvent& e) {
   if (e.kind == AudioEvent::Kind::note_off) {
     fluid_synth_noteoff(synth_, e.channel, e.key);
+    return;
+  }
+  if (e.kind == AudioEvent::Kind::control) {
+    switch (e.control) {
+      case midi::Control::Kind::controller: fluid_synth_cc(synth_, e.channel, e.key, e.value); break;
+      case midi::Control::Kind::pitch_bend: fluid_synth_pitch_bend(synth_, e.channel, e.value); break;
+      case midi::Control::Kind::pressure: fluid_synth_channel_pressure(synth_, e.channel, e.value); break;
+      case midi::Control::Kind::program: break;  // each note-on carries its program (below)
+    }
     return;
   }
   // The program travels with each note: switching the channel just before the note keeps every note on

@@ -85,6 +85,7 @@ class SongSynth final : public Synth {
   void warm_up();
   void dispatch_due();  // at a block boundary: applies the events nearest to it
   void apply(const AudioEvent& e);
+  void restore_controls(std::size_t before);  // after a seek: the controllers of the events before `before`
   std::int64_t applied_lead(std::uint8_t channel, std::uint8_t program, std::uint8_t key) const;
 
   SynthSettings settings_;
