@@ -2,6 +2,7 @@
 #include "host/export/haptic_export.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 #include <nlohmann/json.hpp>
@@ -14,6 +15,8 @@
 namespace hmp::exporting {
 
 namespace {
+
+constexpr double kRefineTolerance = 0.01;  // of the note's peak
 
 envelope::Adsr preset_of(const haptics::HapticTrack& t, std::uint8_t slot) {
   if (slot < envelope::kBuiltinCount) return envelope::builtin(static_cast<envelope::Preset>(slot));
@@ -53,13 +56,35 @@ std::vector<ExportNote> export_notes(const ExportSpec& spec, std::uint32_t step_
     e.intensity = std::clamp(static_cast<double>(peak), 0.0, 1.0);
     e.sharpness = span_hz > 0 ? std::clamp((hn.freq_hz - o.ranges.f_min_hz) / span_hz, 0.0, 1.0) : 0.5;
     const double inv_peak = peak > 0 ? 1.0 / static_cast<double>(peak) : 0.0;
-    auto add = [&](std::uint64_t tick) {
-      const auto k = static_cast<std::uint32_t>(tick - n.start_tick);
-      const double level = std::clamp(static_cast<double>(env.at(k)) * inv_peak, 0.0, 1.0);
-      e.envelope.push_back({static_cast<double>(tick - a) * T, level});
+    // Every tick's level, then breakpoints: the step grid plus the note's last tick, refined where linear
+    // interpolation between two breakpoints misses a tick by more than kRefineTolerance (phase corners,
+    // the end fade).
+    std::vector<double> lv(static_cast<std::size_t>(b - a));
+    for (std::uint64_t k = a; k < b; ++k)
+      lv[k - a] = std::clamp(static_cast<double>(env.at(static_cast<std::uint32_t>(k - n.start_tick))) * inv_peak, 0.0, 1.0);
+    std::vector<std::size_t> keep;
+    for (std::size_t k = 0; k < lv.size(); k += step_ticks) keep.push_back(k);
+    if (keep.back() != lv.size() - 1) keep.push_back(lv.size() - 1);
+    std::vector<std::size_t> refined{keep.front()};
+    const auto refine = [&](auto&& self, std::size_t i0, std::size_t i1) -> void {
+      std::size_t worst = i0;
+      double worst_err = kRefineTolerance;
+      for (std::size_t k = i0 + 1; k < i1; ++k) {
+        const double lin = lv[i0] + (lv[i1] - lv[i0]) * static_cast<double>(k - i0) / static_cast<double>(i1 - i0);
+        if (std::abs(lin - lv[k]) > worst_err) {
+          worst_err = std::abs(lin - lv[k]);
+          worst = k;
+        }
+      }
+      if (worst != i0) {
+        self(self, i0, worst);
+        self(self, worst, i1);
+      } else {
+        refined.push_back(i1);
+      }
     };
-    for (std::uint64_t k = a; k < b; k += step_ticks) add(k);
-    if ((b - 1 - a) % step_ticks != 0) add(b - 1);
+    for (std::size_t q = 0; q + 1 < keep.size(); ++q) refine(refine, keep[q], keep[q + 1]);
+    for (std::size_t k : refined) e.envelope.push_back({static_cast<double>(k) * T, lv[k]});
     out.push_back(std::move(e));
   }
   return out;

@@ -49,7 +49,9 @@ void check_ahap(const json& j) {
   ASSERT_TRUE(j.is_object());
   ASSERT_TRUE(j.contains("Version") && j["Version"].is_number());
   ASSERT_TRUE(j.contains("Pattern") && j["Pattern"].is_array());
-  if (j.contains("Metadata")) ASSERT_TRUE(j["Metadata"].is_object());
+  if (j.contains("Metadata")) {
+    ASSERT_TRUE(j["Metadata"].is_object());
+  }
   double last_time = 0;
   for (const json& e : j["Pattern"]) {
     ASSERT_TRUE(e.is_object());
@@ -120,7 +122,7 @@ std::vector<double> track_envelope(const Loaded& l) {
     const auto env = ex::note_envelope(l.w.haptic, l.opts, hn.note);
     for (std::uint64_t k = std::max(hn.note.start_tick, l.w.first_tick);
          k < std::min(hn.note.start_tick + hn.note.duration_ticks, l.w.end_tick); ++k)
-      y[k - l.w.first_tick] += env.at(static_cast<std::uint32_t>(k - hn.note.start_tick));
+      y[k - l.w.first_tick] += static_cast<double>(env.at(static_cast<std::uint32_t>(k - hn.note.start_tick)));
   }
   return y;
 }
@@ -180,19 +182,23 @@ TEST(HapticExport, DemoSongPassesBothSchemas) {
 }
 
 TEST(HapticExport, AhapEnvelopeMatchesTheTrackEnvelope) {
-  for (const char* track : {"flute", "harpsichord", "contrabass"}) {
+  for (const char* track : {"flute", "7", "contrabass"}) {
     const Loaded l = load(kDemo, track, 0.0, 60.0);
     const std::vector<double> want = track_envelope(l);
     const std::vector<double> got = rebuild_ahap(ex::ahap_json(l.spec()), want.size(), l.opts.tick_hz);
     double max_err = 0, sum_err = 0;
+    std::size_t worst = 0;
     for (std::size_t k = 0; k < want.size(); ++k) {
-      max_err = std::max(max_err, std::abs(got[k] - std::min(1.0, want[k])));
-      sum_err += std::abs(got[k] - std::min(1.0, want[k]));
+      if (std::abs(got[k] - want[k]) > max_err) worst = k;
+      max_err = std::max(max_err, std::abs(got[k] - want[k]));
+      sum_err += std::abs(got[k] - want[k]);
     }
+    std::printf("worst tick %zu: got %.4f want %.4f (prev %.4f/%.4f next %.4f/%.4f)\n", worst, got[worst], want[worst],
+                got[worst ? worst - 1 : 0], want[worst ? worst - 1 : 0], got[worst + 1], want[worst + 1]);
     std::printf("%s: max |error| %.4f, mean %.6f of full scale over %zu ticks\n", track, max_err,
                 sum_err / static_cast<double>(want.size()), want.size());
-    EXPECT_LT(max_err, 0.05) << track;
-    EXPECT_LT(sum_err / static_cast<double>(want.size()), 0.002) << track;
+    EXPECT_LT(max_err, 0.02) << track;  // 0.01 of each note's peak (kRefineTolerance), overlaps add
+    EXPECT_LT(sum_err / static_cast<double>(want.size()), 0.001) << track;
   }
 }
 
@@ -203,7 +209,7 @@ TEST(HapticExport, MetaAmplitudeFollowsTheSummedEnvelope) {
   for (const json& p : j["signals"]["continuous"]["envelopes"]["amplitude"]) {
     const auto k = static_cast<std::size_t>(std::llround(p["time"].get<double>() * l.opts.tick_hz));
     ASSERT_LT(k, want.size());
-    EXPECT_NEAR(p["amplitude"].get<double>(), std::min(1.0, want[k]), 1e-6);
+    EXPECT_NEAR(p["amplitude"].get<double>(), want[k], 1e-6);
   }
 }
 
@@ -266,7 +272,11 @@ TEST(HapticExport, CommandLine) {
     ASSERT_EQ(run_hmp(kDemo + " --track flute --to 20 --out " + out), 0);
     std::ifstream f(out);
     const json j = json::parse(f);
-    if (std::string(ext) == "ahap") check_ahap(j); else check_meta(j);
+    if (std::string(ext) == "ahap") {
+      check_ahap(j);
+    } else {
+      check_meta(j);
+    }
     std::string err;
     EXPECT_EQ(run_hmp(kDemo + " --track flute --to 20 --out " + out, &err), 2) << "no overwrite without --force";
     EXPECT_EQ(run_hmp(kDemo + " --track flute --to 20 --force --out " + out), 0);
