@@ -9,7 +9,9 @@
 #include "host/cli/song_options.hpp"
 #include "host/common/error.hpp"
 #include "host/common/progress.hpp"
+#include "host/export/haptic_export.hpp"
 #include "host/midi/gm.hpp"
+#include "host/output/output_file.hpp"
 #include "host/output/signal_export.hpp"
 
 namespace hmp::cli {
@@ -29,13 +31,28 @@ struct RenderOptions {
 int run_render(const RenderOptions& o) {
   const output::SignalExport out{o.out, o.audible, o.force};
   const haptics::HapticOptions opts = resolve(o.haptic);
-  output::check_export(out);  // fail before the work, not after
+  const bool haptic_file = exporting::is_haptic_export(o.out);  // .ahap / .haptic (host/export/)
+  if (haptic_file) {
+    if (o.audible) throw BadInput("--audible: only with --out FILE.wav");
+    output::check_writable(o.out, o.force);
+  } else {
+    output::check_export(out);  // fail before the work, not after
+  }
   const TrackWindow w = load_track_window(o.song, o.track, opts, o.from_s, o.to_s, warn_on_stderr);
   const midi::ReadResult& r = w.read;
   const std::uint32_t track = w.track;
   const haptics::HapticTrack& ht = w.haptic;
   const std::uint64_t first = w.first_tick, end = w.end_tick;
   if (end - first > (std::uint64_t{1} << 31)) throw BadInput("--from/--to: window too long to render (> 2^31 ticks)");
+
+  if (haptic_file) {
+    const midi::Track& t = r.song.tracks[track];
+    exporting::ExportSpec spec{&ht, &opts, first, end,
+                               fmt::format("{} — track {} \"{}\", mapping {}, envelope {}", o.song, track, t.name,
+                                           mapping::name(opts.mapping), opts.envelope)};
+    exporting::write_haptic_export(o.out, o.force, spec);
+    return kExitOk;
+  }
 
   haptics::RenderSettings settings;
   settings.synth.tick_hz = opts.tick_hz;
@@ -65,7 +82,7 @@ void register_render(CLI::App& app, Registry& registry) {
   CLI::App* cmd = app.add_subcommand("render", "Render one track's haptic signal (CSV, WAV or PNG plot)");
   cmd->add_option("SONG", o->song, "MIDI file")->required();
   cmd->add_option("--track", o->track, "Track index, or part of its name or instrument (see hmp info)")->required();
-  cmd->add_option("--out", o->out, "Output: FILE.csv (t_s,value), FILE.wav (float, tick rate), FILE.png, '-' = CSV to stdout")
+  cmd->add_option("--out", o->out, "Output: FILE.csv (t_s,value), FILE.wav (float, tick rate), FILE.png, FILE.ahap, FILE.haptic, '-' = CSV to stdout")
       ->capture_default_str();
   cmd->add_option("--from", o->from_s, "Start of the window in seconds of the song");
   cmd->add_option("--to", o->to_s, "End of the window in seconds of the song");

@@ -1,0 +1,51 @@
+// Meta Haptics Studio clip (.haptic): the summed signal's envelope (sum of the sounding notes' envelopes,
+// clipped to full scale) as the amplitude envelope, and the loudest sounding note's mapped frequency, placed
+// in the mapping's range, as the frequency envelope; both on one grid of kExportStepS (docs/exports.md).
+#include <algorithm>
+#include <cmath>
+
+#include "host/export/json_writers.hpp"
+
+namespace hmp::exporting {
+
+nlohmann::json meta_haptic_json(const ExportSpec& spec) {
+  using nlohmann::json;
+  const haptics::HapticOptions& o = *spec.opts;
+  const std::uint32_t hz = o.tick_hz;
+  const auto step = static_cast<std::uint64_t>(std::max(1.0, std::round(kExportStepS * static_cast<double>(hz))));
+  const std::uint64_t first = spec.first_tick, end = spec.end_tick;
+  const std::size_t slots = end > first ? static_cast<std::size_t>((end - first - 1) / step) + 1 : 0;
+  std::vector<double> amp(slots, 0.0), loudest(slots, 0.0), freq(slots, -1.0);
+  const double span_hz = o.ranges.f_max_hz - o.ranges.f_min_hz;
+  for (const haptics::HapticNote& hn : spec.track->notes) {
+    const synth::Note& n = hn.note;
+    const std::uint64_t ne = n.start_tick + n.duration_ticks;
+    if (ne <= first || n.start_tick >= end) continue;
+    const envelope::Envelope env = note_envelope(*spec.track, o, n);
+    const double sharp = span_hz > 0 ? std::clamp((hn.freq_hz - o.ranges.f_min_hz) / span_hz, 0.0, 1.0) : 0.5;
+    const std::uint64_t a = std::max(n.start_tick, first), b = std::min(ne, end);
+    for (std::uint64_t s = (a - first + step - 1) / step; first + s * step < b; ++s) {
+      const double v = static_cast<double>(env.at(static_cast<std::uint32_t>(first + s * step - n.start_tick)));
+      amp[s] += v;
+      if (v > loudest[s]) {
+        loudest[s] = v;
+        freq[s] = sharp;
+      }
+    }
+  }
+  json am = json::array(), fr = json::array();
+  double last_f = 0.5;
+  const double T = 1.0 / static_cast<double>(hz);
+  for (std::size_t s = 0; s < slots; ++s) {
+    const double t = static_cast<double>(s * step) * T;
+    am.push_back({{"time", t}, {"amplitude", std::clamp(amp[s], 0.0, 1.0)}});
+    if (freq[s] >= 0) last_f = freq[s];
+    fr.push_back({{"time", t}, {"frequency", last_f}});
+  }
+  return {{"version", {{"major", 1}, {"minor", 0}, {"patch", 0}}},
+          {"metadata", {{"editor", "hmp render"}, {"author", ""}, {"source", ""}, {"project", ""},
+                        {"tags", json::array()}, {"description", spec.title}}},
+          {"signals", {{"continuous", {{"envelopes", {{"amplitude", std::move(am)}, {"frequency", std::move(fr)}}}}}}}};
+}
+
+}  // namespace hmp::exporting
