@@ -62,7 +62,7 @@ void print_summary(const player::Counters& c, const player::Snapshot& s, std::si
                           c.notes_played, c.notes_sent, window_notes, s.track, s.track_name, device, c.late, c.stolen,
                           c.rejected, c.skipped ? fmt::format(", skipped {}", c.skipped) : "",
                           c.recoveries ? fmt::format(", recovered {} time(s)", c.recoveries) : "",
-                          player::format_time(s.song_us))
+                          format_time(s.song_us))
                   .c_str());
   std::fflush(stdout);
 }

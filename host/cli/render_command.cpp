@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "host/cli/commands.hpp"
+#include "host/cli/render_video.hpp"
 #include "host/cli/song_options.hpp"
 #include "host/common/error.hpp"
 #include "host/common/progress.hpp"
@@ -26,12 +27,20 @@ struct RenderOptions {
   bool audible = false;
   bool force = false;
   HapticCliOptions haptic;
+  VideoCliOptions video;
 };
 
 int run_render(const RenderOptions& o) {
   const output::SignalExport out{o.out, o.audible, o.force};
   const haptics::HapticOptions opts = resolve(o.haptic);
   const bool haptic_file = exporting::is_haptic_export(o.out);  // .ahap / .haptic (host/export/)
+  if (is_video_export(o.out)) {  // .mp4 (host/video/)
+    if (o.audible) throw BadInput("--audible: only with --out FILE.wav (a video takes --haptic-audio)");
+    output::check_writable(o.out, o.force);
+    const TrackWindow w = load_track_window(o.song, o.track, opts, o.from_s, o.to_s, warn_on_stderr);
+    run_video_export(o.song, w, opts, o.video, o.out, o.force);
+    return kExitOk;
+  }
   if (haptic_file) {
     if (o.audible) throw BadInput("--audible: only with --out FILE.wav");
     output::check_writable(o.out, o.force);
@@ -79,16 +88,17 @@ int run_render(const RenderOptions& o) {
 
 void register_render(CLI::App& app, Registry& registry) {
   auto o = std::make_shared<RenderOptions>();
-  CLI::App* cmd = app.add_subcommand("render", "Render one track's haptic signal (CSV, WAV or PNG plot)");
+  CLI::App* cmd = app.add_subcommand("render", "Render one track's haptic signal (CSV, WAV, PNG plot, AHAP, .haptic) or the animation as MP4 video");
   cmd->add_option("SONG", o->song, "MIDI file")->required();
   cmd->add_option("--track", o->track, "Track index, or part of its name or instrument (see hmp info)")->required();
-  cmd->add_option("--out", o->out, "Output: FILE.csv (t_s,value), FILE.wav (float, tick rate), FILE.png, FILE.ahap, FILE.haptic, '-' = CSV to stdout")
+  cmd->add_option("--out", o->out, "Output: FILE.csv (t_s,value), FILE.wav (float, tick rate), FILE.png, FILE.ahap, FILE.haptic, FILE.mp4 (the animation with sound), '-' = CSV to stdout")
       ->capture_default_str();
   cmd->add_option("--from", o->from_s, "Start of the window in seconds of the song");
   cmd->add_option("--to", o->to_s, "End of the window in seconds of the song");
   cmd->add_flag("--audible", o->audible, "WAV resampled to 44.1 kHz so you can listen to it");
   cmd->add_flag("-f,--force", o->force, "Overwrite an existing output file");
   add_haptic_options(cmd, o->haptic);
+  add_video_options(cmd, o->video);
   cmd->callback([o, &registry] { registry.set([o] { return run_render(*o); }); });
 }
 

@@ -103,7 +103,7 @@ int run_view(const ViewOptions& o) {
     const midi::Track& t = song.tracks[st.haptic_track];
     const double speed = audio.speed();
     st.overlay = fmt::format("{}  {} / {}{}   track {} \"{}\"   audio {}   no device   (h: help)", st.paused ? "paused" : "playing",
-                             player::format_time(audio.song_time_us()), player::format_time(end_us),
+                             format_time(audio.song_time_us()), format_time(end_us),
                              speed != 1.0 ? fmt::format("   speed {:g}×", speed) : "", t.index, t.name, audio.driver_name());
     return st;
   };

@@ -108,12 +108,6 @@ std::optional<unsigned char> RawKeys::read_byte() {
   return std::nullopt;
 }
 
-std::string format_time(std::int64_t us) {
-  if (us < 0) us = 0;
-  const std::int64_t tenths = us / 100'000;
-  return fmt::format("{}:{:02}.{}", tenths / 600, tenths / 10 % 60, tenths % 10);
-}
-
 std::string format_status(const Snapshot& s) {
   // Most important first: a narrow terminal cuts the end (envelope and mapping).
   const Counters& c = s.counters;

@@ -8,6 +8,8 @@
 #include <optional>
 #include <string>
 
+#include "host/common/time_format.hpp"
+
 #include <termios.h>
 
 #include "host/player/player.hpp"
@@ -68,7 +70,6 @@ class StatusLine {
 };
 
 std::string format_status(const Snapshot& s);
-std::string format_time(std::int64_t us);  // "1:05.3"
 
 // SIGINT, SIGTERM and SIGHUP set a flag instead of killing the process; the player polls it.
 void install_stop_signals();

@@ -181,12 +181,7 @@ void LiveView::fill_frame(FrameState& f, const LiveState& state, Clock::time_poi
 }
 
 LayoutParams LiveView::params() const {
-  LayoutParams p;
-  p.width_px = std::max(1, width_px_);
-  p.height_px = std::max(1, height_px_);
-  p.seconds_across = seconds_across_;
-  p.margin_px *= scale_;
-  p.depth_step_px *= scale_;
+  LayoutParams p = for_drawable(LayoutParams{}, width_px_, height_px_, scale_, seconds_across_);
   p.key_low = keys_.first;
   p.key_high = keys_.second;
   return p;

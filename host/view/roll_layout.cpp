@@ -5,6 +5,15 @@
 
 namespace hmp::view {
 
+LayoutParams for_drawable(LayoutParams p, int width_px, int height_px, float scale, double seconds_across) {
+  p.width_px = width_px > 1 ? width_px : 1;
+  p.height_px = height_px > 1 ? height_px : 1;
+  p.seconds_across = seconds_across;
+  p.margin_px *= scale;
+  p.depth_step_px *= scale;
+  return p;
+}
+
 RollLayout::RollLayout(const LayoutParams& p, std::uint32_t tracks, std::uint32_t haptic)
     : p_(p), haptic_(haptic), depth_(tracks, 0) {
   std::uint32_t next = 1;

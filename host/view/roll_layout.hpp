@@ -43,6 +43,10 @@ struct LayoutParams {
   float depth_step_px = 6.0f;          // each layer behind is this much up and to the right
 };
 
+// The parameters for a drawable of width × height pixels at `scale` pixels per logical pixel (HiDPI): the
+// margins and layer offsets grow with the scale, so the window looks the same on every screen.
+LayoutParams for_drawable(LayoutParams p, int width_px, int height_px, float scale, double seconds_across);
+
 class RollLayout {
  public:
   // `tracks`: how many; `haptic`: the haptic track (in front).

@@ -23,4 +23,14 @@ std::unique_ptr<ViewWindow> open_view(const ViewSetup& setup, std::string& error
   return backend->open(setup, error);
 }
 
+std::unique_ptr<OffscreenFrames> open_offscreen(const ViewSetup& setup, std::string& error) {
+  std::string why;
+  const ViewBackend* backend = modules::backend<ViewBackend>(&why);
+  if (backend == nullptr) {
+    error = "the view module is not available (" + why + ")";
+    return nullptr;
+  }
+  return backend->open_offscreen(setup, error);
+}
+
 }  // namespace hmp::view

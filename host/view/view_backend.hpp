@@ -83,12 +83,27 @@ class ViewWindow {
   virtual void size(int& width_px, int& height_px, float& scale) const = 0;
 };
 
+// Frames drawn without a window (the video export, host/video/): OpenGL through EGL on Mesa's surfaceless
+// platform, so no display server is needed. The same painter as the window's draws them.
+class OffscreenFrames {
+ public:
+  virtual ~OffscreenFrames() = default;
+  // Draws `state` at the setup's size (scale 1) and returns its pixels: RGBA, width × 4 bytes a row, rows
+  // from the BOTTOM up (OpenGL's order; the encoder flips for free). Valid until the next call or the end.
+  // Call from one thread at a time; the context follows the calling thread.
+  virtual const std::uint8_t* draw(const FrameState& state) = 0;
+  virtual FrameCost last_cost() const = 0;
+  virtual std::string renderer() const = 0;
+};
+
 class ViewBackend {
  public:
   static constexpr const char* kModule = "view";
-  static constexpr int kAbi = 2;
+  static constexpr int kAbi = 3;
   // A window, or null and `error` says why (no display, no OpenGL 3.3, …) in one line.
   virtual std::unique_ptr<ViewWindow> open(const ViewSetup& setup, std::string& error) const = 0;
+  // Off-screen frames of setup.width × setup.height pixels, or null and `error` in one line.
+  virtual std::unique_ptr<OffscreenFrames> open_offscreen(const ViewSetup& setup, std::string& error) const = 0;
 
  protected:
   ~ViewBackend() = default;  // one static object in the module, never deleted through this
@@ -97,5 +112,8 @@ class ViewBackend {
 // Opens the window through the view module (loaded on first use). Null and `error` when it cannot be had:
 // the caller warns once and goes on without it.
 std::unique_ptr<ViewWindow> open_view(const ViewSetup& setup, std::string& error);
+
+// Off-screen frames through the view module (no display needed). Null and `error` when they cannot be had.
+std::unique_ptr<OffscreenFrames> open_offscreen(const ViewSetup& setup, std::string& error);
 
 }  // namespace hmp::view

@@ -6,16 +6,12 @@
 #include <string>
 #include <vector>
 
-#include "host/view/gl/roll_renderer.hpp"
-#include "host/view/note_index.hpp"
-#include "host/view/roll_layout.hpp"
+#include "host/view/gl/frame_painter.hpp"
 #include "host/view/view_backend.hpp"
 
 struct SDL_Window;
 
 namespace hmp::view::gl {
-
-class TextLayer;
 
 class SdlGlWindow final : public ViewWindow {
  public:
@@ -38,13 +34,8 @@ class SdlGlWindow final : public ViewWindow {
   ViewSetup setup_;
   SDL_Window* window_;
   void* context_;  // SDL_GLContext
-  NoteIndex index_;
-  LayoutParams layout_params_;
-  std::unique_ptr<RollRenderer> renderer_;
-  std::unique_ptr<TextLayer> text_;
+  std::unique_ptr<FramePainter> painter_;
   std::string renderer_name_;
-  std::vector<Bar> visible_;
-  std::vector<Instance> instances_;  // this frame's rectangles (kept: no allocation per frame)
   std::vector<std::uint8_t> pixels_;
   int pixels_w_ = 0, pixels_h_ = 0;
   FrameCost cost_;

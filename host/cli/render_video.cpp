@@ -1,0 +1,82 @@
+#include "host/cli/render_video.hpp"
+
+#include <cstdio>
+#include <filesystem>
+
+#include <fmt/format.h>
+
+#include "host/cli/play_view.hpp"
+#include "host/common/error.hpp"
+#include "host/common/progress.hpp"
+#include "host/output/output_file.hpp"
+#include "host/video/video_export.hpp"
+
+namespace hmp::cli {
+
+void add_video_options(CLI::App* cmd, VideoCliOptions& o) {
+  const char* group = "Video (--out FILE.mp4)";
+  cmd->add_option("--fps", o.fps, "Frames per second; must divide 44100 (25, 30, 50, 60 …)")->capture_default_str()->group(group);
+  cmd->add_option("--size", o.size, "Frame size WIDTHxHEIGHT in pixels (even numbers)")->capture_default_str()->group(group);
+  cmd->add_option("--zoom", o.zoom_s, "Seconds of song across the frame, as the window's + and - keys")
+      ->capture_default_str()->check(CLI::Range(1.0, 120.0))->group(group);
+  cmd->add_flag("--haptic-audio", o.haptic_audio, "A second audio stream: the haptic track's signal, listenable")->group(group);
+  cmd->add_flag("--no-audio", o.no_audio, "The song's audio stream silent (no SoundFont loaded)")->group(group);
+  cmd->add_option("--soundfont", o.soundfont, "SoundFont (.sf2/.sf3) for the song's audio (default: the GM one installed)")
+      ->check(CLI::ExistingFile)->group(group);
+  cmd->add_option("--video-preset", o.preset, "libx264 speed preset: ultrafast … veryslow")->capture_default_str()->group(group);
+  cmd->add_option("--crf", o.crf, "libx264 constant quality, 0..51 (lower: better and bigger)")->capture_default_str()->group(group);
+}
+
+bool is_video_export(const std::string& path) { return output::extension_of(path) == "mp4"; }
+
+namespace {
+
+std::pair<int, int> parse_size(const std::string& text) {
+  int w = 0, h = 0;
+  char x = 0, extra = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X')) {
+    throw BadInput("--size " + text + ": expected WIDTHxHEIGHT, e.g. 1280x720");
+  }
+  return {w, h};
+}
+
+}  // namespace
+
+void run_video_export(const std::string& song_path, const TrackWindow& w, const haptics::HapticOptions& opts,
+                      const VideoCliOptions& o, const std::string& out, bool force) {
+  const midi::Song& song = w.read.song;
+  const midi::Track& t = song.tracks[w.track];
+  video::VideoExportSpec spec;
+  spec.song = &song;
+  spec.haptic = std::make_shared<const haptics::HapticTrack>(w.haptic);
+  spec.haptic_options = opts;
+  spec.from_us = static_cast<std::int64_t>(static_cast<double>(w.first_tick) * 1e6 / opts.tick_hz + 0.5);
+  spec.to_us = static_cast<std::int64_t>(static_cast<double>(w.end_tick) * 1e6 / opts.tick_hz + 0.5);
+  std::tie(spec.width, spec.height) = parse_size(o.size);
+  spec.fps = o.fps;
+  spec.seconds_across = o.zoom_s;
+  spec.song_audio = !o.no_audio;
+  spec.haptic_audio = o.haptic_audio;
+  if (o.soundfont) spec.audio.soundfont = *o.soundfont;
+  spec.preset = o.preset;
+  spec.crf = o.crf;
+  spec.legend_labels = legend_labels(song);
+  const std::string name = std::filesystem::path(song_path).filename().string();
+  spec.overlay_prefix = fmt::format("{}   track {} \"{}\"   envelope {}   mapping {}", name, w.track, t.name, opts.envelope,
+                                    mapping::name(opts.mapping));
+  spec.title = name;
+  spec.comment = fmt::format("hmp render: track {} \"{}\", mapping {}, envelope {}", w.track, t.name,
+                             mapping::name(opts.mapping), opts.envelope);
+  video::check_video_spec(spec);
+  output::check_writable(out, force);
+  if (out == "-") throw BadInput("--out -: a video needs a file name");
+
+  ProgressBar bar("rendering video");
+  const video::VideoExportResult r =
+      video::export_video(out, spec, [&](std::uint64_t d, std::uint64_t n) { bar.update(d, n); }, warn_on_stderr);
+  bar.update(r.frames, r.frames);
+  std::fprintf(stderr, "%s: %llu frames, %.2f s of video in %.2f s (%.1fx real time): %s\n", out.c_str(),
+               static_cast<unsigned long long>(r.frames), r.seconds, r.wall_s, r.seconds / r.wall_s, r.encoder.c_str());
+}
+
+}  // namespace hmp::cli
