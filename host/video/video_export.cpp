@@ -111,7 +111,9 @@ class FrameQueue {
   bool closed_ = false, aborted_ = false;
 };
 
-view::FrameState frame_state(const VideoExportSpec& spec, const haptics::SignalTail& tail, std::int64_t song_us) {
+}  // namespace
+
+view::FrameState video_frame_state(const VideoExportSpec& spec, const haptics::SignalTail& tail, std::int64_t song_us) {
   view::FrameState f;
   f.song_us = song_us;
   f.end_us = spec.to_us;
@@ -128,8 +130,6 @@ view::FrameState frame_state(const VideoExportSpec& spec, const haptics::SignalT
   f.vibration_samples = tail.samples(song_us, f.vibration, 256);
   return f;
 }
-
-}  // namespace
 
 std::int64_t frame_time_us(std::int64_t from_us, std::uint64_t i, int fps) {
   const auto f = static_cast<std::uint64_t>(fps);
@@ -277,7 +277,7 @@ VideoExportResult export_video(const std::string& path, const VideoExportSpec& s
   double render_wall = 0;
   for (std::uint64_t i = 0; i < result.frames; ++i) {
     const auto t0 = WallClock::now();
-    const std::uint8_t* pixels = frames->draw(frame_state(spec, tail, frame_time_us(spec.from_us, i, spec.fps)));
+    const std::uint8_t* pixels = frames->draw(video_frame_state(spec, tail, frame_time_us(spec.from_us, i, spec.fps)));
     std::vector<std::uint8_t> buffer = queue.take_free();
     if (buffer.empty()) break;  // the encoder stopped
     rgba_bottom_up_to_i420(pixels, spec.width, spec.height, i420_planes(buffer.data(), spec.width, spec.height));

@@ -16,7 +16,9 @@
 #include "host/audio/audio_events.hpp"
 #include "host/audio/audio_options.hpp"
 #include "host/haptics/haptic_track.hpp"
+#include "host/haptics/signal_tail.hpp"
 #include "host/midi/song.hpp"
+#include "host/view/view_backend.hpp"
 
 namespace hmp::video {
 
@@ -60,6 +62,10 @@ VideoExportResult export_video(const std::string& path, const VideoExportSpec& s
 
 // The checks of export_video that need no work (the command calls it before loading modules).
 void check_video_spec(const VideoExportSpec& spec);
+
+// What the frame at `song_us` shows (overlay, legend, strip; the bars come from the song): the state the
+// off-screen painter draws. `tail` is the haptic track's (SignalTail(spec.haptic, spec.haptic_options)).
+view::FrameState video_frame_state(const VideoExportSpec& spec, const haptics::SignalTail& tail, std::int64_t song_us);
 
 // Song time shown by frame `i` of a video starting at `from_us`: from + i/fps, rounded to the µs.
 std::int64_t frame_time_us(std::int64_t from_us, std::uint64_t i, int fps);

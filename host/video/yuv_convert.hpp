@@ -24,7 +24,7 @@ I420Planes i420_planes(std::uint8_t* buffer, int width, int height);
 // width and height even. Each chroma sample is the mean of its 2×2 pixels (centred siting).
 //   Y = 16 + 219·(0.2126 R + 0.7152 G + 0.0722 B)/255,
 //   U = 128 + 224·(B − Y')/(1.8556·255), V = 128 + 224·(R − Y')/(1.5748·255)   (ITU-R BT.709-6 §3.2, §3.4)
-// with rounding to nearest; each value is within ±1 of the exact formula.
+// rounded to nearest: each value within 0.512 of the exact formula (the matrix is Q15 fixed point).
 void rgba_bottom_up_to_i420(const std::uint8_t* rgba, int width, int height, const I420Planes& out);
 
 }  // namespace hmp::video
