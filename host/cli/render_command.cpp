@@ -63,10 +63,7 @@ int run_render(const RenderOptions& o) {
     return kExitOk;
   }
 
-  haptics::RenderSettings settings;
-  settings.synth.tick_hz = opts.tick_hz;
-  settings.synth.end_fade_ms = static_cast<float>(opts.end_fade_ms);
-  settings.polyphony = opts.polyphony;
+  const haptics::RenderSettings settings = haptics::render_settings(opts);
   ProgressBar bar("rendering");
   const auto notes = ht.device_notes();
   const std::vector<float> samples = haptics::render_signal(

@@ -185,4 +185,12 @@ HapticTrack build_haptic_track(const midi::Song& song, std::uint32_t track, cons
   return out;
 }
 
+RenderSettings render_settings(const HapticOptions& opts) {
+  RenderSettings settings;
+  settings.synth.tick_hz = opts.tick_hz;
+  settings.synth.end_fade_ms = static_cast<float>(opts.end_fade_ms);
+  settings.polyphony = opts.polyphony;
+  return settings;
+}
+
 }  // namespace hmp::haptics

@@ -69,4 +69,8 @@ std::string auto_preset_name(const HapticOptions& opts, std::uint8_t program, st
 
 HapticTrack build_haptic_track(const midi::Song& song, std::uint32_t track, const HapticOptions& opts);
 
+// The shared engine's settings the options ask for (tick rate, end fade, polyphony): what every renderer
+// of a track's signal (render, the view's strip, the video's haptic audio) uses.
+RenderSettings render_settings(const HapticOptions& opts);
+
 }  // namespace hmp::haptics

@@ -10,9 +10,7 @@ SignalTail::SignalTail(std::shared_ptr<const HapticTrack> track, const HapticOpt
   if (track_) notes_ = track_->device_notes();
   for (const synth::Note& n : notes_) longest_ = std::max<std::uint64_t>(longest_, n.duration_ticks);
   longest_ += static_cast<std::uint64_t>(opts.end_fade_ms * opts.tick_hz / 1000.0) + 1;  // the end fade after it
-  settings_.synth.tick_hz = opts.tick_hz;
-  settings_.synth.end_fade_ms = static_cast<float>(opts.end_fade_ms);
-  settings_.polyphony = opts.polyphony;
+  settings_ = render_settings(opts);
 }
 
 int SignalTail::samples(std::int64_t song_us, float* out, int max) const {

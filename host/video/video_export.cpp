@@ -208,12 +208,9 @@ VideoExportResult export_video(const std::string& path, const VideoExportSpec& s
     const std::uint32_t tick_hz = spec.haptic_options.tick_hz;
     const std::uint64_t first = haptics::seconds_to_tick(spec.from_us, tick_hz);
     const std::uint64_t end = haptics::seconds_to_tick(audio_end_us, tick_hz) + 2;
-    haptics::RenderSettings settings;
-    settings.synth.tick_hz = tick_hz;
-    settings.synth.end_fade_ms = static_cast<float>(spec.haptic_options.end_fade_ms);
-    settings.polyphony = spec.haptic_options.polyphony;
     const auto notes = spec.haptic->device_notes();
-    std::vector<float> signal = haptics::render_signal(notes, spec.haptic->uploads, settings, first, end);
+    std::vector<float> signal =
+        haptics::render_signal(notes, spec.haptic->uploads, haptics::render_settings(spec.haptic_options), first, end);
     std::vector<float> audible = output::resample(signal, static_cast<int>(tick_hz), spec.sample_rate);
     fit(audible, samples);
     streams.push_back(std::move(audible));

@@ -189,9 +189,10 @@ TEST_F(VideoExport, TheSongsSoundIsLockedToTheFrames) {
 TEST_F(VideoExport, TheHapticStreamIsTheTracksSignal) {
   const std::vector<float> decoded = decode_audio(file_, 1, 1);
   EXPECT_GE(decoded.size(), result_.frames * 735);
-  haptics::RenderSettings settings;
+  haptics::RenderSettings settings;  // written out here: the test's own reading of the options
   settings.synth.tick_hz = options_.tick_hz;
   settings.synth.end_fade_ms = static_cast<float>(options_.end_fade_ms);
+  settings.polyphony = options_.polyphony;
   const auto notes = spec_.haptic->device_notes();
   const std::vector<float> signal = haptics::render_signal(notes, spec_.haptic->uploads, settings, 0, 3 * options_.tick_hz);
   const std::vector<float> reference = output::resample(signal, static_cast<int>(options_.tick_hz), 44100);
