@@ -1,5 +1,6 @@
 #include "host/cli/render_video.hpp"
 
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 
@@ -71,6 +72,12 @@ void run_video_export(const std::string& song_path, const TrackWindow& w, const 
   output::check_writable(out, force);
   if (out == "-") throw BadInput("--out -: a video needs a file name");
 
+  // Ctrl-C (or a kill) stops the export cleanly: the temporary file goes, the user's file stays as it was.
+  static std::atomic<bool> cancel{false};
+  struct sigaction sa {};
+  sa.sa_handler = [](int) { cancel.store(true); };
+  for (const int sig : {SIGINT, SIGTERM, SIGHUP}) sigaction(sig, &sa, nullptr);
+  spec.cancel = &cancel;
   ProgressBar bar("rendering video");
   const video::VideoExportResult r =
       video::export_video(out, spec, [&](std::uint64_t d, std::uint64_t n) { bar.update(d, n); }, warn_on_stderr);

@@ -272,7 +272,13 @@ VideoExportResult export_video(const std::string& path, const VideoExportSpec& s
 
   const haptics::SignalTail tail(spec.haptic, spec.haptic_options);
   double render_wall = 0;
+  bool cancelled = false;
   for (std::uint64_t i = 0; i < result.frames; ++i) {
+    if (spec.cancel != nullptr && spec.cancel->load()) {
+      cancelled = true;
+      queue.abort();
+      break;
+    }
     const auto t0 = WallClock::now();
     const std::uint8_t* pixels = frames->draw(video_frame_state(spec, tail, frame_time_us(spec.from_us, i, spec.fps)));
     std::vector<std::uint8_t> buffer = queue.take_free();
@@ -284,6 +290,7 @@ VideoExportResult export_video(const std::string& path, const VideoExportSpec& s
   }
   queue.close();
   encoding.join();
+  if (cancelled) throw std::runtime_error("interrupted: " + path + " not written");
   if (!encode_error.empty()) throw std::runtime_error("cannot write " + path + ": " + encode_error);
   if (progress) progress(result.frames, result.frames);
   output.keep();

@@ -7,6 +7,7 @@
 //
 // The frames come from the view module's off-screen painter (the window's own), the audio from the
 // audio module's offline renderer, the encoding from the video module (host/video/av/).
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -38,6 +39,7 @@ struct VideoExportSpec {
   std::vector<std::string> legend_labels;              // per track, "" = not listed (as the window)
   std::string overlay_prefix;                          // the top line before the clock (song, track, options)
   std::string title, comment;                          // the file's metadata
+  const std::atomic<bool>* cancel = nullptr;           // set (e.g. by Ctrl-C): stop, write nothing
 };
 
 struct VideoExportResult {
@@ -56,7 +58,8 @@ using Progress = std::function<void(std::uint64_t done, std::uint64_t total)>;
 
 // Throws BadInput for options that cannot work (fps not dividing the sample rate, odd sizes, …) before
 // any work, and std::runtime_error (one line: what and why) when a module is missing or encoding fails.
-// Writes `path` through a temporary file beside it: nothing is left behind on failure.
+// Writes `path` through a temporary file beside it: nothing is left behind on failure or cancel (which
+// throws std::runtime_error "interrupted").
 VideoExportResult export_video(const std::string& path, const VideoExportSpec& spec, const Progress& progress,
                                const audio::WarningSink& warn);
 

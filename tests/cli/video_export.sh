@@ -3,7 +3,8 @@
 # short passage, without a display, gives an MP4 that ffprobe reads as H.264 1280x720 at 60 fps with the
 # song's AAC sound (and the haptic signal as a second stream with --haptic-audio), the right number of
 # frames; options that cannot work exit 2 with one line naming the option, before any work; an existing
-# file is not replaced without -f (and stays as it was); a file that cannot be written leaves nothing behind.
+# file is not replaced without -f (and stays as it was); a file that cannot be written, or an export stopped
+# by Ctrl-C, leaves nothing behind.
 set -u
 hmp="$1"; repo="$2"
 demo="$repo/examples/bach-bwv1050-brandenburg5-mvt3-allegro.mid"
@@ -50,5 +51,15 @@ check "-f replaces: a video now" "h264" "$(probe "$tmp/keep.mp4" stream=codec_na
 run render "$demo" --track flute --to 1 --out "$tmp/none/x.mp4"
 check "missing folder: fails" "yes" "$([ "$rc" -ne 0 ] && echo yes || echo no)"
 check "missing folder: one line" 1 "$(wc -l <<<"$err")"
+
+# Ctrl-C halfway: the export stops, says so, and leaves neither the file nor its temporary.
+env -u DISPLAY -u WAYLAND_DISPLAY "$hmp" render "$demo" --track flute --to 120 --out "$tmp/stopped.mp4" 2>"$tmp/err" &
+pid=$!
+for _ in $(seq 100); do [ -e "$tmp/stopped.mp4.part" ] && break; sleep 0.05; done
+sleep 0.3
+kill -INT $pid; wait $pid; rc=$?
+check "interrupted: rc" 1 "$rc"
+check "interrupted: says so" 1 "$(grep -c 'interrupted' "$tmp/err")"
+check "interrupted: nothing left" "" "$(ls "$tmp" | grep stopped)"
 
 exit $fail
