@@ -25,7 +25,6 @@ namespace hmp::cli {
 
 namespace {
 
-constexpr double kSpeeds[] = {0.5, 0.75, 1.0, 1.25, 1.5, 2.0};
 
 struct ViewOptions {
   std::string song;
@@ -40,26 +39,10 @@ struct ViewOptions {
 // What the window asked for, handed from its thread to the main loop.
 struct Requests {
   std::mutex mutex;
-  std::deque<char> keys;
+  std::deque<player::Key> keys;
   std::optional<std::int64_t> seek_us;
   std::optional<std::uint32_t> track;
 };
-
-char char_of(player::Key k) {
-  switch (k) {
-    case player::Key::space: return ' ';
-    case player::Key::left: return '<';
-    case player::Key::right: return '>';
-    case player::Key::next_track: return 't';
-    case player::Key::previous_track: return 'T';
-    case player::Key::envelope: return 'e';
-    case player::Key::mapping: return 'm';
-    case player::Key::slower: return '[';
-    case player::Key::faster: return ']';
-    case player::Key::quit: return 'q';
-  }
-  return 0;
-}
 
 int run_view(const ViewOptions& o) {
   haptics::HapticOptions haptic = resolve(o.haptic);
@@ -108,8 +91,10 @@ int run_view(const ViewOptions& o) {
     return st;
   };
   hooks.key = [&](char k) {
+    const auto key = player::key_for_char(k);
+    if (!key) return;
     std::lock_guard lock(requests.mutex);
-    requests.keys.push_back(k);
+    requests.keys.push_back(*key);
   };
   hooks.seek_to = [&](std::int64_t us) {
     std::lock_guard lock(requests.mutex);
@@ -155,7 +140,7 @@ int run_view(const ViewOptions& o) {
   auto seek = [&](std::int64_t us) { audio.seek(std::clamp<std::int64_t>(us, begin_us, end_us)); };
   int rc = kExitOk;
   for (;;) {
-    std::deque<char> pending;
+    std::deque<player::Key> pending;
     std::optional<std::int64_t> seek_us;
     std::optional<std::uint32_t> wanted;
     {
@@ -164,29 +149,25 @@ int run_view(const ViewOptions& o) {
       seek_us.swap(requests.seek_us);
       wanted.swap(requests.track);
     }
-    while (auto k = keys.poll()) pending.push_back(char_of(*k));
+    while (auto k = keys.poll()) pending.push_back(*k);
     bool quit = window->closed() || player::stop_signal() != 0;
     if (player::stop_signal() != 0) rc = 128 + player::stop_signal();
     if (seek_us) seek(*seek_us);
     if (wanted) switch_to(*wanted);
-    for (const char k : pending) {
-      switch (k) {
-        case ' ':
+    for (const player::Key k : pending) {
+      using player::Command;
+      switch (const Command c = player::command_for(k)) {
+        case Command::toggle_pause:
           if (paused.exchange(!paused.load())) audio.resume(); else audio.pause();
           break;
-        case '<': seek(audio.song_time_us() - 5'000'000); break;
-        case '>': seek(audio.song_time_us() + 5'000'000); break;
-        case 't': step_track(1); break;
-        case 'T': step_track(-1); break;
-        case 'q': quit = true; break;
-        case '[':
-        case ']': {
-          const double* here = std::find(std::begin(kSpeeds), std::end(kSpeeds), audio.speed());
-          const std::ptrdiff_t i = here == std::end(kSpeeds) ? 2 : here - std::begin(kSpeeds);
-          audio.set_speed(kSpeeds[std::clamp<std::ptrdiff_t>(i + (k == ']' ? 1 : -1), 0, std::size(kSpeeds) - 1)]);
-          break;
-        }
-        default: break;
+        case Command::seek_back: seek(audio.song_time_us() - 5'000'000); break;
+        case Command::seek_forward: seek(audio.song_time_us() + 5'000'000); break;
+        case Command::next_track: step_track(1); break;
+        case Command::previous_track: step_track(-1); break;
+        case Command::quit: quit = true; break;
+        case Command::slower:
+        case Command::faster: audio.set_speed(player::next_speed(audio.speed(), c == Command::faster ? 1 : -1)); break;
+        default: break;  // envelope and mapping change what a device plays: hmp view has none
       }
     }
     if (quit || (!paused && audio.song_time_us() >= end_us)) break;

@@ -26,11 +26,18 @@ std::int64_t seconds(double s) { return std::llround(s * 1e6); }
 std::uint32_t since(std::uint32_t now, std::uint32_t base) { return now - base; }  // wrapping counters
 
 const char* const kEnvelopeCycle[] = {"auto", "square", "triangle"};
-constexpr double kSpeeds[] = {0.5, 0.75, 1.0, 1.25, 1.5, 2.0};
+constexpr double kSpeeds[] = {kMinSpeed, 0.75, 1.0, 1.25, 1.5, kMaxSpeed};
 const mapping::Mode kMappingCycle[] = {mapping::Mode::paper, mapping::Mode::rank, mapping::Mode::constant,
                                        mapping::Mode::legacy2013};
 
 }  // namespace
+
+double next_speed(double current, int direction) {
+  const double* here = std::find(std::begin(kSpeeds), std::end(kSpeeds), current);
+  const std::ptrdiff_t i = here == std::end(kSpeeds) ? 2 : here - std::begin(kSpeeds);
+  const std::ptrdiff_t last = static_cast<std::ptrdiff_t>(std::size(kSpeeds)) - 1;
+  return kSpeeds[std::clamp<std::ptrdiff_t>(i + (direction > 0 ? 1 : -1), 0, last)];
+}
 
 Player::Player(DeviceLink& link, audio::AudioPlayer& audio, const midi::Song& song, PlayerOptions options)
     : link_(link),
@@ -300,7 +307,7 @@ void Player::seek(std::int64_t target) {
 void Player::set_speed(double speed) {
   {
     std::lock_guard lock(mutex_);
-    wanted_speed_ = std::clamp(speed, kSpeeds[0], kSpeeds[std::size(kSpeeds) - 1]);
+    wanted_speed_ = std::clamp(speed, kMinSpeed, kMaxSpeed);
   }
   link_.notify();
 }
@@ -385,11 +392,7 @@ bool Player::handle_commands(Outcome& outcome) {
       }
       case Command::slower:
       case Command::faster: {
-        const double* here = std::find(std::begin(kSpeeds), std::end(kSpeeds), options_.haptic.speed);
-        const std::ptrdiff_t i = here == std::end(kSpeeds) ? 2 : here - std::begin(kSpeeds);
-        const std::ptrdiff_t next = std::clamp<std::ptrdiff_t>(i + (c == Command::faster ? 1 : -1), 0,
-                                                               static_cast<std::ptrdiff_t>(std::size(kSpeeds)) - 1);
-        apply_speed(kSpeeds[next]);
+        apply_speed(next_speed(options_.haptic.speed, c == Command::faster ? 1 : -1));
         break;
       }
       case Command::quit:

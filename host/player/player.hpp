@@ -30,6 +30,11 @@
 
 namespace hmp::player {
 
+// Playback speeds the [ and ] keys step through (0.5 … 2); `direction` +1 is one step faster, −1 slower,
+// clamped at the ends. A speed not on the list (a --speed between steps) steps from 1.
+double next_speed(double current, int direction);
+inline constexpr double kMinSpeed = 0.5, kMaxSpeed = 2.0;
+
 // A note the device started, as its Started report says (64-bit ticks).
 struct StartedNote {
   NoteOrigin origin;
