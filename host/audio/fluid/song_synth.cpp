@@ -32,6 +32,12 @@ SongSynth::SongSynth(const SynthSettings& settings, const std::string& soundfont
     throw std::runtime_error("FluidSynth: cannot create a synthesizer");
   }
   block_ = fluid_synth_get_internal_bufsize(synth_);
+  // The channels' controllers as a fresh synthesizer has them: what a seek restores before replaying the
+  // song's own (FluidSynth's defaults, e.g. its reverb send, not guessed here).
+  for (int channel = 0; channel < 16; ++channel) {
+    for (int cc = 0; cc < 128; ++cc) fluid_synth_get_cc(synth_, channel, cc, &initial_cc_[channel][cc]);
+    fluid_synth_get_pitch_wheel_sens(synth_, channel, &initial_bend_range_[channel]);
+  }
   if (!soundfont.empty()) load_soundfont(soundfont);
 }
 
@@ -208,10 +214,15 @@ void SongSynth::restore_controls(std::size_t before) {
   // The channels as the song has them at the new position: every controller, bend and pressure back to
   // its default, then the last value of each before the position (pedal down, volume, pan, bend range…).
   for (int channel = 0; channel < 16; ++channel) {
-    fluid_synth_cc(synth_, channel, 121, 0);  // reset all controllers
-    fluid_synth_cc(synth_, channel, 7, 100);  // volume and pan are not reset by 121 (GM): their defaults
-    fluid_synth_cc(synth_, channel, 10, 64);
+    fluid_synth_cc(synth_, channel, 121, 0);  // reset all controllers (not volume, pan, sends, bend range)
+    for (const std::uint8_t cc : midi::kSoundControllers) {
+      if (cc < 120 && cc != 6 && cc != 38 && cc != 100 && cc != 101) {  // not the modes, nor RPN data (it would apply)
+        fluid_synth_cc(synth_, channel, cc, initial_cc_[channel][cc]);
+      }
+    }
+    fluid_synth_pitch_wheel_sens(synth_, channel, initial_bend_range_[channel]);
     fluid_synth_pitch_bend(synth_, channel, 8192);
+    fluid_synth_channel_pressure(synth_, channel, 0);
   }
   // Replayed in order: RPN selects and data entry must arrive as they did (the bend range).
   for (std::size_t i = 0; i < before; ++i) {

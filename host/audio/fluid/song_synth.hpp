@@ -91,6 +91,8 @@ class SongSynth final : public Synth {
   SynthSettings settings_;
   _fluid_hashtable_t* fluid_settings_ = nullptr;
   _fluid_synth_t* synth_ = nullptr;
+  int initial_cc_[16][128] = {};        // a fresh synthesizer's controllers (restore_controls)
+  int initial_bend_range_[16] = {};
   int soundfont_id_ = -1;
   std::string load_error_;
   int block_ = 64;
