@@ -10,7 +10,8 @@
 namespace hmp::audio {
 
 RenderedAudio render_offline(const std::vector<AudioEvent>& events, std::int64_t from_us, std::int64_t to_us,
-                             const AudioOptions& options, const WarningSink& warn) {
+                             const AudioOptions& options, const WarningSink& warn,
+                             const std::function<void(std::uint64_t, std::uint64_t)>& progress) {
   RenderedAudio out;
   out.sample_rate = options.synth.sample_rate;
   out.start_us = from_us;
@@ -45,6 +46,7 @@ RenderedAudio render_offline(const std::vector<AudioEvent>& events, std::int64_t
   for (std::size_t at = 0; at < out.left.size(); at += kSlice) {
     const std::size_t n = std::min(kSlice, out.left.size() - at);
     synth->render(out.left.data() + at, out.right.data() + at, n);
+    if (progress) progress(at + n, out.left.size());
   }
   return out;
 }

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "host/cli/commands.hpp"
+#include "host/cli/render_sound.hpp"
 #include "host/cli/render_video.hpp"
 #include "host/cli/song_options.hpp"
 #include "host/common/error.hpp"
@@ -25,12 +26,19 @@ struct RenderOptions {
   std::string out = "-";
   std::optional<double> from_s, to_s;
   bool audible = false;
+  bool sound = false;
   bool force = false;
   HapticCliOptions haptic;
   VideoCliOptions video;
 };
 
 int run_render(const RenderOptions& o) {
+  if (o.sound) {  // the song's own sound, all tracks: no haptic track involved
+    if (o.audible) throw BadInput("--sound and --audible: one or the other (--audible is a track's haptic signal)");
+    run_sound_render({o.song, o.out, o.from_s, o.to_s, o.video.soundfont, o.force});
+    return kExitOk;
+  }
+  if (o.track.empty()) throw BadInput("--track: which track to render (see hmp info), or --sound for the song's sound");
   const output::SignalExport out{o.out, o.audible, o.force};
   const haptics::HapticOptions opts = resolve(o.haptic);
   const bool haptic_file = exporting::is_haptic_export(o.out);  // .ahap / .haptic (host/export/)
@@ -85,14 +93,15 @@ int run_render(const RenderOptions& o) {
 
 void register_render(CLI::App& app, Registry& registry) {
   auto o = std::make_shared<RenderOptions>();
-  CLI::App* cmd = app.add_subcommand("render", "Render one track's haptic signal (CSV, WAV, PNG plot, AHAP, .haptic) or the animation as MP4 video");
+  CLI::App* cmd = app.add_subcommand("render", "Render one track's haptic signal (CSV, WAV, PNG plot, AHAP, .haptic), the song's sound (--sound) or the animation as MP4 video");
   cmd->add_option("SONG", o->song, "MIDI file")->required();
-  cmd->add_option("--track", o->track, "Track index, or part of its name or instrument (see hmp info)")->required();
+  cmd->add_option("--track", o->track, "Track index, or part of its name or instrument (see hmp info); not with --sound");
   cmd->add_option("--out", o->out, "Output: FILE.csv (t_s,value), FILE.wav (float, tick rate), FILE.png, FILE.ahap, FILE.haptic, FILE.mp4 (the animation with sound), '-' = CSV to stdout")
       ->capture_default_str();
   cmd->add_option("--from", o->from_s, "Start of the window in seconds of the song");
   cmd->add_option("--to", o->to_s, "End of the window in seconds of the song");
   cmd->add_flag("--audible", o->audible, "WAV resampled to 44.1 kHz so you can listen to it");
+  cmd->add_flag("--sound", o->sound, "The song's own sound instead (all tracks, controllers; FluidSynth, 44.1 kHz stereo WAV)");
   cmd->add_flag("-f,--force", o->force, "Overwrite an existing output file");
   add_haptic_options(cmd, o->haptic);
   add_video_options(cmd, o->video);

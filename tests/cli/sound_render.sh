@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# `hmp render SONG --sound --out FILE.wav` (issue 16, design §17): the song's own sound, all tracks, as a
+# 44.1 kHz stereo WAV; the whole song plus 2 s of tail, or the --from/--to passage exactly; not silent;
+# bad combinations exit 2 with one line; an existing file stays without -f; --track stays required for
+# the haptic renders.
+set -u
+hmp="$1"; repo="$2"
+demo="$repo/examples/bach-bwv1050-brandenburg5-mvt3-allegro.mid"
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+fail=0
+check() {  # check WHAT EXPECTED ACTUAL
+  if [ "$2" != "$3" ]; then echo "FAIL: $1: expected [$2], got [$3]"; fail=1; fi
+}
+run() {
+  "$hmp" "$@" >"$tmp/out" 2>"$tmp/err"; rc=$?
+  out=$(<"$tmp/out"); err=$(<"$tmp/err")
+}
+probe() { ffprobe -v error -show_entries stream="$2" -of default=noprint_wrappers=1:nokey=1 "$1" | tr '\n' ' ' | sed 's/ $//'; }
+
+run render "$demo" --sound --from 30 --to 32.5 --out "$tmp/passage.wav"
+check "passage rc" 0 "$rc"
+check "passage format" "pcm_f32le 44100 2 2.500000" "$(probe "$tmp/passage.wav" codec_name,sample_rate,channels,duration)"
+# Not silence: the passage's loudest sample (ffmpeg's volumedetect) is well above −40 dBFS.
+peak=$(ffmpeg -v info -i "$tmp/passage.wav" -af volumedetect -f null - 2>&1 | sed -n 's/.*max_volume: \(-*[0-9.]*\) dB.*/\1/p')
+check "passage is heard" "yes" "$(awk -v p="$peak" 'BEGIN { print (p > -40) ? "yes" : "no" }')"
+
+song_s=$("$hmp" info "$demo" --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["duration_s"])')
+run render "$demo" --sound --from 300 --out "$tmp/end.wav"
+check "to the end plus 2 s" "$(python3 -c "print(f'{$song_s + 2 - 300:.2f}')")" "$(python3 -c "print(f'{float(\"$(probe "$tmp/end.wav" duration)\"):.2f}')")"
+
+for bad in "--out $tmp/x.csv" "--out $tmp/x.wav --audible" "--out $tmp/x.wav --from 5 --to 5" "--out $tmp/x.wav --from -1"; do
+  run render "$demo" --sound $bad
+  check "$bad: rc" 2 "$rc"
+  check "$bad: one line" 1 "$(wc -l <<<"$err")"
+done
+run render "$demo" --out "$tmp/x.csv"
+check "no --track, no --sound: rc" 2 "$rc"
+check "no --track, no --sound: says what" 1 "$(grep -c -- '--track' <<<"$err")"
+
+echo "keep" >"$tmp/keep.wav"
+run render "$demo" --sound --to 1 --out "$tmp/keep.wav"
+check "existing file: rc" 2 "$rc"
+check "existing file: untouched" "keep" "$(<"$tmp/keep.wav")"
+exit $fail
