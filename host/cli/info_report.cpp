@@ -36,7 +36,7 @@ double rank_jnd_steps(const midi::Track& t) {
   return mapping::Mapper(mapping::Mode::rank, mapping::Ranges{}, t.keys).jnd_steps();
 }
 
-nlohmann::json track_json(const midi::Track& t, const haptics::HapticOptions& opts) {
+nlohmann::json track_json(const midi::Song& s, const midi::Track& t, const haptics::HapticOptions& opts) {
   nlohmann::json channels = nlohmann::json::array();
   for (std::uint8_t c = 0; c < 16; ++c) {
     if (t.has_channel(c)) channels.push_back(c + 1);
@@ -59,6 +59,7 @@ nlohmann::json track_json(const midi::Track& t, const haptics::HapticOptions& op
           {"envelope", t.note_count ? haptics::auto_preset_name(opts, t.program(), t.channel()) : ""},
           {"rank_jnd_steps", rank_jnd_steps(t)},
           {"jnd_per_key_step", t.distinct_keys() > 1 ? rank_jnd_steps(t) / (t.distinct_keys() - 1) : 0.0},
+          {"controllers", midi::controllers_used(s, t.index)},
           {"end_s", static_cast<double>(t.end_us) * 1e-6}};
 }
 
@@ -77,7 +78,7 @@ int run_info(const InfoOptions& o) {
                                      : nlohmann::json{{"ticks_per_quarter", s.division.ticks_per_quarter}};
     j["duration_s"] = s.duration_s();
     j["tracks"] = nlohmann::json::array();
-    for (const midi::Track& t : s.tracks) j["tracks"].push_back(track_json(t, opts));
+    for (const midi::Track& t : s.tracks) j["tracks"].push_back(track_json(s, t, opts));
     j["tempo_changes"] = nlohmann::json::array();
     for (const midi::TempoChange& c : s.tempo_changes) {
       j["tempo_changes"].push_back({{"tick", c.tick}, {"time_s", static_cast<double>(c.us) * 1e-6}, {"bpm", c.bpm()}});
@@ -110,6 +111,16 @@ int run_info(const InfoOptions& o) {
                channels_text(t), instrument, t.note_count, keys, t.distinct_keys(),
                t.note_count ? haptics::auto_preset_name(opts, t.program(), t.channel()) : "-",
                t.distinct_keys() > 1 ? rank_jnd_steps(t) / (t.distinct_keys() - 1) : 0.0);
+  }
+  bool any_controller = false;
+  for (const midi::Track& t : s.tracks) {
+    const std::vector<std::string> used = midi::controllers_used(s, t.index);
+    if (used.empty()) continue;
+    if (!any_controller) fmt::print("\n  controllers (on each track's channels; the song's sound follows them):\n");
+    any_controller = true;
+    std::string line;
+    for (const std::string& u : used) line += (line.empty() ? "" : ", ") + u;
+    fmt::print("  {:>3}  {}\n", t.index, line);
   }
   fmt::print("\n  tempo:");
   const std::size_t shown = std::min<std::size_t>(s.tempo_changes.size(), 8);

@@ -72,4 +72,37 @@ std::string controller_name(std::uint8_t number) {
   }
 }
 
+std::vector<std::string> controllers_used(const Song& song, std::uint32_t track) {
+  std::vector<std::string> out;
+  if (track >= song.tracks.size()) return out;
+  const Track& t = song.tracks[track];
+  bool cc[128] = {}, bend = false, pressure = false;
+  int first_program[16], programs_changed[16] = {};
+  std::fill(std::begin(first_program), std::end(first_program), -1);
+  for (const Control& c : song.controls) {
+    if (!t.has_channel(c.channel)) continue;
+    switch (c.kind) {
+      case Control::Kind::controller: cc[c.number & 0x7F] = true; break;
+      case Control::Kind::pitch_bend: bend = true; break;
+      case Control::Kind::pressure: pressure = true; break;
+      case Control::Kind::program: {
+        int& first = first_program[c.channel & 0x0F];
+        if (first < 0) first = c.number;
+        else if (first != c.number) programs_changed[c.channel & 0x0F] = 1;
+        break;
+      }
+    }
+  }
+  for (int n = 0; n < 128; ++n) {
+    const std::string name = controller_name(static_cast<std::uint8_t>(n));
+    if (cc[n] && std::find(out.begin(), out.end(), name) == out.end()) out.push_back(name);  // MSB and LSB: one name
+  }
+  if (bend) out.push_back("pitch bend");
+  if (pressure) out.push_back("channel pressure");
+  if (std::any_of(std::begin(programs_changed), std::end(programs_changed), [](int n) { return n != 0; })) {
+    out.push_back("program changes");  // to another program: the first one only sets the instrument
+  }
+  return out;
+}
+
 }  // namespace hmp::midi

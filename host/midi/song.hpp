@@ -124,6 +124,11 @@ struct Song {
   std::vector<Note> track_notes(std::uint32_t track) const;
 };
 
+// What the song's controls do on the channels a track plays on (`hmp info`), in controller-number order:
+// "sustain", "volume", "pan", … then "pitch bend", "channel pressure", and "program changes" when a
+// channel changes to another program after its first; empty when none.
+std::vector<std::string> controllers_used(const Song& song, std::uint32_t track);
+
 // `--track T` (design §3): a 0-based index, or a case-insensitive part of a track's name or of its GM
 // instrument name. Among several matches the first track with notes wins (then the first at all).
 std::optional<std::uint32_t> find_track(const Song& song, std::string_view query);

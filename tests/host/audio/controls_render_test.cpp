@@ -238,6 +238,25 @@ TEST_F(ControlsRender, ASeekBackUndoesControllersSetLater) {
   EXPECT_NEAR(pitch_hz(a, 1.05, 1.25, 440) / pitch_hz(f, 1.05, 1.25, 440), 1.0, 0.002) << "the bend stayed";
 }
 
+TEST(ControlsRead, InfoListsTheControllersOfEachTracksChannels) {
+  // Track 1 on channel 0: sustain, volume (twice), a bend, a program set once then again the same; track 2
+  // on channel 1: the RPN bend range, pan and a change to another program; track 3: notes only.
+  Events a, b, c;
+  a.program(0, 0, 0).raw(0, {0xB0, 64, 127}).raw(0, {0xB0, 7, 90}).raw(0, {0xB0, 7, 100}).raw(0, {0xE0, 0, 0x50})
+      .program(0, 0, 0).on(0, 0, 60).off(100, 0, 60).end();
+  b.program(0, 1, 0).raw(0, {0xB1, 101, 0}).raw(0, {0xB1, 100, 0}).raw(0, {0xB1, 6, 12}).raw(0, {0xB1, 10, 0})
+      .on(0, 1, 60).off(100, 1, 60).program(0, 1, 40).on(0, 1, 62).off(100, 1, 62).end();
+  c.on(0, 2, 60).off(100, 2, 60).end();
+  Events conductor;
+  conductor.tempo(0, 500000).end();
+  const midi::Song song = midi::read_smf(midi_test::smf(1, 500, {conductor, a, b, c})).song;
+  using V = std::vector<std::string>;
+  EXPECT_EQ(midi::controllers_used(song, 1), (V{"volume", "sustain", "pitch bend"}));
+  EXPECT_EQ(midi::controllers_used(song, 2), (V{"data entry", "pan", "RPN", "program changes"}));
+  EXPECT_EQ(midi::controllers_used(song, 3), V{});
+  EXPECT_EQ(midi::controllers_used(song, 99), V{});
+}
+
 TEST(ControlsRead, TheReaderKeepsTheSoundsControllersOnly) {
   Events e;
   e.raw(0, {0xB3, 64, 127}).raw(10, {0xB3, 20, 5})          // sustain kept; CC 20 (undefined) dropped
