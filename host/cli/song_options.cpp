@@ -41,6 +41,7 @@ void add_haptic_options(CLI::App* cmd, HapticCliOptions& o) {
                   "auto (the instrument's own, = analogue), square, triangle, or any preset name");
   cmd->add_option("--polyphony", o.polyphony, "Overlapping notes: sum (default), highest, latest");
   cmd->add_option("--end-fade-ms", o.end_fade_ms, "Fade at each note's end in ms (default 2, 0 = paper-exact)");
+  cmd->add_flag("--pedal", o.pedal, "A note released under the sustain pedal (CC64) lasts until the pedal lifts");
   cmd->add_option("--tick-hz", o.tick_hz, "Device tick rate in Hz (default 1000)")->check(CLI::Range(100u, 100000u));
   cmd->add_option("--config", o.config_path, "TOML file: user presets, GM table, ranges, device settings")
       ->check(CLI::ExistingFile);
@@ -63,6 +64,7 @@ haptics::HapticOptions resolve(const HapticCliOptions& o) {
     throw BadInput("--polyphony " + *o.polyphony + ": unknown (sum, highest, latest)");
   }
   if (o.end_fade_ms) h.end_fade_ms = *o.end_fade_ms;
+  h.pedal = o.pedal;
   if (o.tick_hz) h.tick_hz = *o.tick_hz;
   haptics::validate(h);
   return h;

@@ -24,6 +24,7 @@ struct HapticCliOptions {
   std::optional<double> end_fade_ms;
   std::optional<std::uint32_t> tick_hz;
   std::optional<std::string> config_path;
+  bool pedal = false;
 };
 
 void add_haptic_options(CLI::App* cmd, HapticCliOptions& o);

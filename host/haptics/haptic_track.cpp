@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "host/common/error.hpp"
+#include "host/haptics/sustain_pedal.hpp"
 #include "host/midi/gm.hpp"
 #include "shared/synth/frequency.hpp"
 
@@ -155,12 +156,15 @@ HapticTrack build_haptic_track(const midi::Song& song, std::uint32_t track, cons
   const auto play_us = [&](std::int64_t us) {
     return opts.speed == 1.0 ? us : std::llround(static_cast<double>(us) / opts.speed);
   };
-  for (const midi::Note& n : notes) {
+  const std::vector<std::uint64_t> pedal_ends = opts.pedal ? pedal_end_ticks(song, notes) : std::vector<std::uint64_t>{};
+  for (std::size_t i = 0; i < notes.size(); ++i) {
+    const midi::Note& n = notes[i];
     HapticNote h;
     h.key = n.key;
     h.channel = n.channel;
     h.program = n.program;
-    const std::int64_t start_us = song.start_us(n), end_us = song.end_us(n);
+    const std::int64_t start_us = song.start_us(n);
+    const std::int64_t end_us = opts.pedal ? song.tempo_map.micros(pedal_ends[i]) : song.end_us(n);
     h.start_s = static_cast<double>(start_us) * 1e-6;
     h.end_s = static_cast<double>(end_us) * 1e-6;
     const mapping::Haptic m = midi::auto_constant_frequency(n.channel) ? drum : mapper.map(n.key);

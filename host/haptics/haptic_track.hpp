@@ -27,6 +27,7 @@ struct HapticOptions {
   // Playback speed (`hmp play`'s [ and ]): the device's ticks are play time = song time / speed, so a
   // note lasts 1/speed as long on the device; the notes' start_s/end_s stay song time.
   double speed = 1.0;
+  bool pedal = false;  // --pedal: notes released under the sustain pedal last until it lifts (sustain_pedal.hpp)
   std::map<std::string, envelope::Adsr> user_presets;  // from the config
   std::map<std::uint8_t, std::string> gm_presets;      // program → preset name, from the config
 };
