@@ -70,7 +70,7 @@ json ahap_json(const ExportSpec& spec) {
   const std::size_t ticks = spec.end_tick > spec.first_tick ? static_cast<std::size_t>(spec.end_tick - spec.first_tick) : 0;
   std::vector<double> sum_env(ticks, 0.0), sum_intensity(ticks, 0.0);
   std::vector<bool> jump(ticks + 1, false);
-  for (const ExportNote& n : export_notes(spec, static_cast<std::uint32_t>(step))) {
+  for (const ExportNote& n : export_notes(spec)) {
     for (double off = 0; off < n.duration_s - 1e-12; off += kAhapMaxEventS) {
       pattern.push_back(event(n.start_s + off, std::min(kAhapMaxEventS, n.duration_s - off), n.intensity, n.sharpness));
     }
