@@ -50,7 +50,7 @@ double level_db(const audio::RenderedAudio& a, double t0, double t1, double star
   const auto i0 = static_cast<std::size_t>((t0 - start_s) * kRate), i1 = static_cast<std::size_t>((t1 - start_s) * kRate);
   double sum = 0;
   for (std::size_t i = i0; i < i1 && i < a.left.size(); ++i) {
-    const double l = a.left[i], r = a.right[i];
+    const auto l = static_cast<double>(a.left[i]), r = static_cast<double>(a.right[i]);
     sum += which == 0 ? l * l : which == 1 ? r * r : l * l + r * r;
   }
   return 10 * std::log10(sum / static_cast<double>(i1 - i0) + 1e-30);
