@@ -95,7 +95,13 @@ TEST(PlaySpeed, AtTwiceTheSpeedSoundAndDeviceFollow) {
     if (onset < 0) continue;
     skews_ms.push_back(seconds_between(haptic, card.heard_at(static_cast<double>(onset))) * 1e3);
   }
-  ASSERT_GE(skews_ms.size(), static_cast<std::size_t>(kNotes - 1)) << "sound onsets not found";
+  // What the card heard, for when the onsets are not found (a silent or late recording says why).
+  const float loudest = level.empty() ? 0.0f : *std::max_element(level.begin(), level.end());
+  const auto first_sound = std::find_if(level.begin(), level.end(), [&](float v) { return v > 1e-3f * loudest; });
+  ASSERT_GE(skews_ms.size(), static_cast<std::size_t>(kNotes - 1))
+      << "sound onsets not found: " << level.size() << " frames recorded, peak " << loudest << ", first sound at frame "
+      << (first_sound - level.begin()) << ", first note's haptic start at frame "
+      << seconds_between(sim.tick_due_at(started[0].actual_tick), card.heard_at(0)) * rate;
   double worst = 0;
   for (const double s : skews_ms) worst = std::max(worst, std::fabs(s));
   RecordProperty("worst_skew_ms", std::to_string(worst));
