@@ -197,6 +197,10 @@ std::int64_t SongSynth::measure_onset(std::uint8_t channel, std::uint8_t program
 
 void SongSynth::seek(std::int64_t song_us) {
   fluid_synth_all_sounds_off(synth_, -1);
+  // FluidSynth frees the stopped voices at its next render; until then lifting the pedal (the reset
+  // below) would start their release again and a pedalled note would ring on. One whole block keeps the
+  // block phase.
+  render_scratch(block_);
   pos_ = frame_of(song_us);
   const auto block = static_cast<std::int64_t>(block_);
   const std::int64_t phase = (pos_ - static_cast<std::int64_t>(synth_frames_ % static_cast<std::uint64_t>(block))) % block;

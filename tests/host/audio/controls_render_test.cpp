@@ -238,6 +238,28 @@ TEST_F(ControlsRender, ASeekBackUndoesControllersSetLater) {
   EXPECT_NEAR(pitch_hz(a, 1.05, 1.25, 440) / pitch_hz(f, 1.05, 1.25, 440), 1.0, 0.002) << "the bend stayed";
 }
 
+TEST_F(ControlsRender, ASeekSilencesANoteHeldByThePedal) {
+  // An organ note released under the pedal rings at 1 s; a seek to 2 s, where the pedal is still down but
+  // no note sounds, must leave silence (the seek stops every voice before the controllers come back).
+  // Reverb and chorus off: their tails are not notes (a seek does not clear them; they fade in ~1 s).
+  Events e;
+  e.program(0, 0, 19).raw(0, {0xB0, 64, 127}).on(100, 0, 69).off(200, 0, 69).raw(3000, {0xB0, 64, 0}).end();
+  const std::vector<audio::AudioEvent> events = audio::audio_events(song_of(e));
+  audio::SynthSettings settings;
+  settings.sample_rate = kRate;
+  settings.reverb = settings.chorus = false;
+  const std::unique_ptr<audio::Synth> synth = audio::audio_backend()->make_synth(settings);
+  ASSERT_TRUE(synth->load_soundfont(*audio::find_soundfont("")));
+  synth->set_events(events);
+  audio::RenderedAudio a;
+  a.left.resize(static_cast<std::size_t>(kRate)), a.right.resize(a.left.size());
+  synth->render(a.left.data(), a.right.data(), a.left.size());
+  ASSERT_GT(level_db(a, 0.7, 1.0), -60.0) << "the pedalled note does not ring before the seek";
+  synth->seek(2'000'000);
+  synth->render(a.left.data(), a.right.data(), a.left.size());
+  EXPECT_LT(level_db(a, 0.0, 1.0), -120.0) << "a note held by the pedal rings on after a seek";
+}
+
 TEST(ControlsRead, InfoListsTheControllersOfEachTracksChannels) {
   // Track 1 on channel 0: sustain, volume (twice), a bend, a program set once then again the same; track 2
   // on channel 1: the RPN bend range, pan and a change to another program; track 3: notes only.
