@@ -56,6 +56,7 @@ void Core::on_hello(const protocol::Message& m) {
     output_.silence();
     faults_ = protocol::fault_none;
     state_ = State::idle;
+    status_countdown_ = 1;  // the Status that follows each HelloReply goes out at the end of this tick
     log_event("hello, protocol ", m.hello.protocol_version);
   }
   // The reply tells a host of another version which version we speak; the Error then refuses its own.

@@ -49,6 +49,16 @@ void An386Board::start_link() {
   nvic::enable(kUart0.tx_irq());
 }
 
+void An386Board::drop_rx() {
+  for (;;) {
+    kUart0.clear_rx_interrupt();
+    (void)kUart0.take_rx_overrun();
+    if (!kUart0.rx_full()) return;
+    (void)kUart0.read();
+    ++rx_lost_;
+  }
+}
+
 void An386Board::start_tick() {
   // SysTick above everything else (0 = highest); its reset priority is 0 already, set for clarity.
   reg(scb::kShpr3) = reg(scb::kShpr3) & 0x00FFFFFFu;
@@ -110,7 +120,7 @@ void An386Board::print_summary() const {
       .text(" wrong_size=").u32(f.wrong_size).text(" rx_bytes=").u32(l.rx_bytes)
       .text(" rx_overruns=").u32(l.rx_overruns).text(" rx_held=").u32(l.rx_held)
       .text(" tx_frames=").u32(l.tx_frames).text(" tx_dropped=").u32(l.tx_dropped)
-      .text(" inbox_refused=").u32(inbox_refused_).print();
+      .text(" inbox_refused=").u32(inbox_refused_).text(" rx_lost=").u32(rx_lost_).print();
   Line().text("core: ticks=").u32(ticks_).text(" packets=").u32(s.packets).text(" rejected=").u32(s.rejected)
       .text(" started=").u32(s.started).text(" late=").u32(s.late)
       .text(" stolen=").u32(core_.engine().counters().stolen).text(" inbox_full=").u32(s.inbox_full)

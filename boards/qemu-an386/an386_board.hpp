@@ -33,11 +33,17 @@ class An386Board {
 
   void start_link();  // UART0 and its interrupts
   void start_tick();  // SysTick interrupt at the tick rate
+  // Until tick `tick` the UART drops what it receives, as the UART of a board that is still starting
+  // does (a real USART that is not enabled yet loses the bytes; this one would otherwise hold them).
+  void listen_from_tick(std::uint32_t tick) { listen_from_tick_ = tick; }
   void stop();        // no more ticks or UART interrupts
 
   // Interrupt handlers.
   void on_tick();  // one device tick: core.on_tick(), then lets the UART take the next report
-  void on_uart_rx() { link_.on_rx_interrupt(); }
+  void on_uart_rx() {
+    if (ticks_ < listen_from_tick_) return drop_rx();
+    link_.on_rx_interrupt();
+  }
   void on_uart_tx() { link_.on_tx_interrupt(); }
 
   // Main loop.
@@ -52,6 +58,7 @@ class An386Board {
   const Link& link() const { return link_; }
 
  private:
+  void drop_rx();
   static fw::BoardSeam make_seam(An386Board* self, bool motors);
   static void on_read_encoders(void* ctx, std::int32_t (&counts)[fw::kMotorCount]);
   static void on_motor_output(void* ctx, const float (&duty)[fw::kMotorCount]);
@@ -69,6 +76,8 @@ class An386Board {
   bool tracing_;
   std::uint32_t inbox_refused_ = 0;  // on_packet said no although the link checked for room (a bug)
   volatile std::uint32_t ticks_ = 0;
+  std::uint32_t listen_from_tick_ = 0;
+  std::uint32_t rx_lost_ = 0;  // bytes dropped before listen_from_tick_
   BenchMotors* motors_ = nullptr;
   fw::Core core_;  // last: its seam points at the members above
 };

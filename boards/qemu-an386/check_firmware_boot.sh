@@ -13,7 +13,7 @@ out=$(timeout 20 "$here/run.sh" "$image" -serial null -monitor none -append "hz=
 code=$?
 printf '%s\n' "$out"
 [ $code -eq 0 ] || fail "image exited with $code"
-grep -q '^HMP qemu-an386 firmware .* tick_hz=1000 trace=off exit_idle_ms=200$' <<<"$out" || fail "banner"
+grep -q '^HMP qemu-an386 firmware .* tick_hz=1000 trace=off exit_idle_ms=200 listen_after_ms=0$' <<<"$out" || fail "banner"
 summary=$(grep '^core:' <<<"$out") || fail "no summary"
 ticks=$(sed -n 's/.* ticks=\([0-9]*\).*/\1/p' <<<"$summary")
 [ "$ticks" = 200 ] || fail "expected 200 ticks before the idle exit, got '$ticks'"

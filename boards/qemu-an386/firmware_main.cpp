@@ -31,9 +31,12 @@ int main() {
   if (opt.error != nullptr) return hmp::board::kExitBadOption;
   Line().text("HMP qemu-an386 firmware ").u32(hmp::fw::kFirmwareMajor).text(".").u32(hmp::fw::kFirmwareMinor)
       .text(".").u32(hmp::fw::kFirmwarePatch).text(" tick_hz=").u32(opt.tick_hz)
-      .text(" trace=").text(opt.trace ? "on" : "off").text(" exit_idle_ms=").u32(opt.exit_idle_ms).print();
+      .text(" trace=").text(opt.trace ? "on" : "off").text(" exit_idle_ms=").u32(opt.exit_idle_ms)
+      .text(" listen_after_ms=").u32(opt.listen_after_ms).print();
 
   g_board = new (g_board_storage) An386Board(opt.tick_hz, opt.trace);
+  g_board->listen_from_tick(
+      static_cast<std::uint32_t>(static_cast<std::uint64_t>(opt.listen_after_ms) * opt.tick_hz / 1000));
   g_board->start_link();
   g_board->start_tick();
 

@@ -24,7 +24,9 @@ protocol::HelloReply DeviceLink::greet() {
   const auto id = transport::say_hello(link_, hello_seq, options_.hello_timeout);
   if (!id) {
     if (!link_.is_open()) throw LinkError(fmt::format("device {}: link closed ({})", link_.name(), link_.closed_reason()));
-    throw LinkError(fmt::format("device {}: no answer to Hello within {} ms", link_.name(), options_.hello_timeout.count()));
+    throw LinkError(fmt::format("device {}: no answer to Hello within {} ms (sent every {} ms)", link_.name(),
+                                options_.hello_timeout.count(),
+                                std::chrono::duration_cast<std::chrono::milliseconds>(transport::kHelloResend).count()));
   }
   if (!id->compatible()) {
     throw LinkError(fmt::format("device {} speaks protocol version {}, this hmp speaks version {}: "

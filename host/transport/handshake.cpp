@@ -1,5 +1,6 @@
 #include "host/transport/handshake.hpp"
 
+#include <algorithm>
 #include <chrono>
 
 namespace hmp::transport {
@@ -22,17 +23,29 @@ std::optional<std::uint16_t> foreign_hello_version(const Report& r) {
 
 }  // namespace
 
-std::optional<DeviceIdentity> say_hello(Transport& link, std::uint16_t seq, Timeout timeout) {
-  Report report;
-  protocol::encode(protocol::make(protocol::Type::hello, seq), report);
-  if (!link.send(report)) return std::nullopt;
+std::optional<DeviceIdentity> say_hello(Transport& link, std::uint16_t seq, Timeout timeout, Timeout resend) {
+  Report hello;
+  protocol::encode(protocol::make(protocol::Type::hello, seq), hello);
+  if (resend.count() <= 0) resend = kHelloResend;
 
   DeviceIdentity id;
   bool have_hello = false;
   auto deadline = SteadyClock::now() + timeout;
+  auto next_hello = SteadyClock::now();
   for (;;) {
-    const Received got = link.receive(report, left_until(deadline));
-    if (got != Received::report) break;
+    if (!have_hello && SteadyClock::now() >= next_hello) {
+      if (!link.send(hello)) return std::nullopt;
+      ++id.hellos_sent;
+      next_hello = SteadyClock::now() + resend;
+    }
+    const auto wake = have_hello ? deadline : std::min(deadline, next_hello);
+    Report report;
+    const Received got = link.receive(report, left_until(wake));
+    if (got == Received::closed) break;
+    if (got == Received::timeout) {
+      if (SteadyClock::now() >= deadline) break;
+      continue;
+    }
     protocol::Message m;
     if (protocol::decode(report, m) != protocol::ErrorCode::none) {
       if (const auto version = foreign_hello_version(report); version && !have_hello) {

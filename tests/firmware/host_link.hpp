@@ -61,6 +61,20 @@ class HostLink {
     m.hello.protocol_version = version;
     return send(m);
   }
+  // One Hello numbered once and delivered `times` times, as transport::say_hello resends it to a board
+  // that has not answered yet; `between` ticks run after each copy.
+  std::uint16_t repeated_hello(int times, std::uint64_t between) {
+    p::Message m = p::make(p::Type::hello, 0);
+    m.hello.protocol_version = p::kProtocolVersion;
+    m.seq = session_.take_seq();
+    p::Report r;
+    EXPECT_TRUE(p::encode(m, r));
+    for (int i = 0; i < times; ++i) {
+      dev_.deliver(r);
+      dev_.advance(between);
+    }
+    return m.seq;
+  }
   std::uint16_t sync(std::uint64_t host_us) {
     p::Message m = p::make(p::Type::sync, 0);
     m.sync.host_time_us = host_us;
