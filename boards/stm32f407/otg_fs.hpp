@@ -10,10 +10,14 @@
 //  - SET_ADDRESS: DCFG.DAD is written when the request arrives; the core itself answers on the old
 //    address until the status stage is over;
 //  - an RX FIFO entry with a zero byte count (a ZLP) has no data words: nothing is popped for it;
+//  - every RX FIFO entry's data is popped, also of an entry that is dropped (unknown status, endpoint out
+//    of range, SETUP not 8 bytes): the FIFO never gets out of step, no endpoint gets another one's data;
 //  - EP0 OUT is never enabled (CNAK) before the SETUP-done interrupt has been handled;
 //  - every FIFO access is a whole 32-bit word (the last word of a packet padded or discarded);
 //  - the RX FIFO and the TX FIFOs fit the 1.25 KB FIFO RAM, each at least what RM0090 asks (fifo_layout);
 //  - up to three back-to-back SETUPs (STUPCNT = 3): the last one received is the one handled;
+//  - a SETUP or a bus reset takes back an IN packet still queued (the core keeps it): the stack's next
+//    packet is never refused for a transfer that has ended, nor an old completion taken for a new one;
 //  - every wait on the core is bounded: a core that does not answer makes init() fail, never hang.
 #include <cstdint>
 #include <cstring>
@@ -250,6 +254,7 @@ class OtgFs {
 
   void bus_reset() {
     for (unsigned n = 0; n < kEndpoints; ++n) {
+      cancel(static_cast<std::uint8_t>(n | fw::usb::kDirIn));  // the old session's IN packets are not sent
       io_.write(doepctl(n), io_.read(doepctl(n)) | kEpctlSnak);
       io_.write(diepint(n), 0xFFu);
       io_.write(doepint(n), 0xFFu);
@@ -269,17 +274,20 @@ class OtgFs {
   void drain_rx_fifo() {
     for (std::uint32_t guard = 0; guard < 64 && (io_.read(kGintsts) & kIntRxflvl) != 0; ++guard) {
       const RxStatus s = RxStatus::decode(io_.read(kGrxstsp));
-      const unsigned n = s.ep < kEndpoints ? s.ep : 0;
-      if (s.status == kPktstsSetupData) {
+      if (s.status == kPktstsSetupData && s.bytes == sizeof setup_) {
         read_fifo(setup_, sizeof setup_, s.bytes);
         have_setup_ = true;
-      } else if (s.status == kPktstsOutData) {
-        Out& o = out_[n];
+      } else if (s.status == kPktstsOutData && s.ep < kEndpoints) {
+        Out& o = out_[s.ep];
         const std::uint16_t room = o.buffer ? static_cast<std::uint16_t>(o.capacity - o.received) : 0;
         read_fifo(o.buffer ? o.buffer + o.received : nullptr, room, s.bytes);
         o.received = static_cast<std::uint16_t>(o.received + (s.bytes < room ? s.bytes : room));
+      } else {
+        // A status word only (OUT/SETUP done, global OUT NAK), or an entry no endpoint can take (an unknown
+        // status, an endpoint the core does not have, a SETUP that is not 8 bytes): its data is popped and
+        // dropped all the same, so that the next status word is read where it is.
+        read_fifo(nullptr, 0, s.bytes);
       }
-      // kPktstsOutComplete, kPktstsSetupComplete, kPktstsGlobalOutNak: a status word only.
     }
   }
 
@@ -309,6 +317,10 @@ class OtgFs {
         // SETUP done: only now may EP0 OUT be enabled again (by the stack's data or status stage).
         have_setup_ = false;
         io_.write(doeptsiz(0), eptsiz(1, 24) | doeptsiz0_stupcnt(3));
+        // A SETUP ends the control transfer before it: an EP0 IN packet of that one still queued (the
+        // core keeps it), or its completion not handled yet, would be taken for the new transfer's.
+        cancel(fw::usb::kDirIn);
+        io_.write(diepint(0), kEpintXfrc);
         if (device_) device_->on_setup(setup_);
       }
     }
@@ -320,13 +332,16 @@ class OtgFs {
       if ((daint & 1u << n) == 0) continue;
       const std::uint32_t flags = io_.read(diepint(n));
       io_.write(diepint(n), flags);
+      // A SETUP read but not handled yet ends the transfer this EP0 IN packet belonged to: reported now,
+      // the stack would go on with that transfer (even enable EP0 OUT) before the SETUP is done.
+      if (n == 0 && have_setup_) continue;
       if ((flags & kEpintXfrc) && device_) {
         device_->on_xfer_complete(static_cast<std::uint8_t>(n | fw::usb::kDirIn), in_len_[n]);
       }
     }
   }
 
-  // Takes back what was armed or queued on a data endpoint.
+  // Takes back what was armed or queued on an endpoint (EP0 IN too: a SETUP or a bus reset ends its packet).
   void cancel(std::uint8_t ep_addr) {
     const unsigned n = ep_addr & 0x7Fu;
     if (ep_addr & fw::usb::kDirIn) {

@@ -1,8 +1,10 @@
-// The STM32F407's USB OTG FS device driver (boards/stm32f407/otg_fs.hpp) on a PC, against a model of the
-// controller written from RM0090 §34 (device mode, slave mode): registers that keep what is written,
-// write-1-to-clear interrupt flags, an RX FIFO that presents a status word (GRXSTSP) and then that
-// entry's data words, TX FIFOs that collect the words written, SETUP packets always accepted (STUPCNT),
-// EP0's STALL cleared by the next SETUP, a packet taken only from an enabled endpoint. The driver runs
+// The STM32F407's USB OTG FS device driver (boards/stm32f407/otg_fs.hpp) on a PC, against the model of the
+// controller in otg_fs_model.hpp (RM0090 §34, device mode, slave mode; the fuzzer tools/fuzz/fuzz_otg.cpp
+// drives the same model): registers that keep what is written, write-1-to-clear interrupt flags, an RX
+// FIFO that presents a status word (GRXSTSP) and then that entry's data words, TX FIFOs that collect the
+// words written, SETUP packets always accepted (STUPCNT), EP0's STALL cleared by the next SETUP, a packet
+// taken only from an enabled endpoint; every Rig checks at the end that the model saw no contract fault
+// (FIFOs popped or filled out of step, packets over the max packet size, …). The driver runs
 // with the real USB stack (firmware/usb) and core above it; expected bytes come from USB 2.0 ch. 9 and
 // docs/usb.md's identity (1209:0001), not from the code.
 #include <gtest/gtest.h>
@@ -10,8 +12,6 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
-#include <deque>
-#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -19,6 +19,7 @@
 #include "boards/stm32f407/otg_fs.hpp"
 #include "firmware/core.hpp"
 #include "firmware/usb/device.hpp"
+#include "tests/boards/stm32f407/otg_fs_model.hpp"
 
 namespace {
 
@@ -26,89 +27,14 @@ namespace otg = hmp::board::stm32::otg;
 namespace usb = hmp::fw::usb;
 using Bytes = std::vector<std::uint8_t>;
 
-struct FakeOtg {
-  struct Entry {
-    std::uint32_t status;
-    std::vector<std::uint32_t> words;
-  };
-  std::map<std::uint32_t, std::uint32_t> regs;
-  std::deque<Entry> rx;                  // entries not yet popped
-  std::deque<std::uint32_t> rx_data;     // data words of the entry popped last
-  std::map<unsigned, std::deque<std::uint32_t>> tx;
-  bool core_answers = true;
-  int empty_pops = 0;                    // FIFO reads with no data word to give (a driver bug)
-  std::uint64_t reads = 0;
-  std::vector<std::string> events;
+using FakeOtg = hmp::test::OtgModel;
 
-  static std::uint32_t status(unsigned ep, unsigned bytes, unsigned pktsts) { return ep | bytes << 4 | pktsts << 17; }
-
-  std::uint32_t endpoint_flags() {
-    std::uint32_t daint = 0;
-    for (unsigned n = 0; n < otg::kEndpoints; ++n) {
-      if (regs[otg::diepint(n)] & regs[otg::kDiepmsk]) daint |= 1u << n;
-      if (regs[otg::doepint(n)] & regs[otg::kDoepmsk]) daint |= 1u << (16 + n);
-    }
-    return daint;
-  }
-  std::uint32_t read(std::uint32_t off) {
-    ++reads;
-    if (off == otg::kGrstctl) return core_answers ? otg::kGrstctlAhbidl : 0;  // resets and flushes: instant
-    if (off == otg::kGintsts) {
-      std::uint32_t v = regs[off];
-      if (!rx.empty()) v |= otg::kIntRxflvl;
-      const std::uint32_t daint = endpoint_flags();
-      if (daint & 0xFFFFu) v |= otg::kIntIepint;
-      if (daint >> 16) v |= otg::kIntOepint;
-      return v;
-    }
-    if (off == otg::kDaint) return endpoint_flags();
-    if (off == otg::kGrxstsp) {
-      if (rx.empty()) return 0;
-      Entry e = rx.front();
-      rx.pop_front();
-      rx_data.assign(e.words.begin(), e.words.end());
-      return e.status;
-    }
-    if (off == otg::fifo(0)) {
-      if (rx_data.empty()) {
-        ++empty_pops;
-        return 0xDEADBEEF;
-      }
-      const std::uint32_t w = rx_data.front();
-      rx_data.pop_front();
-      return w;
-    }
-    for (unsigned n = 0; n < otg::kEndpoints; ++n) {
-      if (off == otg::dtxfsts(n)) return 16 - static_cast<std::uint32_t>(tx[n].size());
-    }
-    return regs[off];
-  }
-  void write(std::uint32_t off, std::uint32_t v) {
-    if (off == otg::kGintsts) {
-      regs[off] &= ~v;
-      return;
-    }
-    for (unsigned n = 0; n < otg::kEndpoints; ++n) {
-      if (off == otg::diepint(n) || off == otg::doepint(n)) {
-        regs[off] &= ~v;
-        return;
-      }
-      if (off == otg::fifo(n)) {
-        tx[n].push_back(v);
-        return;
-      }
-    }
-    if (off == otg::doepctl(0) && (v & otg::kEpctlCnak)) events.push_back("ep0 out enabled");
-    if (off == otg::kGrstctl && (v & otg::kGrstctlTxfflsh)) {
-      const std::uint32_t which = (v >> 6) & 0x1Fu;
-      for (auto& [n, q] : tx) {
-        if (which == 0x10 || which == n) q.clear();
-      }
-    }
-    regs[off] = v;
-  }
-  void delay_ms(int) {}
-};
+// Every contract fault the model recorded, one per line (empty: none).
+std::string faults(const FakeOtg& io) {
+  std::string all;
+  for (const std::string& f : io.faults) all += f + "\n";
+  return all;
+}
 
 struct Rig {
   FakeOtg io;
@@ -129,18 +55,17 @@ struct Rig {
     io.regs[otg::kGintsts] |= otg::kIntUsbrst | otg::kIntEnumdne;
     driver.on_interrupt();
   }
+  ~Rig() { EXPECT_EQ(faults(io), ""); }
   void irq() { driver.on_interrupt(); }
 
   // SETUPs as the host sends them back to back; then "SETUP done" (STUP) once the last is in.
   void setups(const std::vector<Bytes>& packets) {
-    io.regs[otg::diepctl(0)] &= ~otg::kEpctlStall;  // the core clears EP0's STALL on a SETUP
-    io.regs[otg::doepctl(0)] &= ~otg::kEpctlStall;
     for (const Bytes& p : packets) {
-      std::vector<std::uint32_t> w(2);
-      std::memcpy(w.data(), p.data(), 8);
-      io.rx.push_back({FakeOtg::status(0, 8, otg::kPktstsSetupData), w});
+      std::uint8_t b[8];
+      std::memcpy(b, p.data(), 8);
+      io.host_setup(b);  // the core clears EP0's STALL on a SETUP
     }
-    io.rx.push_back({FakeOtg::status(0, 0, otg::kPktstsSetupComplete), {}});
+    io.host_setup_done();
     io.events.push_back("setup received");
     irq();
     io.events.push_back("setup done");
@@ -155,33 +80,14 @@ struct Rig {
 
   // The host takes the IN packet waiting on `ep`, if the endpoint is enabled.
   std::optional<Bytes> in(unsigned ep) {
-    std::uint32_t& ctl = io.regs[otg::diepctl(ep)];
-    if ((ctl & otg::kEpctlEpena) == 0 || (ctl & otg::kEpctlStall)) return std::nullopt;
-    const std::uint32_t bytes = io.regs[otg::dieptsiz(ep)] & 0x7FFFFu;
-    Bytes out;
-    for (std::uint32_t at = 0; at < bytes; at += 4) {
-      EXPECT_FALSE(io.tx[ep].empty()) << "fewer FIFO words than DIEPTSIZ says";
-      if (io.tx[ep].empty()) break;
-      const std::uint32_t w = io.tx[ep].front();
-      io.tx[ep].pop_front();
-      for (std::uint32_t k = 0; k < 4 && at + k < bytes; ++k) out.push_back(std::uint8_t(w >> (8 * k)));
-    }
-    EXPECT_TRUE(io.tx[ep].empty()) << "more FIFO words than DIEPTSIZ says";
-    ctl &= ~otg::kEpctlEpena;
-    io.regs[otg::diepint(ep)] |= otg::kEpintXfrc;
-    irq();
-    return out;
+    std::optional<Bytes> p = io.host_in(ep);
+    if (p) irq();
+    return p;
   }
   // The host sends an OUT packet; false = NAK (endpoint not enabled).
   bool out(unsigned ep, const Bytes& data) {
-    std::uint32_t& ctl = io.regs[otg::doepctl(ep)];
-    if ((ctl & otg::kEpctlEpena) == 0 || (ctl & otg::kEpctlStall)) return false;
-    std::vector<std::uint32_t> w((data.size() + 3) / 4);
-    if (!data.empty()) std::memcpy(w.data(), data.data(), data.size());
-    io.rx.push_back({FakeOtg::status(ep, static_cast<unsigned>(data.size()), otg::kPktstsOutData), w});
-    io.rx.push_back({FakeOtg::status(ep, 0, otg::kPktstsOutComplete), {}});
+    if (!io.host_out(ep, data.data(), data.size())) return false;
     irq();
-    ctl &= ~otg::kEpctlEpena;
     io.regs[otg::doepint(ep)] |= otg::kEpintXfrc;
     irq();
     return true;
@@ -360,6 +266,135 @@ TEST(Stm32OtgFs, HidOutReportReachesTheCoreAndTheReplyComesBackOnEp1In) {
   ASSERT_EQ(reply->size(), 64u);
   EXPECT_EQ((*reply)[0], static_cast<std::uint8_t>(hmp::protocol::Type::hello_reply));
   EXPECT_EQ(r.io.empty_pops, 0);
+}
+
+// RX FIFO entries the core does not send (found by fuzz_otg): each one's data is popped and dropped, so
+// the FIFO stays in step and the next SETUP is read where it is.
+TEST(Stm32OtgFs, OddRxEntriesArePoppedWholeAndTheNextSetupIsRead) {
+  Rig r;
+  const std::uint8_t junk[64] = {0xAA, 0xAA, 0xAA, 0xAA, 0xAA, 0xAA, 0xAA, 0xAA};
+  r.io.push_entry(FakeOtg::status(0, 8, 7), junk, 8);   // PKTSTS 7: reserved
+  r.io.push_entry(FakeOtg::status(0, 12, otg::kPktstsOutComplete), junk, 12);  // a status word with data
+  r.io.push_entry(FakeOtg::status(9, 64, otg::kPktstsOutData), junk, 64);      // no endpoint 9
+  r.irq();
+  EXPECT_TRUE(r.io.rx_data.empty()) << "data of a dropped entry left in the FIFO";
+  const Bytes d = r.control_in(Rig::pkt(0x80, 6, 0x0100, 0, 18));
+  ASSERT_EQ(d.size(), 18u);
+  EXPECT_EQ(d[1], 1);
+  EXPECT_EQ(r.io.empty_pops, 0);
+}
+
+// OUT data for an endpoint number the core does not have used to land in EP0's buffer (seen while writing
+// fuzz_otg): here it would have become the SET_REPORT data and the host's real report been dropped.
+TEST(Stm32OtgFs, OutDataForAnEndpointOutOfRangeDoesNotLandInEp0) {
+  Rig r;
+  r.setups({Rig::pkt(0x00, 5, 7, 0, 0)});
+  r.in(0);
+  r.setups({Rig::pkt(0x00, 9, 1, 0, 0)});
+  r.in(0);
+  r.setups({Rig::pkt(0x21, 0x09, 0x0200, 0, 64)});  // SET_REPORT: EP0 OUT armed for 64 bytes
+  const Bytes zeros(64, 0);
+  r.io.push_entry(FakeOtg::status(9, 64, otg::kPktstsOutData), zeros.data(), zeros.size());
+  hmp::protocol::Report report{};
+  hmp::protocol::encode(hmp::protocol::make(hmp::protocol::Type::hello, 1), report);
+  ASSERT_TRUE(r.out(0, Bytes(report, report + sizeof report)));
+  ASSERT_TRUE(r.in(0).has_value()) << "status stage";
+  r.core->on_tick();
+  while (r.core->poll()) {
+  }
+  r.dev->poll();
+  const auto reply = r.in(1);
+  ASSERT_TRUE(reply.has_value());
+  EXPECT_EQ((*reply)[0], static_cast<std::uint8_t>(hmp::protocol::Type::hello_reply)) << "the host's report came";
+}
+
+// A SETUP entry that is not 8 bytes is no SETUP (seen while writing fuzz_otg): it used to be handed on with
+// the previous SETUP's bytes after its own.
+TEST(Stm32OtgFs, ASetupEntryThatIsNot8BytesIsDropped) {
+  Rig r;
+  ASSERT_EQ(r.control_in(Rig::pkt(0x80, 6, 0x0100, 0, 18)).size(), 18u);
+  const std::uint8_t head[4] = {0x80, 6, 0x00, 0x02};  // GET_DESCRIPTOR configuration, cut short
+  r.io.push_entry(FakeOtg::status(0, 4, otg::kPktstsSetupData), head, 4);
+  r.io.host_setup_done();
+  r.irq();
+  r.io.regs[otg::doepint(0)] |= otg::kDoepintStup;
+  r.irq();
+  EXPECT_FALSE(r.in(0).has_value()) << "a request the host never sent was answered";
+  EXPECT_EQ(r.dev->stats().setups, 1u);
+}
+
+// A SETUP ends the control transfer before it (USB 2.0 §8.5.3), also one whose reply the host did not
+// read: the core keeps that packet queued, so the driver takes it back (found by fuzz_otg: the new reply
+// used to be refused and the host got the old one).
+TEST(Stm32OtgFs, ASetupTakesBackAnUnreadEp0InPacket) {
+  Rig r;
+  r.setups({Rig::pkt(0x80, 6, 0x0200, 0, 9)});  // configuration header, never read
+  const Bytes d = r.control_in(Rig::pkt(0x80, 6, 0x0100, 0, 18));
+  ASSERT_EQ(d.size(), 18u);
+  EXPECT_EQ(d[1], 1) << "the device descriptor, not the old reply";
+  EXPECT_EQ(r.dev->stats().xfer_refused, 0u);
+}
+
+// The previous transfer's last IN packet taken by the host and the next SETUP: as the handler sees them
+// when the SETUP's entries were popped in one run and its STUP and the IN completion come in the next, the
+// old completion is not taken for the new transfer's first packet (the second one used to be refused and
+// the reply cut short).
+TEST(Stm32OtgFs, AStaleEp0InCompletionIsNotTakenForTheNewTransfer) {
+  Rig r;
+  r.setups({Rig::pkt(0x00, 5, 7, 0, 0)});  // SET_ADDRESS: its status ZLP waits on EP0 IN
+  const std::uint8_t product[8] = {0x80, 6, 0x02, 0x03, 0x09, 0x04, 255, 0};  // 82 bytes: two packets
+  r.io.host_setup(product);
+  r.io.host_setup_done();
+  r.irq();                                   // the SETUP's entries popped
+  ASSERT_TRUE(r.io.host_in(0).has_value());  // the ZLP's completion, not seen yet
+  r.io.regs[otg::doepint(0)] |= otg::kDoepintStup;
+  r.irq();                                   // STUP and the old completion in one run
+  Bytes all;
+  for (int guard = 0; guard < 4; ++guard) {
+    auto p = r.in(0);
+    if (!p) break;
+    all.insert(all.end(), p->begin(), p->end());
+    if (p->size() < 64) break;
+  }
+  ASSERT_FALSE(all.empty());
+  EXPECT_EQ(all.size(), all[0]);
+  EXPECT_GT(all.size(), 64u);
+  EXPECT_EQ(r.dev->stats().xfer_refused, 0u);
+}
+
+// A bus reset takes back an EP0 IN packet still queued (the core keeps it; the reset flushes its FIFO):
+// the new session's first reply used to be refused.
+TEST(Stm32OtgFs, ABusResetTakesBackAQueuedEp0InPacket) {
+  Rig r;
+  r.setups({Rig::pkt(0x80, 6, 0x0200, 0, 9)});  // reply never read
+  r.io.host_reset();
+  r.io.regs[otg::kGintsts] |= otg::kIntEnumdne;
+  r.irq();
+  const Bytes d = r.control_in(Rig::pkt(0x80, 6, 0x0100, 0, 18));
+  ASSERT_EQ(d.size(), 18u);
+  EXPECT_EQ(d[1], 1);
+  EXPECT_EQ(r.dev->stats().xfer_refused, 0u);
+}
+
+// A control read's last IN packet taken by the host and the next SETUP read, but its STUP not handled yet
+// (found by fuzz_otg): the old completion used to reach the stack then, which enabled EP0 OUT for the
+// status stage of the transfer the SETUP had already ended.
+TEST(Stm32OtgFs, AnEp0InCompletionWithASetupPendingDoesNotEnableEp0Out) {
+  Rig r;
+  r.setups({Rig::pkt(0x80, 6, 0x0100, 0, 18)});
+  ASSERT_TRUE(r.io.host_in(0).has_value()) << "host takes the reply; the handler has not run yet";
+  std::uint8_t next[8] = {0x80, 6, 0x00, 0x01, 0, 0, 18, 0};
+  r.io.host_setup(next);
+  r.io.host_setup_done();
+  r.io.events.clear();
+  r.irq();  // the SETUP's data and the IN completion together
+  EXPECT_EQ(std::count(r.io.events.begin(), r.io.events.end(), "ep0 out enabled"), 0);
+  r.io.regs[otg::doepint(0)] |= otg::kDoepintStup;
+  r.irq();
+  const auto d = r.in(0);
+  ASSERT_TRUE(d.has_value());
+  EXPECT_EQ(d->size(), 18u);
+  EXPECT_TRUE(r.out(0, {})) << "status stage armed after the reply";
 }
 
 }  // namespace
