@@ -18,6 +18,7 @@
 #include "host/player/player.hpp"
 #include "host/transport/sim_transport.hpp"
 #include "tests/support/audio_onset.hpp"
+#include "tests/support/load_guard.hpp"
 
 namespace {
 
@@ -53,6 +54,7 @@ double seconds_between(std::chrono::steady_clock::time_point a, std::chrono::ste
 TEST(PlaySpeed, AtTwiceTheSpeedSoundAndDeviceFollow) {
   ASSERT_TRUE(hmp::audio::find_soundfont().has_value()) << "no GM SoundFont (fluid-soundfont-gm)";
   const hmp::midi::Song song = piano_song();
+  const hmp::test::LoadWatch load;
   hmp::transport::SimTransport sim;
   hmp::player::DeviceLink link(sim);
   link.connect();
@@ -74,7 +76,7 @@ TEST(PlaySpeed, AtTwiceTheSpeedSoundAndDeviceFollow) {
   const auto t0 = std::chrono::steady_clock::now();
   EXPECT_EQ(player.run(), hmp::player::Outcome::finished);
   const double took = seconds_between(std::chrono::steady_clock::now(), t0);
-  EXPECT_LT(took, 0.5 * static_cast<double>(song.duration_us) * 1e-6 + 1.5) << "not played at twice the speed";
+  const double took_limit = 0.5 * static_cast<double>(song.duration_us) * 1e-6 + 1.5;
 
   for (const auto& n : player.haptic_track().notes) EXPECT_NEAR(n.note.duration_ticks, kLengthUs / 1000 / 2, 1);
   ASSERT_EQ(started.size(), static_cast<std::size_t>(kNotes));
@@ -83,18 +85,24 @@ TEST(PlaySpeed, AtTwiceTheSpeedSoundAndDeviceFollow) {
   const hmp::audio::VirtualCard& card = *audio.virtual_card();
   const std::vector<float> level = card.recording();
   const int rate = ao.synth.sample_rate;
-  std::vector<double> skews_ms;
+  std::vector<double> skews_ms, gaps_ms;
   for (std::size_t i = 0; i < started.size(); ++i) {
     const auto haptic = sim.tick_due_at(started[i].actual_tick);
-    if (i > 0) {
-      const double gap_ms = seconds_between(haptic, sim.tick_due_at(started[i - 1].actual_tick)) * 1e3;
-      EXPECT_NEAR(gap_ms, kSpacingUs / 1000.0 / 2, 2.0) << "note " << i;
-    }
+    if (i > 0) gaps_ms.push_back(seconds_between(haptic, sim.tick_due_at(started[i - 1].actual_tick)) * 1e3);
     const double frame_at_haptic = seconds_between(haptic, card.heard_at(0)) * rate;
     const std::int64_t onset = hmp::test::onset_frame(level, std::llround(frame_at_haptic), rate);
     if (onset < 0) continue;
     skews_ms.push_back(seconds_between(haptic, card.heard_at(static_cast<double>(onset))) * 1e3);
   }
+  double worst = 0, worst_gap = 0;
+  for (const double s : skews_ms) worst = std::max(worst, std::fabs(s));
+  for (const double g : gaps_ms) worst_gap = std::max(worst_gap, std::fabs(g - kSpacingUs / 1000.0 / 2));
+  HMP_SKIP_IF_TOO_LOADED(load, took < took_limit && worst_gap <= 2.0 && worst <= 5.0 &&
+                                   skews_ms.size() >= static_cast<std::size_t>(kNotes - 1),
+                         "took " << took << " s, note gaps off by up to " << worst_gap << " ms, skew up to " << worst
+                                 << " ms, " << skews_ms.size() << " onsets found");
+  EXPECT_LT(took, took_limit) << "not played at twice the speed";
+  for (std::size_t i = 0; i < gaps_ms.size(); ++i) EXPECT_NEAR(gaps_ms[i], kSpacingUs / 1000.0 / 2, 2.0) << "note " << i + 1;
   // What the card heard, for when the onsets are not found (a silent or late recording says why).
   const float loudest = level.empty() ? 0.0f : *std::max_element(level.begin(), level.end());
   const auto first_sound = std::find_if(level.begin(), level.end(), [&](float v) { return v > 1e-3f * loudest; });
@@ -102,8 +110,6 @@ TEST(PlaySpeed, AtTwiceTheSpeedSoundAndDeviceFollow) {
       << "sound onsets not found: " << level.size() << " frames recorded, peak " << loudest << ", first sound at frame "
       << (first_sound - level.begin()) << ", first note's haptic start at frame "
       << seconds_between(sim.tick_due_at(started[0].actual_tick), card.heard_at(0)) * rate;
-  double worst = 0;
-  for (const double s : skews_ms) worst = std::max(worst, std::fabs(s));
   RecordProperty("worst_skew_ms", std::to_string(worst));
   std::printf("speed 2: %zu notes, worst audio–haptic skew %.2f ms\n", skews_ms.size(), worst);
   EXPECT_LE(worst, 5.0);

@@ -1,11 +1,11 @@
 # Included by tests/CMakeLists.txt for every tests/firmware/qemu_*_test.cpp (executable ${target}): these
 # boot the qemu-an386 firmware image, which the cross tree builds (scripts/test builds it first). One
-# CTest test per executable, labels firmware and qemu; the tests skip themselves (reported as skipped by
+# CTest test per executable, labels realtime and qemu (they pace the emulated board in real time); the tests skip themselves (reported as skipped by
 # CTest) when the image or qemu-system-arm is missing. The environment variable HMP_QEMU_ELF overrides the path at run time.
 set(HMP_QEMU_ELF ${PROJECT_SOURCE_DIR}/build/qemu-an386/boards/qemu-an386/hmp_fw_qemu_an386.elf
     CACHE FILEPATH "qemu-an386 firmware image the QEMU tests boot")
 target_compile_definitions(${target} PRIVATE HMP_QEMU_ELF="${HMP_QEMU_ELF}")
 add_test(NAME ${target} COMMAND ${target})
 # A GTEST_SKIP (no image, no emulator) must show as skipped, not passed: scripts/test fails on skips.
-set_tests_properties(${target} PROPERTIES LABELS "firmware;qemu" TIMEOUT 180
+set_tests_properties(${target} PROPERTIES LABELS "realtime;qemu" RUN_SERIAL TRUE TIMEOUT 180
                      SKIP_REGULAR_EXPRESSION "\\[  SKIPPED \\]")

@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "host/audio/virtual_card.hpp"
+#include "tests/support/load_guard.hpp"
 
 namespace {
 
@@ -25,12 +26,16 @@ TEST(VirtualCard, FramesAreHeardOneBufferAfterTheyAreAskedForAtTheCrystalsRate) 
   s.record_frames = 4800;
   std::atomic<int> calls{0};
   std::atomic<float> next{0};
+  const hmp::test::LoadWatch load;
   VirtualCard card(s, [&](float* left, float* right, int frames) {
     for (int i = 0; i < frames; ++i) left[i] = right[i] = next = next + 1e-6f;  // a ramp: shows order
     ++calls;
   });
   std::this_thread::sleep_for(120ms);
   card.stop();
+  // The card's thread must run every 5 ms: a machine that does not give it that is not this card's fault.
+  HMP_SKIP_IF_TOO_LOADED(load, card.underruns() == 0 && calls.load() >= 15,
+                         card.underruns() << " underrun(s), " << calls.load() << " periods in 120 ms");
   // The buffer: 4 periods of 256 frames at 48 kHz × (1 + 500 ppm).
   const double rate = 48000 * (1 + 500e-6);
   EXPECT_NEAR(card.latency_s(), 1024 / rate, 1e-12);

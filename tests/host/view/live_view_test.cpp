@@ -17,6 +17,7 @@
 #include "host/audio/audio_player.hpp"
 #include "host/view/live_view.hpp"
 #include "tests/e2e/play_harness.hpp"
+#include "tests/support/load_guard.hpp"
 #include "tests/support/xvfb.hpp"
 
 namespace {
@@ -65,6 +66,7 @@ TEST(LiveViewSync, FramesShowTheAudioClockWhenTheyReachTheScreen) {
   ASSERT_NE(view, nullptr) << error;
   RecordProperty("renderer", view->renderer());
 
+  const test::LoadWatch load;
   audio.start(30'000'000);
   std::this_thread::sleep_for(1500ms);
   audio.seek(100'000'000);
@@ -84,7 +86,6 @@ TEST(LiveViewSync, FramesShowTheAudioClockWhenTheyReachTheScreen) {
   view.reset();
   audio.stop();
 
-  ASSERT_GE(frames.size(), 120u) << "fewer than 20 frames a second";
   std::vector<double> errors;
   bool saw_seek_target = false, saw_second_seek = false;
   for (const FrameTiming& f : frames) {
@@ -92,10 +93,13 @@ TEST(LiveViewSync, FramesShowTheAudioClockWhenTheyReachTheScreen) {
     saw_seek_target = saw_seek_target || (f.shown_us >= 100'000'000 && f.shown_us < 102'000'000);
     saw_second_seek = saw_second_seek || (f.shown_us >= 60'000'000 && f.shown_us < 62'000'000);
   }
-  EXPECT_TRUE(saw_seek_target && saw_second_seek) << "the frames did not follow the seeks";
   std::sort(errors.begin(), errors.end());
+  const double p99 = errors.empty() ? 1e12 : errors[static_cast<std::size_t>(0.99 * static_cast<double>(errors.size() - 1))];
+  HMP_SKIP_IF_TOO_LOADED(load, frames.size() >= 120u && p99 <= 16'667.0,
+                         frames.size() << " frames in 7.8 s, sync error p99 " << p99 << " µs");
+  ASSERT_GE(frames.size(), 120u) << "fewer than 20 frames a second";
+  EXPECT_TRUE(saw_seek_target && saw_second_seek) << "the frames did not follow the seeks";
   const double p50 = errors[errors.size() / 2];
-  const double p99 = errors[static_cast<std::size_t>(0.99 * static_cast<double>(errors.size() - 1))];
   RecordProperty("frames", static_cast<int>(frames.size()));
   RecordProperty("sync_error_p50_us", std::to_string(p50));
   RecordProperty("sync_error_p99_us", std::to_string(p99));
