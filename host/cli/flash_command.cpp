@@ -25,6 +25,7 @@
 
 #include "host/cli/commands.hpp"
 #include "host/common/error.hpp"
+#include "host/common/input_file.hpp"
 #include "host/flash/firmware_image.hpp"
 #include "host/flash/flash_plan.hpp"
 #include "host/flash/udev_rule.hpp"  // generated from host/flash/70-hmp.rules
@@ -133,7 +134,7 @@ fs::path choose_image(const FlashOptions& o, Method method, std::string& build) 
   build.clear();
   if (!o.firmware.empty()) {
     const fs::path given = o.firmware;
-    if (!fs::is_regular_file(given)) throw BadInput(fmt::format("--firmware {}: no such file", o.firmware));
+    check_input_file(o.firmware);  // "FILE: no such file", "FILE: is a directory", as every file read
     const std::string ext = given.extension().string();
     if (ext != ".elf" && ext != ".bin") throw BadInput(fmt::format("--firmware {}: expected a .elf or .bin image", o.firmware));
     if (ext == want) return given;

@@ -74,6 +74,7 @@ int run_play(const PlayOptions& o) {
   // Refuse an existing log before any work (design §3: never overwrite without --force).
   player::PlayLog log;
   if (o.log) output::check_writable(*o.log, o.force);
+  const audio::AudioOptions audio_opts = audio_options(o.audio);  // checks --soundfont, before any work
 
   const midi::ReadResult r = midi::load_song(o.song);
   for (const midi::Warning& w : r.warnings) warn_on_stderr(w.message);
@@ -94,7 +95,7 @@ int run_play(const PlayOptions& o) {
                  *o.haptic.tick_hz, hello.tick_hz);
   }
 
-  audio::AudioPlayer audio(audio_options(o.audio));
+  audio::AudioPlayer audio(audio_opts);
   audio.set_events(audio::audio_events(song));
   if (audio.audible()) {
     std::fprintf(stderr, "audio: %s, output latency %.1f ms (compensated)\n", audio.driver_name().c_str(),
@@ -150,6 +151,7 @@ int run_play(const PlayOptions& o) {
     status.close();
     keys.restore();
     log.summary(player.counters());
+    log.close();  // the log of a lost link is whole (summary included): kept, not removed as a cut write
     throw;
   }
   status.show(player.snapshot(), true);
@@ -157,6 +159,7 @@ int run_play(const PlayOptions& o) {
   keys.restore();
   const player::Counters counters = player.counters();
   log.summary(counters);
+  log.close();
   print_summary(counters, player.snapshot(), player.window_notes(), opened.transport->name());
   if (outcome == player::Outcome::interrupted) return 128 + player::stop_signal();  // as shells report a signal
   return kExitOk;

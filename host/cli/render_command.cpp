@@ -10,6 +10,7 @@
 #include "host/cli/render_video.hpp"
 #include "host/cli/song_options.hpp"
 #include "host/common/error.hpp"
+#include "host/common/input_file.hpp"
 #include "host/common/progress.hpp"
 #include "host/export/haptic_export.hpp"
 #include "host/midi/gm.hpp"
@@ -33,6 +34,7 @@ struct RenderOptions {
 };
 
 int run_render(const RenderOptions& o) {
+  if (o.video.soundfont) check_input_file(*o.video.soundfont);  // before any work, as --out's check
   if (o.sound) {  // the song's own sound, all tracks: no haptic track involved
     if (o.audible) throw BadInput("--sound and --audible: one or the other (--audible is a track's haptic signal)");
     run_sound_render({o.song, o.out, o.from_s, o.to_s, o.video.soundfont, o.force});
@@ -64,9 +66,14 @@ int run_render(const RenderOptions& o) {
 
   if (haptic_file) {
     const midi::Track& t = r.song.tracks[track];
-    exporting::ExportSpec spec{&ht, &opts, first, end,
-                               fmt::format("{} — track {} \"{}\", mapping {}, envelope {}", o.song, track, t.name,
-                                           mapping::name(opts.mapping), opts.envelope)};
+    exporting::ExportSpec spec;
+    spec.track = &ht;
+    spec.opts = &opts;
+    spec.first_tick = first;
+    spec.end_tick = end;
+    spec.title = fmt::format("track {} \"{}\", mapping {}, envelope {}", track, t.name, mapping::name(opts.mapping),
+                             opts.envelope);
+    spec.song = o.song;
     exporting::write_haptic_export(o.out, o.force, spec);
     return kExitOk;
   }

@@ -33,7 +33,9 @@ void run_sound_render(const SoundRenderRequest& r) {
       audio::render_offline(audio::audio_events(read.song), static_cast<std::int64_t>(from * 1e6),
                             static_cast<std::int64_t>(to * 1e6), options, warn_on_stderr,
                             [&](std::uint64_t done, std::uint64_t total) { bar.update(done, total); });
-  audio::write_wav(r.out, sound);
+  output::StagedOutput staged(r.out);  // written as OUT.part, renamed once whole
+  audio::write_wav(staged.part(), sound);
+  staged.commit();
   std::fprintf(stderr, "%s: %.2f s of the song's sound, 44.1 kHz stereo%s\n", r.out.c_str(), to - from,
                sound.silent_fallback ? " (silent: no SoundFont)" : "");
 }

@@ -22,8 +22,7 @@ void add_video_options(CLI::App* cmd, VideoCliOptions& o) {
       ->capture_default_str()->check(CLI::Range(1.0, 120.0))->group(group);
   cmd->add_flag("--haptic-audio", o.haptic_audio, "A second audio stream: the haptic track's signal, listenable")->group(group);
   cmd->add_flag("--no-audio", o.no_audio, "The song's audio stream silent (no SoundFont loaded)")->group(group);
-  cmd->add_option("--soundfont", o.soundfont, "SoundFont (.sf2/.sf3) for the song's sound (--sound, .mp4; default: the GM one installed)")
-      ->check(CLI::ExistingFile);
+  cmd->add_option("--soundfont", o.soundfont, "SoundFont (.sf2/.sf3) for the song's sound (--sound, .mp4; default: the GM one installed)");
   cmd->add_option("--video-preset", o.preset, "libx264 speed preset: ultrafast … veryslow")->capture_default_str()->group(group);
   cmd->add_option("--crf", o.crf, "libx264 constant quality, 0..51 (lower: better and bigger)")->capture_default_str()->group(group);
 }

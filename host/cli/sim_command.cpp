@@ -46,7 +46,7 @@ void write_csv(const SimCliOptions& o, const std::vector<simulate::ForceSample>&
                  static_cast<double>(s.commanded), static_cast<double>(s.actual), static_cast<double>(s.reported),
                  static_cast<double>(s.min_tension), static_cast<double>(s.max_tension));
   }
-  if (std::fflush(f.get()) != 0 || std::ferror(f.get())) throw std::runtime_error(o.out + ": write failed");
+  output::close_output(f);
 }
 
 int run_sim(const SimCliOptions& o) {

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "host/common/error.hpp"
+#include "host/common/input_file.hpp"
 #include "host/midi/gm.hpp"
 
 namespace hmp::cli {
@@ -43,8 +44,9 @@ void add_haptic_options(CLI::App* cmd, HapticCliOptions& o) {
   cmd->add_option("--end-fade-ms", o.end_fade_ms, "Fade at each note's end in ms (default 2, 0 = paper-exact)");
   cmd->add_flag("--pedal", o.pedal, "A note released under the sustain pedal (CC64) lasts until the pedal lifts");
   cmd->add_option("--tick-hz", o.tick_hz, "Device tick rate in Hz (default 1000)")->check(CLI::Range(100u, 100000u));
-  cmd->add_option("--config", o.config_path, "TOML file: user presets, GM table, ranges, device settings")
-      ->check(CLI::ExistingFile);
+  // No CLI::ExistingFile here: config::load refuses a missing file or a directory with the message every
+  // file the user names gets (host/common/input_file.hpp).
+  cmd->add_option("--config", o.config_path, "TOML file: user presets, GM table, ranges, device settings");
 }
 
 haptics::HapticOptions resolve(const HapticCliOptions& o) {
@@ -95,15 +97,17 @@ void add_audio_options(CLI::App* cmd, AudioCliOptions& o) {
                   "Audio output: pulseaudio, alsa, sdl2, jack, oss, pipewire or virtual (default: the first of "
                   "pulseaudio, alsa, sdl2 that opens)")
       ->check(CLI::IsMember({"pulseaudio", "alsa", "sdl2", "jack", "oss", "pipewire", "virtual"}));
-  cmd->add_option("--soundfont", o.soundfont, "SoundFont (.sf2/.sf3) for the song's audio (default: the GM one installed)")
-      ->check(CLI::ExistingFile);
+  cmd->add_option("--soundfont", o.soundfont, "SoundFont (.sf2/.sf3) for the song's audio (default: the GM one installed)");
 }
 
 audio::AudioOptions audio_options(const AudioCliOptions& o) {
   audio::AudioOptions a;
   a.enabled = !o.no_audio;
   if (o.driver) a.drivers = {*o.driver};
-  if (o.soundfont) a.soundfont = *o.soundfont;
+  if (o.soundfont) {
+    check_input_file(*o.soundfont);  // a bad --soundfont is an error, not a silent song
+    a.soundfont = *o.soundfont;
+  }
   return a;
 }
 

@@ -7,11 +7,10 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
-#include <fstream>
 #include <random>
-#include <sstream>
 
 #include <fmt/format.h>
 
@@ -21,6 +20,9 @@
 #include "host/cli/open_link.hpp"
 #include "host/cli/song_options.hpp"
 #include "host/common/error.hpp"
+#include "host/common/input_file.hpp"
+#include "host/common/printable.hpp"
+#include "host/output/output_file.hpp"
 #include "host/player/live_terminal.hpp"
 #include "host/player/player.hpp"
 #include "host/study/analysis.hpp"
@@ -49,19 +51,19 @@ struct AnalyzeOptions {
   std::vector<std::string> files;
   bool json = false;
   std::optional<std::string> figure;
+  bool force = false;
 };
 
 double unix_now() {
   return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
 }
 
+// A session's own file: none yet is nullopt; anything else there (a directory, say) is refused as every
+// file the user names is (host/common/input_file.hpp).
 std::optional<std::string> read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return std::nullopt;
-  std::ostringstream s;
-  s << in.rdbuf();
-  if (in.bad()) throw BadInput(fmt::format("{}: cannot read", path));
-  return s.str();
+  struct stat st {};
+  if (::lstat(path.c_str(), &st) != 0 && errno == ENOENT) return std::nullopt;
+  return read_input_file(path);
 }
 
 // Appends in one write and syncs, so that a crash leaves whole rounds (a round's rows go together).
@@ -161,6 +163,7 @@ int run_study(const StudyOptions& o) {
   }
   const std::string& participant = *o.participant;
   std::vector<int> experiments = experiments_of(o.experiment);
+  const audio::AudioOptions audio_opts = audio_options(o.audio);  // checks --soundfont, before any work
   struct stat st {};
   if (::stat(o.out.c_str(), &st) != 0 || !S_ISDIR(st.st_mode)) throw BadInput(fmt::format("--out {}: not a directory", o.out));
   const std::string results_path = o.out + "/study-results.csv";
@@ -203,7 +206,7 @@ int run_study(const StudyOptions& o) {
   player::DeviceLink link(*opened.transport, link_options_for(opened));
   connect_and_describe(link, opened);
 
-  audio::AudioPlayer audio(audio_options(o.audio));
+  audio::AudioPlayer audio(audio_opts);
 
   KeySource keys;
   const bool scripted = !isatty(STDIN_FILENO);
@@ -293,19 +296,21 @@ int run_study(const StudyOptions& o) {
 }
 
 int run_analyze(const AnalyzeOptions& o) {
+  // The figure's file first: a name that cannot be written fails before the table is printed.
+  if (o.figure && *o.figure == "-") throw BadInput("--out -: the figure needs a file name");
+  if (o.figure) output::check_writable(*o.figure, o.force);
   std::vector<study::ResultRow> rows;
   for (const std::string& file : o.files) {
-    const auto text = read_text(file);
-    if (!text) throw BadInput(fmt::format("{}: cannot open", file));
-    if (text->empty()) throw BadInput(fmt::format("{}:1: empty file (no header)", file));
-    for (study::ResultRow& r : study::parse_results(*text, file)) rows.push_back(std::move(r));
+    const std::string text = read_input_file(file);
+    if (text.empty()) throw BadInput(fmt::format("{}:1: empty file (no header)", printable(file)));
+    for (study::ResultRow& r : study::parse_results(text, file)) rows.push_back(std::move(r));
   }
   const std::vector<study::GroupAnalysis> groups = study::analyze(rows);
   if (groups.empty()) throw BadInput("no main-round rows to analyse (practice rows are not analysed)");
   if (o.json) std::printf("%s\n", study::to_json(groups).dump(2).c_str());
   else std::printf("%s", study::format_report(groups).c_str());
   if (o.figure) {
-    study::write_figure(groups, *o.figure);
+    study::write_figure(groups, *o.figure, true);  // checked above (absent, --force, or a "yes")
     std::fprintf(stderr, "figure: %s\n", o.figure->c_str());
   }
   return kExitOk;
@@ -334,6 +339,7 @@ void register_study(CLI::App& app, Registry& registry) {
   analyze->add_option("FILES", a->files, "Results files (study-results.csv)")->required();
   analyze->add_flag("--json", a->json, "JSON instead of the table");
   analyze->add_option("--out", a->figure, "PNG like the paper's Figure 3");
+  analyze->add_flag("-f,--force", a->force, "Overwrite an existing --out file");
   analyze->callback([a, &registry] { registry.set([a] { return run_analyze(*a); }); });
   cmd->callback([o, analyze, &registry] {
     if (analyze->parsed()) return;

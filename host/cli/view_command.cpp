@@ -48,6 +48,7 @@ int run_view(const ViewOptions& o) {
   haptics::HapticOptions haptic = resolve(o.haptic);
   haptic.speed = o.speed;
   haptics::validate(haptic);
+  const audio::AudioOptions audio_opts = audio_options(o.audio);  // checks --soundfont, before any work
   const midi::ReadResult r = midi::load_song(o.song);
   for (const midi::Warning& w : r.warnings) warn_on_stderr(w.message);
   const midi::Song& song = r.song;
@@ -59,7 +60,7 @@ int run_view(const ViewOptions& o) {
   if (begin_us >= end_us) throw BadInput(fmt::format("--from/--to: empty window (the song ends at {:.3f} s)", song.duration_s()));
   std::uint32_t track = o.track ? select_track(song, *o.track) : default_haptic_track(song);
 
-  audio::AudioPlayer audio(audio_options(o.audio));
+  audio::AudioPlayer audio(audio_opts);
   audio.set_events(audio::audio_events(song));
 
   std::mutex strip_mutex;  // the haptic track whose signal the strip shows

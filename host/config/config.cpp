@@ -6,6 +6,8 @@
 #include <set>
 
 #include "host/common/error.hpp"
+#include "host/common/input_file.hpp"
+#include "host/common/printable.hpp"
 
 namespace hmp::config {
 
@@ -13,7 +15,7 @@ namespace {
 
 class Reader {
  public:
-  explicit Reader(std::string path) : path_(std::move(path)) {}
+  explicit Reader(const std::string& path) : path_(printable(path)) {}
 
   [[noreturn]] void fail(const std::string& what) const { throw BadInput(path_ + ": " + what); }
 
@@ -80,12 +82,15 @@ envelope::Adsr read_preset(const Reader& r, const toml::table& t, const std::str
 }  // namespace
 
 Config load(const std::string& path) {
+  // Read here rather than by toml::parse_file: a directory or a missing file gets the message every file
+  // the user names gets (host/common/input_file.hpp).
+  const std::string text = read_input_file(path, std::uint64_t{16} << 20);
   toml::table root;
   try {
-    root = toml::parse_file(path);
+    root = toml::parse(text, path);
   } catch (const toml::parse_error& e) {
     const auto& where = e.source().begin;
-    throw BadInput(path + ":" + std::to_string(where.line) + ":" + std::to_string(where.column) + ": " +
+    throw BadInput(printable(path) + ":" + std::to_string(where.line) + ":" + std::to_string(where.column) + ": " +
                    std::string(e.description()));
   }
   const Reader r(path);

@@ -52,8 +52,10 @@ nlohmann::json meta_haptic_json(const ExportSpec& spec) {
     am.push_back({{"time", T}, {"amplitude", am[0]["amplitude"]}});
   }
   return {{"version", {{"major", 1}, {"minor", 0}, {"patch", 0}}},
-          {"metadata", {{"editor", "hmp render"}, {"author", ""}, {"source", ""}, {"project", ""},
-                        {"tags", json::array()}, {"description", spec.title}}},
+          // Meta's spec asks authoring tools for editor, source (what the clip was made from: the song's
+          // file) and description; names only, not the paths they were typed with.
+          {"metadata", {{"editor", "hmp render"}, {"source", song_file_name(spec)}, {"project", ""},
+                        {"tags", json::array()}, {"description", export_description(spec)}}},
           {"signals", {{"continuous", {{"envelopes", {{"amplitude", std::move(am)}, {"frequency", std::move(fr)}}}}}}}};
 }
 

@@ -3,16 +3,12 @@
 #include "host/midi/smf_reader.hpp"
 
 #include <algorithm>
-#include <cerrno>
 #include <cstring>
 #include <memory>
 #include <string_view>
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
 #include "host/common/error.hpp"
+#include "host/common/input_file.hpp"
 #include "host/midi/smf_detail.hpp"
 
 namespace hmp::midi {
@@ -226,40 +222,19 @@ ReadResult read_smf(std::span<const std::uint8_t> bytes) { return SmfReader(byte
 
 ReadResult load_song(const std::filesystem::path& path) {
   // One open, fstat and read into a buffer that is not zero-filled first: on a small song the reading is
-  // a good part of `hmp info`'s own time (docs/performance.md, MIDI parsing). O_NONBLOCK so that a FIFO
-  // is refused as "not a regular file" instead of blocking the open; it changes nothing for regular files.
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
-  if (fd < 0) {
-    const int err = errno;
-    if (err == ENOENT || err == ENOTDIR) throw BadInput("cannot open '" + path.string() + "': no such file");
-    throw BadInput("cannot open '" + path.string() + "': " + std::strerror(err));
-  }
-  struct Closer {
-    int fd;
-    ~Closer() { ::close(fd); }
-  } const closer{fd};
-  struct stat info {};
-  if (::fstat(fd, &info) != 0) throw BadInput("cannot read '" + path.string() + "': " + std::strerror(errno));
-  if (!S_ISREG(info.st_mode)) throw BadInput("'" + path.string() + "' is not a regular file");
-  const auto size = static_cast<std::uint64_t>(info.st_size);
-  if (size > kMaxFileBytes) throw BadInput("'" + path.string() + "' is too large for a MIDI file");
-  const auto length = static_cast<std::size_t>(size);
+  // a good part of `hmp info`'s own time (docs/performance.md, MIDI parsing). InputFile refuses what is
+  // not a regular file (a directory, a FIFO) with the same message as every other file the user names.
+  const InputFile file(path.string());
+  if (file.size() > kMaxFileBytes) throw BadInput(file.shown() + ": too large for a MIDI file");
+  const auto length = static_cast<std::size_t>(file.size());
   const auto buffer = std::make_unique_for_overwrite<std::uint8_t[]>(length);
-  std::size_t got = 0;
-  while (got < length) {
-    const ::ssize_t n = ::read(fd, buffer.get() + got, length - got);
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0) throw BadInput("cannot read '" + path.string() + "': " + std::strerror(errno));
-    if (n == 0) break;
-    got += static_cast<std::size_t>(n);
-  }
-  if (got != length) throw BadInput("cannot read '" + path.string() + "': short read");
+  file.read_all(buffer.get());
   const std::span<const std::uint8_t> bytes(buffer.get(), length);
   try {
     return read_smf(bytes);
   } catch (const BadInput& e) {
     // Name the file: the reader's own message only knows the track and byte offset.
-    throw BadInput(path.string() + ": " + e.what());
+    throw BadInput(file.shown() + ": " + e.what());
   }
 }
 

@@ -14,6 +14,16 @@ void check(const std::string& path, const std::string& error) {
   if (!error.empty()) throw BadInput(path + ": cannot write PNG: " + error);
 }
 
+// The module draws into PATH.part; renamed to PATH once the PNG is whole (output_file.hpp).
+template <class Draw>
+void write_png(const std::string& path, bool force, Draw draw) {
+  check_writable(path, force);
+  const PlotBackend& backend = plot_backend_for(path);
+  StagedOutput staged(path);
+  check(path, draw(backend, staged.part()));
+  staged.commit();
+}
+
 }  // namespace
 
 const PlotBackend& plot_backend_for(const std::string& path) {
@@ -25,22 +35,21 @@ const PlotBackend& plot_backend_for(const std::string& path) {
 
 void write_signal_png(const std::string& path, std::span<const float> samples, std::span<const PlotNote> notes,
                       const PlotSpec& spec, bool force) {
-  check_writable(path, force);
-  check(path, plot_backend_for(path).signal_png(path, samples, notes, spec));
+  write_png(path, force, [&](const PlotBackend& b, const std::string& to) { return b.signal_png(to, samples, notes, spec); });
 }
 
 void write_traces_png(const std::string& path, const std::vector<Trace>& traces, const TracePlotSpec& spec,
                       bool force) {
-  check_writable(path, force);
-  check(path, plot_backend_for(path).traces_png(path, traces, spec));
+  write_png(path, force, [&](const PlotBackend& b, const std::string& to) { return b.traces_png(to, traces, spec); });
 }
 
 }  // namespace hmp::output
 
 namespace hmp::study {
 
-void write_figure(const std::vector<GroupAnalysis>& groups, const std::string& path) {
-  output::check(path, output::plot_backend_for(path).study_figure_png(path, groups));
+void write_figure(const std::vector<GroupAnalysis>& groups, const std::string& path, bool force) {
+  // The same checks as every PNG writer: an existing file is kept without --force.
+  output::write_png(path, force, [&](const output::PlotBackend& b, const std::string& to) { return b.study_figure_png(to, groups); });
 }
 
 }  // namespace hmp::study

@@ -1,7 +1,6 @@
 #include "host/output/signal_export.hpp"
 
 #include <cstdio>
-#include <stdexcept>
 
 #include "host/common/error.hpp"
 #include "host/output/output_file.hpp"
@@ -34,7 +33,7 @@ void export_signal(const SignalExport& e, std::span<const float> samples, std::s
   if (fmt == "csv") {
     FilePtr f = open_for_writing(e.path, e.force);
     write_csv(f.get(), samples, spec.first_tick, spec.tick_hz);
-    if (std::fflush(f.get()) != 0 || std::ferror(f.get())) throw std::runtime_error(e.path + ": write failed");
+    close_output(f);
   } else if (fmt == "wav") {
     if (e.audible) {
       write_wav(e.path, resample(samples, static_cast<int>(spec.tick_hz), kAudibleRateHz), kAudibleRateHz, e.force);

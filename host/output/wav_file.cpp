@@ -23,9 +23,12 @@ const audio::AudioBackend& backend_for(const std::string& what) {
 void write_wav(const std::string& path, std::span<const float> samples, int rate_hz, bool force) {
   check_writable(path, force);
   const std::span<const float> channels[] = {samples};
-  if (const std::string error = backend_for(path).write_wav(path, rate_hz, channels); !error.empty()) {
+  const audio::AudioBackend& backend = backend_for(path);
+  StagedOutput staged(path);  // libsndfile writes PATH.part, renamed to PATH once whole
+  if (const std::string error = backend.write_wav(staged.part(), rate_hz, channels); !error.empty()) {
     throw BadInput(path + ": cannot write WAV: " + error);
   }
+  staged.commit();
 }
 
 std::vector<float> resample(std::span<const float> samples, int from_hz, int to_hz) {

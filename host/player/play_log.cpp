@@ -31,4 +31,9 @@ void PlayLog::flush() {
   if (file_) std::fflush(file_.get());
 }
 
+void PlayLog::close() {
+  if (file_) output::close_output(file_);
+  file_.reset();
+}
+
 }  // namespace hmp::player

@@ -17,6 +17,10 @@ class PlayLog {
   void started(const StartedNote& n);
   void summary(const Counters& c);
   void flush();
+  // Closes the file: renamed from FILE.part into place (output_file.hpp); throws when the write failed.
+  // A log never closed this way is renamed when it goes out of scope normally and removed when an
+  // exception unwinds through it.
+  void close();
 
  private:
   output::FilePtr file_;

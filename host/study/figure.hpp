@@ -9,6 +9,7 @@
 
 namespace hmp::study {
 
-void write_figure(const std::vector<GroupAnalysis>& groups, const std::string& path);  // throws BadInput on write errors
+// Throws BadInput when `path` exists and not `force` (output/output_file.hpp's rules) or on write errors.
+void write_figure(const std::vector<GroupAnalysis>& groups, const std::string& path, bool force);
 
 }  // namespace hmp::study

@@ -5,11 +5,13 @@
 #include <ctime>
 #include <map>
 #include <sstream>
+#include <string_view>
 #include <tuple>
 
 #include <fmt/format.h>
 
 #include "host/common/error.hpp"
+#include "host/common/printable.hpp"
 
 namespace hmp::study {
 
@@ -31,7 +33,29 @@ std::vector<std::string> split(const std::string& line) {
 }
 
 [[noreturn]] void fail(const std::string& file, int line, const std::string& what) {
-  throw BadInput(fmt::format("{}:{}: {}", file, line, what));
+  throw BadInput(fmt::format("{}:{}: {}", printable(file), line, what));
+}
+
+// A field as messages quote it: in double quotes, its bytes made visible (a NUL would end the message).
+std::string quoted(const std::string& field) { return "\"" + printable(field) + "\""; }
+
+// The header's column names, for messages about a field.
+const std::vector<std::string>& column_names() {
+  static const std::vector<std::string> names = split(kResultsHeader);
+  return names;
+}
+
+// Every field is UTF-8 text; the free-text one (version) also without control characters, which the
+// other fields' own rules already refuse.
+void check_text(const std::vector<std::string>& f, const std::string& file, int line) {
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    if (!valid_utf8(f[i])) fail(file, line, fmt::format("{} {} is not valid UTF-8", column_names()[i], quoted(f[i])));
+  }
+  for (const char c : f.back()) {
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7F) {
+      fail(file, line, fmt::format("version {} holds a control character", quoted(f.back())));
+    }
+  }
 }
 
 template <class T>
@@ -39,7 +63,7 @@ T number(const std::string& s, const char* column, const std::string& file, int 
   T v{};
   const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
   if (ec != std::errc() || end != s.data() + s.size() || s.empty()) {
-    fail(file, line, fmt::format("{} \"{}\" is not a number", column, s));
+    fail(file, line, fmt::format("{} {} is not a number", column, quoted(s)));
   }
   return v;
 }
@@ -48,13 +72,13 @@ double real(const std::string& s, const char* column, const std::string& file, i
   // from_chars for double is in libstdc++ 11+; strtod would accept "inf", "nan" and hex, which a
   // results file never holds.
   const double v = number<double>(s, column, file, line);
-  if (!std::isfinite(v) || v < 0) fail(file, line, fmt::format("{} \"{}\" must be a finite number ≥ 0", column, s));
+  if (!std::isfinite(v) || v < 0) fail(file, line, fmt::format("{} {} must be a finite number ≥ 0", column, quoted(s)));
   return v;
 }
 
 double utc(const std::string& s, const char* column, const std::string& file, int line) {
   const double v = parse_utc(s);
-  if (std::isnan(v)) fail(file, line, fmt::format("{} \"{}\" is not a UTC time like 2026-01-31T12:00:00.000Z", column, s));
+  if (std::isnan(v)) fail(file, line, fmt::format("{} {} is not a UTC time like 2026-01-31T12:00:00.000Z", column, quoted(s)));
   return v;
 }
 
@@ -62,36 +86,37 @@ Envelope envelope_of(const std::string& s, const std::string& file, int line) {
   for (const Envelope e : kEnvelopes) {
     if (s == envelope_name(e)) return e;
   }
-  fail(file, line, fmt::format("unknown envelope \"{}\" (square, triangle or analogue)", s));
+  fail(file, line, fmt::format("unknown envelope {} (square, triangle or analogue)", quoted(s)));
 }
 
 ResultRow parse_row(const std::string& text, const std::string& file, int line) {
   const std::vector<std::string> f = split(text);
   if (f.size() != kFields) fail(file, line, fmt::format("{} fields, expected {}", f.size(), kFields));
+  check_text(f, file, line);
   ResultRow r;
   r.file = file;
   r.line = line;
   r.participant = f[0];
-  if (!valid_participant_id(r.participant)) fail(file, line, fmt::format("bad participant id \"{}\"", f[0]));
+  if (!valid_participant_id(r.participant)) fail(file, line, fmt::format("bad participant id {}", quoted(f[0])));
   r.experiment = number<int>(f[1], "experiment", file, line);
-  if (r.experiment != 1 && r.experiment != 2) fail(file, line, fmt::format("experiment {} (1 or 2)", f[1]));
-  if (f[2] != "practice" && f[2] != "main") fail(file, line, fmt::format("phase \"{}\" (practice or main)", f[2]));
+  if (r.experiment != 1 && r.experiment != 2) fail(file, line, fmt::format("experiment {} (1 or 2)", r.experiment));
+  if (f[2] != "practice" && f[2] != "main") fail(file, line, fmt::format("phase {} (practice or main)", quoted(f[2])));
   r.practice = f[2] == "practice";
   r.position = number<int>(f[3], "position", file, line);
-  if (r.position < 1 || r.position > (r.practice ? 2 : 4)) fail(file, line, fmt::format("position {} out of range", f[3]));
+  if (r.position < 1 || r.position > (r.practice ? 2 : 4)) fail(file, line, fmt::format("position {} out of range", r.position));
   r.instrument = f[4];
   bool known = false;
   for (const char* i : kInstruments) known = known || r.instrument == i;
-  if (!known) fail(file, line, fmt::format("unknown instrument \"{}\"", f[4]));
+  if (!known) fail(file, line, fmt::format("unknown instrument {}", quoted(f[4])));
   r.mapping = f[5];
   if (r.mapping != mapping_of_experiment(r.experiment)) {
-    fail(file, line, fmt::format("mapping \"{}\" is not experiment {}'s ({})", f[5], r.experiment, mapping_of_experiment(r.experiment)));
+    fail(file, line, fmt::format("mapping {} is not experiment {}'s ({})", quoted(f[5]), r.experiment, mapping_of_experiment(r.experiment)));
   }
   r.envelope = envelope_of(f[6], file, line);
   r.key = number<int>(f[7], "key", file, line);
-  if (r.key < 0 || r.key > 2) fail(file, line, fmt::format("key {} (0, 1 or 2)", f[7]));
+  if (r.key < 0 || r.key > 2) fail(file, line, fmt::format("key {} (0, 1 or 2)", r.key));
   r.rank = number<int>(f[8], "rank", file, line);
-  if (r.rank < 1 || r.rank > 3) fail(file, line, fmt::format("rank {} (1, 2 or 3)", f[8]));
+  if (r.rank < 1 || r.rank > 3) fail(file, line, fmt::format("rank {} (1, 2 or 3)", r.rank));
   r.seconds_felt = real(f[9], "seconds_felt", file, line);
   r.times_selected = number<int>(f[10], "times_selected", file, line);
   if (r.times_selected < 0) fail(file, line, "times_selected < 0");
@@ -182,7 +207,9 @@ std::string format_row(const ResultRow& r) {
 
 std::vector<ResultRow> parse_results(const std::string& text, const std::string& file_name) {
   std::vector<ResultRow> rows;
-  std::istringstream in(text);
+  // A spreadsheet saving as "CSV UTF-8" starts the file with a byte order mark: not part of the header.
+  constexpr std::string_view kBom = "\xEF\xBB\xBF";
+  std::istringstream in(std::string_view(text).starts_with(kBom) ? text.substr(kBom.size()) : text);
   std::string line;
   int number_of_line = 0;
   while (std::getline(in, line)) {

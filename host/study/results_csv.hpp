@@ -34,7 +34,8 @@ extern const char* const kResultsHeader;
 std::string format_row(const ResultRow& r);
 // Parses one file's text. Throws BadInput "FILE:LINE: what" on a bad header, a bad field, or rows that
 // do not fit together (a rank, key or envelope used twice in a round, a round with fewer than three
-// rows, two experiments' mappings mixed up). An empty text is an empty file (no rows).
+// rows, two experiments' mappings mixed up, a field that is not UTF-8); the bytes a message quotes are
+// escaped. A leading UTF-8 byte order mark is skipped. An empty text is an empty file (no rows).
 std::vector<ResultRow> parse_results(const std::string& text, const std::string& file_name);
 
 bool valid_participant_id(const std::string& id);  // 1–64 of A–Z a–z 0–9 _ - . (no quoting needed)

@@ -6,7 +6,6 @@
 #include <condition_variable>
 #include <cstdio>
 #include <deque>
-#include <filesystem>
 #include <mutex>
 #include <stdexcept>
 #include <thread>
@@ -19,6 +18,7 @@
 #include "host/haptics/signal_renderer.hpp"
 #include "host/haptics/signal_tail.hpp"
 #include "host/modules/module_loader.hpp"
+#include "host/output/output_file.hpp"
 #include "host/output/wav_file.hpp"
 #include "host/video/video_backend.hpp"
 #include "host/video/yuv_convert.hpp"
@@ -35,29 +35,6 @@ double seconds_since(WallClock::time_point t0) {
 
 // Exactly `n` samples: the renderers round the passage's ends to their own grids.
 void fit(std::vector<float>& v, std::size_t n) { v.resize(n, 0.0f); }
-
-// The temporary file the encoder writes; renamed to the asked-for name only when complete.
-class TemporaryOutput {
- public:
-  explicit TemporaryOutput(const std::string& path) : path_(path), temporary_(path + ".part") {}
-  ~TemporaryOutput() {
-    if (!kept_) {
-      std::error_code ignored;
-      std::filesystem::remove(temporary_, ignored);
-    }
-  }
-  const std::string& temporary() const { return temporary_; }
-  void keep() {
-    std::error_code ec;
-    std::filesystem::rename(temporary_, path_, ec);
-    if (ec) throw std::runtime_error(fmt::format("cannot rename {} to {}: {}", temporary_, path_, ec.message()));
-    kept_ = true;
-  }
-
- private:
-  std::string path_, temporary_;
-  bool kept_ = false;
-};
 
 // Frames on their way from the drawing thread to the encoding thread: a few buffers handed back and forth,
 // so drawing (and converting) frame i+1 overlaps encoding frame i.
@@ -229,8 +206,8 @@ VideoExportResult export_video(const std::string& path, const VideoExportSpec& s
   setup.comment = spec.comment;
   setup.audio.push_back({2, "song", 192000});
   if (spec.haptic_audio) setup.audio.push_back({1, "haptic signal", 96000});
-  TemporaryOutput output(path);
-  setup.path = output.temporary();
+  output::StagedOutput staged(path);  // the encoder writes PATH.part, renamed to PATH only when complete
+  setup.path = staged.part();
   std::unique_ptr<VideoEncoder> encoder = backend->open(setup, why);
   if (!encoder) throw std::runtime_error("cannot write " + path + ": " + why);
   result.encoder = encoder->summary();
@@ -293,7 +270,7 @@ VideoExportResult export_video(const std::string& path, const VideoExportSpec& s
   if (cancelled) throw std::runtime_error("interrupted: " + path + " not written");
   if (!encode_error.empty()) throw std::runtime_error("cannot write " + path + ": " + encode_error);
   if (progress) progress(result.frames, result.frames);
-  output.keep();
+  staged.commit();
   result.render_wall_s = render_wall;
   result.encode_wall_s = encode_wall;
   result.wall_s = seconds_since(started);

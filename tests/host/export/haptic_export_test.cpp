@@ -1,13 +1,15 @@
 // .ahap and .haptic exports (host/export/): (1) a schema check written from Apple's and Meta's public
 // descriptions of the formats (required keys, types, ranges, AHAP limits); (2) the envelope an .ahap
-// describes, rebuilt (linear between control points × event intensity) and sampled at the tick rate,
-// against the track's per-tick envelope computed from shared/envelope; (3) extreme and hostile inputs.
+// describes, rebuilt the way Core Haptics plays it ((event intensity × control curve)², the curve linear
+// between its points) and sampled at the tick rate, against the track's per-tick envelope computed from
+// shared/envelope; (3) the intensity law, the curve's end, the metadata; (4) extreme and hostile inputs.
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -16,6 +18,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "host/common/error.hpp"
 #include "host/export/haptic_export.hpp"
 #include "host/export/json_writers.hpp"
 #include "host/haptics/track_window.hpp"
@@ -33,7 +36,7 @@ const std::string kDemo = std::string(HMP_REPO_DIR) + "/examples/bach-bwv1050-br
 struct Loaded {
   hmp::haptics::HapticOptions opts;
   hmp::haptics::TrackWindow w;
-  ex::ExportSpec spec() const { return {&w.haptic, &opts, w.first_tick, w.end_tick, "test"}; }
+  ex::ExportSpec spec() const { return {&w.haptic, &opts, w.first_tick, w.end_tick, "test", ""}; }
 };
 
 Loaded load(const std::string& song, const std::string& track, std::optional<double> from = {},
@@ -137,9 +140,11 @@ std::vector<double> track_envelope(const Loaded& l) {
 // What a Core Haptics player does with our .ahap, as Apple documents it: each continuous event plays at its
 // HapticIntensity for its duration; a HapticIntensityControl curve multiplies the intensity of every event
 // playing while it runs (curves are pattern-wide), linearly between its control points, holding its last
-// value until the next curve. Simultaneous events are taken to add (the device's sum).
+// value until the next curve. Intensity is quadratic (Meta's and Lofelt's converters write √amplitude): an
+// event's vibration amplitude is (intensity × control)². Simultaneous events are taken to add (the
+// device's sum).
 std::vector<double> rebuild_ahap(const json& j, std::size_t ticks, double hz) {
-  std::vector<double> intensity_sum(ticks, 0.0), control(ticks, 1.0);
+  std::vector<double> intensity2_sum(ticks, 0.0), control(ticks, 1.0);
   std::vector<std::pair<double, double>> points;  // every control point, absolute time
   for (const json& e : j["Pattern"]) {
     if (e.contains("Event")) {
@@ -148,7 +153,7 @@ std::vector<double> rebuild_ahap(const json& j, std::size_t ticks, double hz) {
       double inten = 0;
       for (const json& p : ev["EventParameters"]) if (p["ParameterID"] == "HapticIntensity") inten = p["ParameterValue"];
       for (auto k = static_cast<std::size_t>(std::llround(t0 * hz)); k < ticks && static_cast<double>(k) / hz < t0 + dur - 1e-9; ++k) {
-        intensity_sum[k] += inten;
+        intensity2_sum[k] += inten * inten;
       }
     } else {
       const json& c = e["ParameterCurve"];
@@ -170,8 +175,33 @@ std::vector<double> rebuild_ahap(const json& j, std::size_t ticks, double hz) {
     }
   }
   std::vector<double> y(ticks);
-  for (std::size_t k = 0; k < ticks; ++k) y[k] = intensity_sum[k] * control[k];
+  for (std::size_t k = 0; k < ticks; ++k) y[k] = intensity2_sum[k] * control[k] * control[k];
   return y;
+}
+
+// Every event's HapticIntensity, in pattern order.
+std::vector<double> event_intensities(const json& j) {
+  std::vector<double> out;
+  for (const json& e : j["Pattern"]) {
+    if (!e.contains("Event")) continue;
+    for (const json& p : e["Event"]["EventParameters"])
+      if (p["ParameterID"] == "HapticIntensity") out.push_back(p["ParameterValue"]);
+  }
+  return out;
+}
+
+// The end of the last event and the end of the last parameter curve, in seconds.
+std::pair<double, double> event_and_curve_end(const json& j) {
+  double events = 0, curves = 0;
+  for (const json& e : j["Pattern"]) {
+    if (e.contains("Event")) {
+      events = std::max(events, e["Event"]["Time"].get<double>() + e["Event"]["EventDuration"].get<double>());
+    } else {
+      const json& c = e["ParameterCurve"];
+      curves = std::max(curves, c["Time"].get<double>() + c["ParameterCurveControlPoints"].back()["Time"].get<double>());
+    }
+  }
+  return {events, curves};
 }
 
 int run_hmp(const std::string& args, std::string* err = nullptr) {
@@ -335,17 +365,117 @@ TEST(HapticExport, ThousandsOfNotes) {
   EXPECT_EQ(events, 5000);
 }
 
-TEST(HapticExport, WindowWithoutNotesGivesAnEmptyPattern) {
+TEST(HapticExport, AhapIntensityIsTheSquareRootOfTheAmplitude) {
+  // Three keys under the paper mapping: the lowest gets the range's quietest amplitude, a_min = 7.5 dB,
+  // 22.5 dB below full scale: 10^(−22.5/20) = 0.0750, whose square root is 0.2738.
+  midi_test::Events t;
+  t.tempo(0, 500000).program(0, 0, 73).on(0, 0, 48).off(480, 0, 48).on(0, 0, 72).off(480, 0, 72).on(0, 0, 60).off(480, 0, 60).end();
+  const std::string song = write_midi("hmp-export-sqrt.mid", midi_test::smf(0, 480, {t}));
+  const Loaded l = load(song, "0");
+  const json a = ex::ahap_json(l.spec());
+  check_ahap(a);
+  const std::vector<double> got = event_intensities(a);
+  const auto& notes = l.w.haptic.notes;
+  ASSERT_EQ(got.size(), notes.size());
+  double quietest_amp = 1, quietest_intensity = 1;
+  for (std::size_t i = 0; i < notes.size(); ++i) {
+    const double amp = static_cast<double>(notes[i].note.amp_q16) / 65535.0;  // what the engine plays
+    EXPECT_NEAR(got[i], std::sqrt(amp), 1e-12) << "note " << i << ", amplitude " << amp;
+    if (amp < quietest_amp) {
+      quietest_amp = amp;
+      quietest_intensity = got[i];
+    }
+  }
+  EXPECT_NEAR(quietest_amp, std::pow(10.0, -22.5 / 20.0), 2e-5);
+  EXPECT_NEAR(quietest_intensity, 0.274, 0.0005);
+
+  // The control curve is in the same domain: value² × the note's amplitude = the note's envelope at that
+  // tick (the notes do not overlap; a point at a note's end belongs to the next note; the very last point
+  // holds the last tick's value).
+  const double hz = l.opts.tick_hz;
+  int checked = 0;
+  for (const json& e : a["Pattern"]) {
+    if (!e.contains("ParameterCurve")) continue;
+    const json& c = e["ParameterCurve"];
+    for (const json& p : c["ParameterCurveControlPoints"]) {
+      auto k = static_cast<std::uint64_t>(std::llround((c["Time"].get<double>() + p["Time"].get<double>()) * hz)) + l.w.first_tick;
+      const auto& last = notes.back().note;
+      if (k == last.start_tick + last.duration_ticks) --k;
+      for (const auto& hn : notes) {
+        if (k < hn.note.start_tick || k >= hn.note.start_tick + hn.note.duration_ticks) continue;
+        const double v = p["ParameterValue"];
+        const double amp = static_cast<double>(hn.note.amp_q16) / 65535.0;
+        const double env = ex::note_envelope(l.w.haptic, l.opts, hn.note).at(static_cast<std::uint32_t>(k - hn.note.start_tick));
+        EXPECT_NEAR(v * v * amp, env, 1e-6) << "tick " << k;
+        ++checked;
+      }
+    }
+  }
+  EXPECT_GT(checked, 10);
+}
+
+TEST(HapticExport, AhapCurvesEndWhereTheEventsEnd) {
+  // A passage of the demo (the last note cut by --to), and a window whose last note ends 1.5 s before --to.
+  const Loaded demo = load(kDemo, "flute", 30.0, 40.0);
+  const auto [demo_events, demo_curves] = event_and_curve_end(ex::ahap_json(demo.spec()));
+  EXPECT_GT(demo_events, 9.0);
+  EXPECT_NEAR(demo_curves, demo_events, 1e-9);
+
+  midi_test::Events t;
+  t.tempo(0, 500000).program(0, 0, 73).on(0, 0, 60).off(960, 0, 60).on(960 * 3, 0, 62).off(960, 0, 62).end();
+  const std::string song = write_midi("hmp-export-gap.mid", midi_test::smf(0, 480, {t}));
+  const Loaded l = load(song, "0", 0.0, 2.5);
+  const json a = ex::ahap_json(l.spec());
+  check_ahap(a);
+  const auto [events, curves] = event_and_curve_end(a);
+  EXPECT_NEAR(events, 1.0, 1e-9);  // the first note: 960 ticks at 480 per quarter, 120 bpm
+  EXPECT_NEAR(curves, 1.0, 1e-9);
+}
+
+TEST(HapticExport, WindowWithoutNotesIsRefused) {
   midi_test::Events t;
   t.tempo(0, 500000).program(0, 0, 73).on(0, 0, 60).off(960, 0, 60).on(960 * 3, 0, 62).off(960, 0, 62).end();
   const std::string song = write_midi("hmp-export-gap.mid", midi_test::smf(0, 480, {t}));
   const Loaded l = load(song, "0", 1.5, 2.5);
+  // The documents themselves stay valid (an empty pattern, a silent clip)…
   const json a = ex::ahap_json(l.spec());
   check_ahap(a);
   EXPECT_TRUE(a["Pattern"].empty());
   const json m = ex::meta_haptic_json(l.spec());
   check_meta(m);
   for (const json& p : m["signals"]["continuous"]["envelopes"]["amplitude"]) EXPECT_EQ(p["amplitude"].get<double>(), 0.0);
+  // …but writing one is refused with a message naming the window, and nothing is written.
+  for (const char* ext : {".ahap", ".haptic"}) {
+    const fs::path out = fs::temp_directory_path() / (std::string("hmp-export-silent") + ext);
+    fs::remove(out);
+    try {
+      ex::write_haptic_export(out.string(), false, l.spec());
+      ADD_FAILURE() << ext << ": a silent window was written";
+    } catch (const hmp::BadInput& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("1.500–2.500 s"), std::string::npos) << what;
+      EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+    }
+    EXPECT_FALSE(fs::exists(out)) << ext;
+  }
+}
+
+TEST(HapticExport, MetadataNamesTheSongFileNotItsPath) {
+  midi_test::Events t;
+  t.tempo(0, 500000).program(0, 0, 73).on(0, 0, 60).off(960, 0, 60).end();
+  const std::string song = write_midi("hmp-export-meta.mid", midi_test::smf(0, 480, {t}));
+  const Loaded l = load(song, "0");
+  ex::ExportSpec spec = l.spec();
+  for (const char* given : {"/home/someone/music/bwv1050.mid", "../music/bwv1050.mid", "bwv1050.mid"}) {
+    spec.song = given;
+    spec.title = "track 3 \"Flute\", mapping paper, envelope piano";
+    const json m = ex::meta_haptic_json(spec);
+    EXPECT_EQ(m["metadata"]["source"], "bwv1050.mid") << given;
+    EXPECT_EQ(m["metadata"]["description"], "bwv1050.mid — track 3 \"Flute\", mapping paper, envelope piano") << given;
+    EXPECT_EQ(m["metadata"]["editor"], "hmp render");
+    check_meta(m);
+    EXPECT_EQ(ex::ahap_json(spec)["Metadata"]["Description"], m["metadata"]["description"]);
+  }
 }
 
 TEST(HapticExport, OneNoteAndOneTickWindowsAreValid) {
@@ -368,10 +498,15 @@ TEST(HapticExport, CommandLine) {
     ASSERT_EQ(run_hmp(kDemo + " --track flute --to 20 --out " + out), 0);
     std::ifstream f(out);
     const json j = json::parse(f);
+    const std::string name = fs::path(kDemo).filename().string();
     if (std::string(ext) == "ahap") {
       check_ahap(j);
+      EXPECT_EQ(j["Metadata"]["Description"].get<std::string>().rfind(name + " — track ", 0), 0u) << j["Metadata"];
     } else {
       check_meta(j);
+      EXPECT_EQ(j["metadata"]["source"], name);
+      EXPECT_EQ(j["metadata"]["description"].get<std::string>().rfind(name + " — track ", 0), 0u) << j["metadata"];
+      EXPECT_EQ(j["metadata"]["description"].get<std::string>().find(HMP_REPO_DIR), std::string::npos) << "no path";
     }
     std::string err;
     EXPECT_EQ(run_hmp(kDemo + " --track flute --to 20 --out " + out, &err), 2) << "no overwrite without --force";
