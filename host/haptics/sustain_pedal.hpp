@@ -1,5 +1,5 @@
 #pragma once
-// `--pedal` (issue 16, design §17): a haptic note released while its channel's sustain pedal is down
+// `--pedal` (design §17): a haptic note released while its channel's sustain pedal is down
 // goes on until the pedal lifts, as the piano's string does. It ends earlier where the same key starts
 // again on that channel (the key is struck anew), and at the song's end if the pedal never lifts.
 // The pedal is down while CC64 ≥ 64; CC121 (reset all controllers) lifts it.

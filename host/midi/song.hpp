@@ -34,7 +34,7 @@ struct Note {
 };
 static_assert(sizeof(Note) == 24, "Note must stay compact");
 
-// A channel message other than a note (issue 16, design §17): what the song's sound needs besides the
+// A channel message other than a note (design §17): what the song's sound needs besides the
 // notes. Controllers are per channel in MIDI: a track's controllers are those on its channels.
 struct Control {
   enum class Kind : std::uint8_t { controller = 0xB, program = 0xC, pressure = 0xD, pitch_bend = 0xE };

@@ -4,7 +4,7 @@
 // (round.*), the session across rounds with resume (session.*), the results file's rows (results_csv.*)
 // and the statistics and Figure 3 of `hmp study analyze` (stats.*, figure.*). The terminal front-end
 // (terminal_study.*) is the only part that reads keys or drives the player; a window front-end
-// (issue 14) can drive the same Session.
+// can drive the same Session.
 //
 // plan.*: which rounds a participant gets, in which order, with which envelope under which key.
 #include <array>

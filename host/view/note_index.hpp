@@ -1,5 +1,5 @@
 #pragma once
-// host/view/: the music animation (issue 14, docs/view.md). This folder holds what the window shows,
+// host/view/: the music animation (docs/view.md). This folder holds what the window shows,
 // independent of how it is drawn: which notes are visible now (note_index), where each bar goes and in
 // which colour (roll_layout), and which bar is under a cursor (roll_layout's pick). The drawing (SDL2 +
 // OpenGL) is a module on top of it; the player hands it the song, the clock and its state, nothing more.

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# `hmp render SONG --sound --out FILE.wav` (issue 16, design §17): the song's own sound, all tracks, as a
+# `hmp render SONG --sound --out FILE.wav` (design §17): the song's own sound, all tracks, as a
 # 44.1 kHz stereo WAV; the whole song plus 2 s of tail, or the --from/--to passage exactly; not silent;
 # bad combinations exit 2 with one line; an existing file stays without -f; --track stays required for
 # the haptic renders.

@@ -35,7 +35,7 @@ for hz in 1000 10000; do
     $1 == "result" {
       v = "\"voices\":" field("voices") ","
       # drive: false; true (the whole drive in the tick, design §8 ≤ 12,000); "split" (pose and QP planned at
-      # 1 kHz outside the tick: the tick ≤ 2,500, and per ms ≤ 60,000 with the plan, issue 12)
+      # 1 kHz outside the tick: the tick ≤ 2,500, and per ms ≤ 60,000 with the plan)
       d = field("drive") == "1" ? "true" : field("drive") == "split" ? "\"split\"" : "false"
       emit("instructions_per_tick", field("mean"), v, d)
       emit("instructions_per_tick_max", field("max"), v, d)

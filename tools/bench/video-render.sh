@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# video-render (issue 16, docs/exports.md): the MP4 export's speed as a multiple of real time, 30 s of the
+# video-render (docs/exports.md): the MP4 export's speed as a multiple of real time, 30 s of the
 # demo's flute from 0:30 at 1280×720 60 fps (the goal: ≥ 4× on 2 cores with llvmpipe), with libx264's
 # default preset (ultrafast) and two slower ones for the size/speed trade-off, and 1920×1080 for reference.
 # Run by scripts/bench with the build directory as $1. Needs no display (EGL surfaceless).

@@ -1,4 +1,4 @@
-// video-render (issue 16, docs/exports.md): how fast `hmp render --out FILE.mp4` makes a video, as a
+// video-render (docs/exports.md): how fast `hmp render --out FILE.mp4` makes a video, as a
 // multiple of real time, through the same library call the command makes (host/video/video_export.hpp):
 // the demo song's flute over a passage, frames drawn off-screen by Mesa's llvmpipe (no GPU), H.264 by
 // libx264, the song's sound by FluidSynth. Prints JSON lines: real-time factor, frames per second, and

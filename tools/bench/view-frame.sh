@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# view-frame (issue 14, docs/view.md): the animation window's cost per frame at 1280×720 under Mesa's
+# view-frame (docs/view.md): the animation window's cost per frame at 1280×720 under Mesa's
 # llvmpipe on a private Xvfb, for generated songs of 1k, 10k and 100k notes and the 620k-note file of
 # midi-parse (tools/bench/gen_big_midi.py), each drawing only the visible notes (ours) and every note of
 # the song (--all: what players that upload and draw all notes pay). Run by scripts/bench with the build

@@ -1,4 +1,4 @@
-// The song's controllers in its sound (issue 16, design §17): small songs written byte by byte here, read
+// The song's controllers in its sound (design §17): small songs written byte by byte here, read
 // by the SMF reader and rendered offline by FluidSynth with the GM SoundFont, measured against references
 // that do not come from the code under test:
 //  - the sustain pedal: a note released under the pedal sounds as the same note held until the pedal lifts
