@@ -33,6 +33,8 @@ void register_view(CLI::App& app, Registry& registry);
 void register_sim(CLI::App& app, Registry& registry);
 void register_study(CLI::App& app, Registry& registry);
 void register_flash(CLI::App& app, Registry& registry);
+void register_calibrate(CLI::App& app, Registry& registry);
+void register_envelope(CLI::App& app, Registry& registry);
 
 // The `hmp devices` lines of our HID devices found now (each greeted, `timeout_ms` for its reply); how many.
 int print_hid_devices(int timeout_ms);

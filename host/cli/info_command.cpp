@@ -12,6 +12,7 @@ void register_info(CLI::App& app, Registry& registry) {
   cmd->add_option("SONG", o->song, "MIDI file (.mid, RMID)")->required();
   cmd->add_flag(kInfoJsonFlag, o->json, "Print one JSON object");
   cmd->add_flag(kInfoNotesFlag, o->notes, "With --json: include every note of every track");
+  add_haptic_options(cmd, o->haptic);
   cmd->callback([o, &registry] { registry.set([o] { return run_info(*o); }); });
 }
 

@@ -36,6 +36,38 @@ double rank_jnd_steps(const midi::Track& t) {
   return mapping::Mapper(mapping::Mode::rank, mapping::Ranges{}, t.keys).jnd_steps();
 }
 
+// The frequencies the mapping gives a track's pitched keys, lowest and highest (design §5): under the song
+// scope a bass track's span sits low in the range and a treble one's high.
+struct FrequencySpan {
+  bool any = false;
+  double lo = 0, hi = 0;
+};
+
+FrequencySpan frequency_span(const midi::Song& s, const midi::Track& t, const haptics::HapticOptions& opts) {
+  const haptics::KeyScope scope = haptics::key_scope_of(opts);
+  const mapping::KeySet own = haptics::pitched_keys(s, t.index);
+  const mapping::Mapper mapper(opts.mapping, opts.ranges,
+                               scope == haptics::KeyScope::song ? haptics::pitched_keys(s) : own);
+  FrequencySpan span;
+  for (int k = own.min(); k >= 0 && k <= own.max(); ++k) {
+    if (!own.contains(static_cast<std::uint8_t>(k))) continue;
+    const double f = mapper.map(static_cast<std::uint8_t>(k)).freq_hz;
+    span.lo = span.any ? std::min(span.lo, f) : f;
+    span.hi = span.any ? std::max(span.hi, f) : f;
+    span.any = true;
+  }
+  if (!span.any && t.note_count > 0) {  // drums only
+    span.lo = span.hi = haptics::drum_haptic(opts.ranges).freq_hz;
+    span.any = true;
+  }
+  return span;
+}
+
+std::string span_text(const FrequencySpan& f) {
+  if (!f.any) return "-";
+  return f.lo == f.hi ? fmt::format("{:.0f}", f.lo) : fmt::format("{:.0f}–{:.0f}", f.lo, f.hi);
+}
+
 nlohmann::json track_json(const midi::Song& s, const midi::Track& t, const haptics::HapticOptions& opts) {
   nlohmann::json channels = nlohmann::json::array();
   for (std::uint8_t c = 0; c < 16; ++c) {
@@ -46,6 +78,7 @@ nlohmann::json track_json(const midi::Song& s, const midi::Track& t, const hapti
     programs.push_back({{"channel", p.channel + 1}, {"program", p.program},
                         {"name", midi::gm_instrument_name(p.program, p.channel)}, {"notes", p.notes}});
   }
+  const FrequencySpan span = frequency_span(s, t, opts);
   return {{"index", t.index},
           {"name", t.name},
           {"channels", channels},
@@ -57,6 +90,8 @@ nlohmann::json track_json(const midi::Song& s, const midi::Track& t, const hapti
           {"key_max", t.key_max()},
           {"distinct_keys", t.distinct_keys()},
           {"envelope", t.note_count ? haptics::auto_preset_name(opts, t.program(), t.channel()) : ""},
+          {"freq_min_hz", span.any ? nlohmann::json(span.lo) : nlohmann::json()},
+          {"freq_max_hz", span.any ? nlohmann::json(span.hi) : nlohmann::json()},
           {"rank_jnd_steps", rank_jnd_steps(t)},
           {"jnd_per_key_step", t.distinct_keys() > 1 ? rank_jnd_steps(t) / (t.distinct_keys() - 1) : 0.0},
           {"controllers", midi::controllers_used(s, t.index)},
@@ -68,7 +103,9 @@ nlohmann::json track_json(const midi::Song& s, const midi::Track& t, const hapti
 int run_info(const InfoOptions& o) {
   const midi::ReadResult r = midi::load_song(o.song);
   const midi::Song& s = r.song;
-  const haptics::HapticOptions opts;  // the envelope column shows what `auto` picks by default
+  const haptics::HapticOptions opts = resolve(o.haptic);
+  const mapping::KeySet song_keys = haptics::pitched_keys(s);
+  const char* scope = haptics::name(haptics::key_scope_of(opts));
 
   if (o.json) {
     nlohmann::json j;
@@ -77,6 +114,9 @@ int run_info(const InfoOptions& o) {
     j["division"] = s.division.smpte ? nlohmann::json{{"smpte_fps", s.division.fps}, {"ticks_per_frame", s.division.ticks_per_frame}}
                                      : nlohmann::json{{"ticks_per_quarter", s.division.ticks_per_quarter}};
     j["duration_s"] = s.duration_s();
+    j["mapping"] = {{"mode", mapping::name(opts.mapping)}, {"key_scope", scope},
+                    {"freq_range_hz", {opts.ranges.f_min_hz, opts.ranges.f_max_hz}}};
+    j["song_keys"] = {{"key_min", song_keys.min()}, {"key_max", song_keys.max()}, {"distinct_keys", song_keys.count()}};
     j["tracks"] = nlohmann::json::array();
     for (const midi::Track& t : s.tracks) j["tracks"].push_back(track_json(s, t, opts));
     j["tempo_changes"] = nlohmann::json::array();
@@ -101,15 +141,20 @@ int run_info(const InfoOptions& o) {
              s.division.smpte ? fmt::format("SMPTE {} fps × {} ticks", s.division.fps, s.division.ticks_per_frame)
                               : fmt::format("{} ticks per quarter", s.division.ticks_per_quarter),
              s.duration_s(), s.tracks.size(), s.notes.size());
-  fmt::print("\n  {:>3}  {:<24} {:<8} {:<26} {:>6}  {:<9} {:>4}  {:<12} {:>8}\n", "#", "name", "channel",
-             "instrument (GM program)", "notes", "keys", "kε", "envelope", "JND/step");
+  fmt::print("  pitched keys of the song: {}, kε {} (GM channel 10's drum keys left out)\n",
+             song_keys.count() ? key_name(song_keys.min()) + "–" + key_name(song_keys.max()) : "none", song_keys.count());
+  fmt::print("  mapping {}, keys of the {}: {:g}–{:g} Hz\n", mapping::name(opts.mapping), scope,
+             opts.ranges.f_min_hz, opts.ranges.f_max_hz);
+  fmt::print("\n  {:>3}  {:<24} {:<8} {:<26} {:>6}  {:<9} {:>4}  {:<12} {:>9}  {:>8}\n", "#", "name", "channel",
+             "instrument (GM program)", "notes", "keys", "kε", "envelope", "felt Hz", "JND/step");
   for (const midi::Track& t : s.tracks) {
     const std::string instrument =
         t.note_count ? fmt::format("{} ({})", midi::gm_instrument_name(t.program(), t.channel()), t.program()) : "-";
     const std::string keys = t.note_count ? key_name(t.key_min()) + "–" + key_name(t.key_max()) : "-";
-    fmt::print("  {:>3}  {:<24.24} {:<8} {:<26.26} {:>6}  {:<9} {:>4}  {:<12} {:>8.2f}\n", t.index, t.name,
+    fmt::print("  {:>3}  {:<24.24} {:<8} {:<26.26} {:>6}  {:<9} {:>4}  {:<12} {:>9}  {:>8.2f}\n", t.index, t.name,
                channels_text(t), instrument, t.note_count, keys, t.distinct_keys(),
                t.note_count ? haptics::auto_preset_name(opts, t.program(), t.channel()) : "-",
+               span_text(frequency_span(s, t, opts)),
                t.distinct_keys() > 1 ? rank_jnd_steps(t) / (t.distinct_keys() - 1) : 0.0);
   }
   bool any_controller = false;
@@ -135,7 +180,8 @@ int run_info(const InfoOptions& o) {
     fmt::print("\n  {} warning(s):\n", r.warnings.size());
     for (const midi::Warning& w : r.warnings) fmt::print("    {}\n", w.message);
   }
-  fmt::print("\n  JND/step: frequency just-noticeable differences (18 %) between adjacent keys under --mapping rank\n"
+  fmt::print("\n  felt Hz: the frequencies the mapping gives the track's pitched keys (drums, and --mapping constant: one frequency).\n");
+  fmt::print("  JND/step: frequency just-noticeable differences (18 %) between adjacent keys under --mapping rank\n"
              "  (below 1: neighbouring keys feel alike; the full 50–250 Hz range spans {:.1f} JND).\n",
              std::log(250.0 / 50.0) / std::log(1.18));
   return kExitOk;

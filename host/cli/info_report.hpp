@@ -3,6 +3,8 @@
 // (design §3).
 #include <string>
 
+#include "host/cli/song_options.hpp"
+
 namespace hmp::cli {
 
 // The flags of `hmp info`, spelled once for the CLI11 registration and for the front's recogniser.
@@ -13,6 +15,7 @@ struct InfoOptions {
   std::string song;
   bool json = false;
   bool notes = false;  // with json: every note of every track
+  HapticCliOptions haptic;  // the mapping whose frequencies the table shows, the config's GM table
 };
 
 // Prints the song's summary (a table, or one JSON object) on stdout; returns kExitOk. Throws BadInput

@@ -18,7 +18,8 @@ constexpr Command kCommands[] = {
     {"tone", hmp::cli::register_tone},       {"devices", hmp::cli::register_devices},
     {"flash", hmp::cli::register_flash},     {"play", hmp::cli::register_play},
     {"sim", hmp::cli::register_sim},         {"study", hmp::cli::register_study},
-    {"view", hmp::cli::register_view},
+    {"view", hmp::cli::register_view},       {"calibrate", hmp::cli::register_calibrate},
+    {"envelope", hmp::cli::register_envelope},
 };
 
 // The command named first on the command line, or null (help, --version, a typo: every command is

@@ -36,10 +36,12 @@ std::pair<double, double> parse_range(const std::string& option, const std::stri
 
 void add_haptic_options(CLI::App* cmd, HapticCliOptions& o) {
   cmd->add_option("--mapping", o.mapping, "Pitch mapping: paper (default), rank, constant, legacy2013");
+  cmd->add_option("--key-scope", o.key_scope,
+                  "Keys that set the range: song (paper's reading, default) or track (legacy2013's default)");
   cmd->add_option("--freq-range", o.freq_range, "Haptic frequency range MIN:MAX in Hz (default 50:250)");
   cmd->add_option("--amp-range-db", o.amp_range_db, "Amplitude range MIN:MAX in dB, MAX = full scale (default 7.5:30)");
   cmd->add_option("--envelope", o.envelope,
-                  "auto (the instrument's own, = analogue), square, triangle, or any preset name");
+                  "auto (the instrument's own, = analogue), measured (fitted to the SoundFont by hmp envelope measure), square, triangle, or any preset name");
   cmd->add_option("--polyphony", o.polyphony, "Overlapping notes: sum (default), highest, latest");
   cmd->add_option("--end-fade-ms", o.end_fade_ms, "Fade at each note's end in ms (default 2, 0 = paper-exact)");
   cmd->add_flag("--pedal", o.pedal, "A note released under the sustain pedal (CC64) lasts until the pedal lifts");
@@ -54,6 +56,11 @@ haptics::HapticOptions resolve(const HapticCliOptions& o) {
   if (o.config_path) haptics::apply_config(config::load(*o.config_path), h);
   if (o.mapping && !mapping::find_mode(o.mapping->c_str(), h.mapping)) {
     throw BadInput("--mapping " + *o.mapping + ": unknown (paper, rank, constant, legacy2013)");
+  }
+  if (o.key_scope) {
+    haptics::KeyScope scope;
+    if (!haptics::find_key_scope(*o.key_scope, scope)) throw BadInput("--key-scope " + *o.key_scope + ": unknown (song, track)");
+    h.key_scope = scope;
   }
   if (o.mapping && h.mapping == mapping::Mode::legacy2013 && !o.freq_range) {
     h.ranges.f_min_hz = mapping::kLegacyFminHz;

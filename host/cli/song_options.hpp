@@ -20,7 +20,7 @@ using haptics::TrackWindow;
 
 // What the user typed; unset optionals fall back to the config file, then to the defaults.
 struct HapticCliOptions {
-  std::optional<std::string> mapping, freq_range, amp_range_db, envelope, polyphony;
+  std::optional<std::string> mapping, key_scope, freq_range, amp_range_db, envelope, polyphony;
   std::optional<double> end_fade_ms;
   std::optional<std::uint32_t> tick_hz;
   std::optional<std::string> config_path;

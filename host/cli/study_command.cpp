@@ -232,6 +232,7 @@ int run_study(const StudyOptions& o) {
       po.track = track;
       po.haptic = haptic;
       po.haptic.mapping = plan.experiment == 2 ? mapping::Mode::constant : mapping::Mode::paper;
+      po.haptic.key_scope = haptics::KeyScope::song;  // the paper's k_min, k_max, k_ε "in the song" (§5.4)
       const study::Envelope playing = session.current()->selected_envelope();
       po.haptic.envelope = player_envelope(playing);
       // The player's notices name the envelope, which the participant must not see; a script (stdin not a

@@ -94,12 +94,13 @@ Config load(const std::string& path) {
                    std::string(e.description()));
   }
   const Reader r(path);
-  r.only(root, "", {"mapping", "envelope", "presets", "gm", "device"});
+  r.only(root, "", {"mapping", "envelope", "presets", "gm", "measured", "device"});
   Config c;
   if (const toml::node* n = root.get("mapping")) {
     const auto& t = r.table(*n, "mapping");
-    r.only(t, "mapping", {"mode", "freq_range", "amp_range_db"});
+    r.only(t, "mapping", {"mode", "key_scope", "freq_range", "amp_range_db"});
     if (auto* v = t.get("mode")) c.mapping_mode = r.text(*v, "mapping.mode");
+    if (auto* v = t.get("key_scope")) c.key_scope = r.text(*v, "mapping.key_scope");
     if (auto* v = t.get("freq_range")) c.freq_range = r.numbers<2>(*v, "mapping.freq_range");
     if (auto* v = t.get("amp_range_db")) c.amp_range_db = r.numbers<2>(*v, "mapping.amp_range_db");
   }
@@ -121,17 +122,22 @@ Config load(const std::string& path) {
       c.presets[name] = read_preset(r, r.table(node, "presets." + name), "presets." + name);
     }
   }
-  if (const toml::node* n = root.get("gm")) {
-    for (const auto& [key, node] : r.table(*n, "gm")) {
+  // program number → preset name: [gm] overrides `auto`; [measured] is what `hmp envelope measure` wrote.
+  const auto program_table = [&](const char* table, std::map<std::uint8_t, std::string>& out) {
+    const toml::node* n = root.get(table);
+    if (n == nullptr) return;
+    for (const auto& [key, node] : r.table(*n, table)) {
       const std::string k(key.str());
       char* end = nullptr;
       const long program = std::strtol(k.c_str(), &end, 10);
       if (k.empty() || *end != '\0' || program < 0 || program > 127) {
-        r.fail("gm: key '" + k + "' must be a GM program number 0–127");
+        r.fail(std::string(table) + ": key '" + k + "' must be a GM program number 0–127");
       }
-      c.gm[static_cast<std::uint8_t>(program)] = r.text(node, "gm." + k);
+      out[static_cast<std::uint8_t>(program)] = r.text(node, std::string(table) + "." + k);
     }
-  }
+  };
+  program_table("gm", c.gm);
+  program_table("measured", c.measured);
   if (const toml::node* n = root.get("device")) {
     const auto& t = r.table(*n, "device");
     r.only(t, "device", {"tick_hz", "peak_force_n", "direction"});

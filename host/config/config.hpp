@@ -3,10 +3,11 @@
 // table, mapping ranges and device settings. Unknown keys are errors naming the key, so a typo never
 // silently does nothing.
 //
-//   [mapping]   mode = "paper"            freq_range = [50, 250]      amp_range_db = [7.5, 30]
+//   [mapping]   mode = "paper"   key_scope = "song"   freq_range = [50, 250]   amp_range_db = [7.5, 30]
 //   [envelope]  default = "auto"          end_fade_ms = 2             polyphony = "sum"
 //   [presets.NAME]  attack_ms decay_ms release_ms (ms), sustain_pct final_pct (% of the peak)
 //   [gm]        "33" = "NAME"             (program 0–127 → preset name; overrides design §6 `auto`)
+//   [measured]  "33" = "NAME"             (program → preset `hmp envelope measure` fitted to its sound)
 //   [device]    tick_hz = 1000            peak_force_n = 1.0   direction = [0, 1, 0]
 #include <array>
 #include <cstdint>
@@ -20,6 +21,7 @@ namespace hmp::config {
 
 struct Config {
   std::optional<std::string> mapping_mode;
+  std::optional<std::string> key_scope;
   std::optional<std::array<double, 2>> freq_range;
   std::optional<std::array<double, 2>> amp_range_db;
   std::optional<std::string> envelope;
@@ -27,6 +29,7 @@ struct Config {
   std::optional<std::string> polyphony;
   std::map<std::string, envelope::Adsr> presets;  // user presets by (lower-case) name
   std::map<std::uint8_t, std::string> gm;         // program → preset name
+  std::map<std::uint8_t, std::string> measured;   // program → preset measured from the SoundFont
   std::optional<std::uint32_t> tick_hz;
   std::optional<double> peak_force_n;
   std::optional<std::array<double, 3>> direction;

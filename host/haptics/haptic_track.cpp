@@ -54,9 +54,44 @@ class SlotTable {
 
 }  // namespace
 
+const char* name(KeyScope s) { return s == KeyScope::song ? "song" : "track"; }
+
+bool find_key_scope(const std::string& text, KeyScope& out) {
+  const std::string t = lower(text);
+  if (t == "song") out = KeyScope::song;
+  else if (t == "track") out = KeyScope::track;
+  else return false;
+  return true;
+}
+
+KeyScope key_scope_of(const HapticOptions& opts) {
+  if (opts.key_scope) return *opts.key_scope;
+  return opts.mapping == mapping::Mode::legacy2013 ? KeyScope::track : KeyScope::song;
+}
+
+mapping::KeySet pitched_keys(const midi::Song& song, std::optional<std::uint32_t> track) {
+  mapping::KeySet keys;
+  for (const midi::Note& n : song.notes) {
+    if (track && n.track != *track) continue;
+    if (!midi::auto_constant_frequency(n.channel)) keys.add(n.key);
+  }
+  return keys;
+}
+
+mapping::Haptic drum_haptic(const mapping::Ranges& r) {
+  return {(r.f_min_hz + r.f_max_hz) / 2, mapping::db_to_linear((r.a_min_db + r.a_max_db) / 2, r.a_max_db)};
+}
+
 void apply_config(const config::Config& cfg, HapticOptions& opts) {
   if (cfg.mapping_mode && !mapping::find_mode(cfg.mapping_mode->c_str(), opts.mapping)) {
     throw BadInput("config: unknown mapping mode '" + *cfg.mapping_mode + "'");
+  }
+  if (cfg.key_scope) {
+    KeyScope scope;
+    if (!find_key_scope(*cfg.key_scope, scope)) {
+      throw BadInput("config: unknown key scope '" + *cfg.key_scope + "' (song, track)");
+    }
+    opts.key_scope = scope;
   }
   if (cfg.freq_range) {
     opts.ranges.f_min_hz = (*cfg.freq_range)[0];
@@ -74,6 +109,7 @@ void apply_config(const config::Config& cfg, HapticOptions& opts) {
   if (cfg.tick_hz) opts.tick_hz = *cfg.tick_hz;
   for (const auto& [name, adsr] : cfg.presets) opts.user_presets[name] = adsr;
   for (const auto& [program, name] : cfg.gm) opts.gm_presets[program] = lower(name);
+  for (const auto& [program, name] : cfg.measured) opts.measured_presets[program] = lower(name);
 }
 
 void validate(const HapticOptions& o) {
@@ -92,16 +128,23 @@ void validate(const HapticOptions& o) {
   }
   if (!(o.end_fade_ms >= 0 && o.end_fade_ms <= 1000)) throw BadInput("--end-fade-ms: must be in [0, 1000]");
   if (!(o.speed >= 0.5 && o.speed <= 2.0)) throw BadInput(fmt::format("--speed: must be in [0.5, 2] (got {:g})", o.speed));
-  for (const auto& [program, name] : o.gm_presets) {
-    envelope::Preset p;
-    if (!o.user_presets.count(name) && !envelope::find_builtin(name.c_str(), p)) {
-      throw BadInput("config: gm." + std::to_string(program) + " names unknown preset '" + name + "'");
+  for (const auto* table : {&o.gm_presets, &o.measured_presets}) {
+    for (const auto& [program, name] : *table) {
+      envelope::Preset p;
+      if (!o.user_presets.count(name) && !envelope::find_builtin(name.c_str(), p)) {
+        throw BadInput(fmt::format("config: {}.{} names unknown preset '{}'",
+                                   table == &o.gm_presets ? "gm" : "measured", program, name));
+      }
     }
   }
-  if (!is_auto(o.envelope)) {
+  if (o.envelope == "measured" && o.measured_presets.empty()) {
+    throw BadInput("--envelope measured: no measured presets configured (write them with "
+                   "`hmp envelope measure --all --out FILE.toml`, then give --config FILE.toml)");
+  }
+  if (!is_auto(o.envelope) && o.envelope != "measured") {
     envelope::Preset p;
     if (!o.user_presets.count(o.envelope) && !envelope::find_builtin(o.envelope.c_str(), p)) {
-      std::string known = "auto, analogue";
+      std::string known = "auto, analogue, measured";
       for (std::uint8_t i = 0; i < envelope::kBuiltinCount; ++i) {
         known += std::string(", ") + envelope::name(static_cast<envelope::Preset>(i));
       }
@@ -121,8 +164,19 @@ std::uint64_t seconds_to_tick(std::int64_t micros, std::uint32_t tick_hz) {
 std::string auto_preset_name(const HapticOptions& opts, std::uint8_t program, std::uint8_t channel) {
   if (channel != midi::kDrumChannel) {
     if (auto it = opts.gm_presets.find(program); it != opts.gm_presets.end()) return it->second;
+    if (!midi::table1_instrument(program)) {
+      if (auto it = opts.measured_presets.find(program); it != opts.measured_presets.end()) return it->second;
+    }
   }
   return envelope::name(midi::auto_preset(program, channel));
+}
+
+std::string measured_preset_name(const HapticOptions& opts, std::uint8_t program, std::uint8_t channel) {
+  if (channel == midi::kDrumChannel) return auto_preset_name(opts, program, channel);
+  if (auto it = opts.measured_presets.find(program); it != opts.measured_presets.end()) return it->second;
+  throw BadInput(fmt::format("--envelope measured: no measured preset for program {} ({}) in the config "
+                             "(hmp envelope measure --program {} --out FILE.toml)",
+                             program, midi::gm_program_name(program), program));
 }
 
 std::vector<synth::Note> HapticTrack::device_notes() const {
@@ -140,14 +194,11 @@ HapticTrack build_haptic_track(const midi::Song& song, std::uint32_t track, cons
   HapticTrack out;
   out.track = track;
   // Drum notes are felt at a constant frequency (design §6), so only pitched notes define the key range.
-  for (const midi::Note& n : notes) {
-    if (!midi::auto_constant_frequency(n.channel)) out.keys.add(n.key);
-  }
+  out.key_scope = key_scope_of(opts);
+  out.keys = pitched_keys(song, out.key_scope == KeyScope::track ? std::optional<std::uint32_t>(track) : std::nullopt);
   const mapping::Mapper mapper(opts.mapping, opts.ranges, out.keys);
-  out.jnd_steps = mapper.jnd_steps();
-  const mapping::Haptic drum{(opts.ranges.f_min_hz + opts.ranges.f_max_hz) / 2,
-                             mapping::db_to_linear((opts.ranges.a_min_db + opts.ranges.a_max_db) / 2,
-                                                   opts.ranges.a_max_db)};
+  out.jnd_steps = mapper.jnd_steps(pitched_keys(song, track));
+  const mapping::Haptic drum = drum_haptic(opts.ranges);
   SlotTable slots(opts);
   const bool legacy = opts.mapping == mapping::Mode::legacy2013;
 
@@ -173,6 +224,7 @@ HapticTrack build_haptic_track(const midi::Song& song, std::uint32_t track, cons
 
     std::string preset = opts.envelope;
     if (is_auto(preset)) preset = legacy ? "legacy2013" : auto_preset_name(opts, n.program, n.channel);
+    else if (preset == "measured") preset = measured_preset_name(opts, n.program, n.channel);
 
     const std::uint64_t start = seconds_to_tick(play_us(start_us), opts.tick_hz);
     const std::uint64_t end = seconds_to_tick(play_us(end_us), opts.tick_hz);

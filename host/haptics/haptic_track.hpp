@@ -3,6 +3,7 @@
 // a fixed preset, or a user preset from the config), and note times → device ticks (design §6 "Ticks").
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,11 +17,21 @@
 
 namespace hmp::haptics {
 
+// Which notes define k_min, k_max and k_ε: every pitched note of the song (the 2015 paper, §5.4: "in the
+// song", so bass instruments are felt low and treble ones high) or the haptic track's only (the 2013
+// paper: "in the track", so every instrument spans the whole frequency range).
+enum class KeyScope : std::uint8_t { song, track };
+const char* name(KeyScope s);
+bool find_key_scope(const std::string& name, KeyScope& out);  // case-insensitive
+
 // Everything the mapping/envelope options of design §3 choose.
 struct HapticOptions {
   mapping::Mode mapping = mapping::Mode::paper;
   mapping::Ranges ranges{};
-  std::string envelope = "auto";  // auto | analogue (= auto) | square | triangle | any preset name
+  // Unset: the mapping's own reading (paper, rank, constant: song; legacy2013: track).
+  std::optional<KeyScope> key_scope;
+  // auto | analogue (= auto) | measured | square | triangle | any preset name
+  std::string envelope = "auto";
   synth::Polyphony polyphony = synth::Polyphony::sum;
   double end_fade_ms = 2.0;
   std::uint32_t tick_hz = synth::kNominalTickHz;
@@ -30,6 +41,7 @@ struct HapticOptions {
   bool pedal = false;  // --pedal: notes released under the sustain pedal last until it lifts (sustain_pedal.hpp)
   std::map<std::string, envelope::Adsr> user_presets;  // from the config
   std::map<std::uint8_t, std::string> gm_presets;      // program → preset name, from the config
+  std::map<std::uint8_t, std::string> measured_presets;  // program → preset fitted to its sound (config)
 };
 
 // Applies a loaded config (values the command line did not set explicitly are taken from it; the caller
@@ -55,8 +67,9 @@ struct HapticTrack {
   std::vector<HapticNote> notes;       // sorted by start tick
   std::vector<UserPreset> uploads;     // user presets the notes use, with their slots
   std::vector<std::string> slot_names; // preset name of every slot used (index = slot), "" if unused
-  mapping::KeySet keys;
-  double jnd_steps = 0;
+  mapping::KeySet keys;                // the keys that set the mapping's range (key_scope's)
+  KeyScope key_scope = KeyScope::song;
+  double jnd_steps = 0;                // of the range the track's own keys span
   double speed = 1.0;                  // the options' speed: the notes' ticks are song time / speed
 
   std::vector<synth::Note> device_notes() const;
@@ -65,8 +78,20 @@ struct HapticTrack {
 // design §6 ticks: start = round(start_s/T) with halves up; N = max(1, round(end_s/T) − start).
 std::uint64_t seconds_to_tick(std::int64_t micros, std::uint32_t tick_hz);
 
-// The preset name `auto` picks for one note (config's [gm] table first, then design §6).
+// The key scope in force: the option when set, else the mapping's own.
+KeyScope key_scope_of(const HapticOptions& opts);
+// The keys of the song's pitched notes (GM channel 10's keys choose drums, not pitches: left out), or of
+// one track's with `track`.
+mapping::KeySet pitched_keys(const midi::Song& song, std::optional<std::uint32_t> track = std::nullopt);
+
+// What a drum note (GM channel 10) is felt as: the middle of the frequency and amplitude ranges.
+mapping::Haptic drum_haptic(const mapping::Ranges& ranges);
+
+// The preset name `auto` picks for one note: the config's [gm] table first; then, for an instrument Table 1
+// lacks, its measured preset when the config has one; then design §6.
+// `measured` picks the measured preset (drums: what `auto` picks); BadInput when the program has none.
 std::string auto_preset_name(const HapticOptions& opts, std::uint8_t program, std::uint8_t channel);
+std::string measured_preset_name(const HapticOptions& opts, std::uint8_t program, std::uint8_t channel);
 
 HapticTrack build_haptic_track(const midi::Song& song, std::uint32_t track, const HapticOptions& opts);
 

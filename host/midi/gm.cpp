@@ -69,6 +69,11 @@ const char* gm_instrument_name(std::uint8_t program, std::uint8_t channel) {
   return channel == 9 ? "Percussion" : gm_program_name(program);
 }
 
+bool table1_instrument(std::uint8_t program) {
+  return program == 6 || (program >= 16 && program <= 20) || program == 24 || program == 25 || program == 40 ||
+         program == 42 || program == 43 || program == 56 || program == 73;
+}
+
 envelope::Preset auto_preset(std::uint8_t program, std::uint8_t channel) {
   using envelope::Preset;
   if (channel == 9) return Preset::guitar;

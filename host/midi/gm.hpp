@@ -20,6 +20,10 @@ const char* gm_instrument_name(std::uint8_t program, std::uint8_t channel);
 // Reed/Pipe → flute; Synth lead → organ; Synth pad → violin; anything else → square.
 // Channel 10 (index 9, drums) → guitar, whatever the program.
 envelope::Preset auto_preset(std::uint8_t program, std::uint8_t channel);
+// The programs that are one of Table 1's measured instruments (harpsichord 6, organs 16–20, acoustic
+// guitars 24–25, violin 40, cello 42, contrabass 43, trumpet 56, flute 73): `auto` keeps Table 1's
+// envelope for them even when measured presets are configured.
+bool table1_instrument(std::uint8_t program);
 // design §6: drum notes (channel 10) are felt at a constant frequency rather than mapped from the key.
 inline bool auto_constant_frequency(std::uint8_t channel) { return channel == 9; }
 

@@ -146,12 +146,14 @@ Haptic Mapper::map(std::uint8_t key) const {
   return map_paper(ranges_, keys_, key);  // an out-of-range Mode value: the default mode
 }
 
-double Mapper::jnd_steps() const {
+double Mapper::jnd_steps() const { return jnd_steps(keys_); }
+
+double Mapper::jnd_steps(const KeySet& keys) const {
   double lo = 0, hi = 0;
   bool any = false;
   for (int k = 0; k < kKeyCount; ++k) {
     const auto key = static_cast<std::uint8_t>(k);
-    if (!keys_.contains(key)) continue;
+    if (!keys.contains(key)) continue;
     const double f = map(key).freq_hz;
     lo = any ? std::fmin(lo, f) : f;
     hi = any ? std::fmax(hi, f) : f;

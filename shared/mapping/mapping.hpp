@@ -52,6 +52,8 @@ class Mapper {
   Haptic map(std::uint8_t key) const;
   // How many frequency just-noticeable differences (18 %) the track's mapped frequencies span.
   double jnd_steps() const;
+  // The same for the mapped frequencies of other keys (a track's own, when the set is the song's).
+  double jnd_steps(const KeySet& keys) const;
  private:
   Mode mode_;
   Ranges ranges_;

@@ -1,0 +1,54 @@
+#!/usr/bin/env bash
+# hmp calibrate: every bad input (a target or frequency out of range, a device that cannot be measured,
+# a target out of reach) exits 2 with one line on stderr and writes nothing; a good run sets only
+# [device] peak_force_n in the config, and replaces an existing file only with --force.
+set -u
+hmp="$1"
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+fail=0
+cfg="$tmp/hmp.toml"
+
+expect_bad() {  # expect_bad WORD-IN-MESSAGE ARGS...
+  local word="$1"; shift
+  "$hmp" calibrate "$@" >"$tmp/out" 2>"$tmp/err" </dev/null; local rc=$?
+  local lines; lines=$(wc -l <"$tmp/err")
+  if [ $rc -ne 2 ] || [ "$lines" -ne 1 ] || ! grep -qi -- "$word" "$tmp/err"; then
+    echo "FAIL: calibrate $* -> rc=$rc, $lines stderr line(s), wanted '$word':"; cat "$tmp/err"; fail=1
+  fi
+}
+
+for t in 0 -1 nan inf 1000; do expect_bad "target-mm" --target-mm "$t" --config "$cfg"; done
+for f in 49 251 0 nan inf -100; do expect_bad "frequency" --frequency "$f" --config "$cfg"; done
+expect_bad "frequency" --frequency abc --config "$cfg"
+expect_bad "only sim" --device hid --config "$cfg"
+expect_bad "device" --device bogus --config "$cfg"
+expect_bad "out of reach" --frequency 250 --config "$cfg"
+expect_bad "out of reach" --target-mm 5 --frequency 100 --config "$cfg"
+expect_bad "does not exist" --frequency 100 --config "$tmp/no/such/dir/hmp.toml"
+[ -z "$(ls -A "$tmp" | grep -v '^out$\|^err$')" ] || { echo "FAIL: something was written:"; ls -A "$tmp"; fail=1; }
+# Out of reach: the band's reach on stdout.
+"$hmp" calibrate --frequency 250 >"$tmp/out" 2>/dev/null
+grep -q "250 Hz" "$tmp/out" && grep -q " 50 Hz" "$tmp/out" || { echo "FAIL: no band table"; cat "$tmp/out"; fail=1; }
+
+# A new file gets a [device] table with the key.
+"$hmp" calibrate --frequency 100 --config "$cfg" >"$tmp/out" 2>"$tmp/err" || { echo "FAIL: good run"; cat "$tmp/err"; fail=1; }
+grep -q '^peak_force_n = 1[01]\.' "$cfg" || { echo "FAIL: new config:"; cat "$cfg"; fail=1; }
+
+# An existing file: refused without --force (no terminal to ask), kept as it was.
+printf '# my settings\n[mapping]\nmode = "paper"\n\n[device]\ntick_hz = 1000\npeak_force_n = 2.0  # old\n' >"$cfg"
+before=$(md5sum <"$cfg")
+expect_bad "exists" --frequency 100 --config "$cfg"
+[ "$(md5sum <"$cfg")" = "$before" ] || { echo "FAIL: config modified without --force"; fail=1; }
+expect_bad "directory" --frequency 100 --config "$tmp" --force
+printf '[device]\nwobble = 3\n' >"$tmp/bad.toml"
+expect_bad "unknown key" --frequency 100 --config "$tmp/bad.toml" --force
+
+# With --force only the key's value changes; the old and new values are shown.
+"$hmp" calibrate --frequency 100 --config "$cfg" --force >"$tmp/out" 2>"$tmp/err" || { echo "FAIL: --force"; cat "$tmp/err"; fail=1; }
+grep -q "peak_force_n: 2 N -> " "$tmp/out" || { echo "FAIL: old -> new not shown"; cat "$tmp/out"; fail=1; }
+diff <(grep -v '^peak_force_n' "$cfg") <(printf '# my settings\n[mapping]\nmode = "paper"\n\n[device]\ntick_hz = 1000\n') \
+  || { echo "FAIL: other lines changed"; fail=1; }
+grep -q '^peak_force_n = 1[01]\.[0-9]*  # old$' "$cfg" || { echo "FAIL: key line:"; cat "$cfg"; fail=1; }
+
+[ $fail -eq 0 ] && echo "calibrate: all passed"
+exit $fail
