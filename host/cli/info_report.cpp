@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "host/cli/run_command.hpp"
+#include "host/common/error.hpp"
 #include "host/haptics/haptic_track.hpp"
 #include "host/midi/smf_reader.hpp"
 #include "host/midi/gm.hpp"
@@ -63,6 +64,17 @@ FrequencySpan frequency_span(const midi::Song& s, const midi::Track& t, const ha
   return span;
 }
 
+// The preset the track's first program plays with under --envelope ("-" where --envelope measured has
+// none for it: playing it would say so).
+std::string envelope_of(const midi::Track& t, const haptics::HapticOptions& opts) {
+  if (t.note_count == 0) return "";
+  try {
+    return haptics::note_preset_name(opts, t.program(), t.channel());
+  } catch (const BadInput&) {
+    return "-";
+  }
+}
+
 std::string span_text(const FrequencySpan& f) {
   if (!f.any) return "-";
   return f.lo == f.hi ? fmt::format("{:.0f}", f.lo) : fmt::format("{:.0f}–{:.0f}", f.lo, f.hi);
@@ -89,7 +101,7 @@ nlohmann::json track_json(const midi::Song& s, const midi::Track& t, const hapti
           {"key_min", t.key_min()},
           {"key_max", t.key_max()},
           {"distinct_keys", t.distinct_keys()},
-          {"envelope", t.note_count ? haptics::auto_preset_name(opts, t.program(), t.channel()) : ""},
+          {"envelope", envelope_of(t, opts)},
           {"freq_min_hz", span.any ? nlohmann::json(span.lo) : nlohmann::json()},
           {"freq_max_hz", span.any ? nlohmann::json(span.hi) : nlohmann::json()},
           {"rank_jnd_steps", rank_jnd_steps(t)},
@@ -153,7 +165,7 @@ int run_info(const InfoOptions& o) {
     const std::string keys = t.note_count ? key_name(t.key_min()) + "–" + key_name(t.key_max()) : "-";
     fmt::print("  {:>3}  {:<24.24} {:<8} {:<26.26} {:>6}  {:<9} {:>4}  {:<12} {:>9}  {:>8.2f}\n", t.index, t.name,
                channels_text(t), instrument, t.note_count, keys, t.distinct_keys(),
-               t.note_count ? haptics::auto_preset_name(opts, t.program(), t.channel()) : "-",
+               t.note_count ? envelope_of(t, opts) : "-",
                span_text(frequency_span(s, t, opts)),
                t.distinct_keys() > 1 ? rank_jnd_steps(t) / (t.distinct_keys() - 1) : 0.0);
   }

@@ -111,9 +111,9 @@ int run_play(const PlayOptions& o) {
   player::PlayerOptions po;
   po.track = track;
   po.haptic = haptic;
-  if (o.haptic.config_path) {
+  for (const std::string& path : o.haptic.config_paths) {
     // The config's [device] table: force of full scale and vibration direction (design §11).
-    const config::Config cfg = config::load(*o.haptic.config_path);
+    const config::Config cfg = config::load(path);
     if (cfg.peak_force_n) po.settings.peak_force_n = static_cast<float>(*cfg.peak_force_n);
     if (cfg.direction) {
       for (int i = 0; i < 3; ++i) po.settings.direction[i] = static_cast<float>((*cfg.direction)[static_cast<std::size_t>(i)]);

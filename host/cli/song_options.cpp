@@ -48,12 +48,15 @@ void add_haptic_options(CLI::App* cmd, HapticCliOptions& o) {
   cmd->add_option("--tick-hz", o.tick_hz, "Device tick rate in Hz (default 1000)")->check(CLI::Range(100u, 100000u));
   // No CLI::ExistingFile here: config::load refuses a missing file or a directory with the message every
   // file the user names gets (host/common/input_file.hpp).
-  cmd->add_option("--config", o.config_path, "TOML file: user presets, GM table, ranges, device settings");
+  cmd->add_option("--config", o.config_paths,
+                  "TOML file: user presets, GM table, ranges, device settings (repeatable: later ones win)")
+      ->allow_extra_args(false)  // one file per --config: a SONG after it stays the SONG
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
 }
 
 haptics::HapticOptions resolve(const HapticCliOptions& o) {
   haptics::HapticOptions h;
-  if (o.config_path) haptics::apply_config(config::load(*o.config_path), h);
+  for (const std::string& path : o.config_paths) haptics::apply_config(config::load(path), h);
   if (o.mapping && !mapping::find_mode(o.mapping->c_str(), h.mapping)) {
     throw BadInput("--mapping " + *o.mapping + ": unknown (paper, rank, constant, legacy2013)");
   }

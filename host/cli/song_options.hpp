@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -23,7 +24,7 @@ struct HapticCliOptions {
   std::optional<std::string> mapping, key_scope, freq_range, amp_range_db, envelope, polyphony;
   std::optional<double> end_fade_ms;
   std::optional<std::uint32_t> tick_hz;
-  std::optional<std::string> config_path;
+  std::vector<std::string> config_paths;  // --config, repeatable: later files override earlier ones
   bool pedal = false;
 };
 

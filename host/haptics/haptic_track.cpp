@@ -179,6 +179,14 @@ std::string measured_preset_name(const HapticOptions& opts, std::uint8_t program
                              program, midi::gm_program_name(program), program));
 }
 
+std::string note_preset_name(const HapticOptions& opts, std::uint8_t program, std::uint8_t channel) {
+  if (is_auto(opts.envelope)) {
+    return opts.mapping == mapping::Mode::legacy2013 ? "legacy2013" : auto_preset_name(opts, program, channel);
+  }
+  if (opts.envelope == "measured") return measured_preset_name(opts, program, channel);
+  return opts.envelope;
+}
+
 std::vector<synth::Note> HapticTrack::device_notes() const {
   std::vector<synth::Note> out;
   out.reserve(notes.size());
@@ -200,7 +208,6 @@ HapticTrack build_haptic_track(const midi::Song& song, std::uint32_t track, cons
   out.jnd_steps = mapper.jnd_steps(pitched_keys(song, track));
   const mapping::Haptic drum = drum_haptic(opts.ranges);
   SlotTable slots(opts);
-  const bool legacy = opts.mapping == mapping::Mode::legacy2013;
 
   out.notes.reserve(notes.size());
   out.speed = opts.speed;
@@ -222,9 +229,7 @@ HapticTrack build_haptic_track(const midi::Song& song, std::uint32_t track, cons
     h.freq_hz = m.freq_hz;
     h.amplitude = m.amplitude;
 
-    std::string preset = opts.envelope;
-    if (is_auto(preset)) preset = legacy ? "legacy2013" : auto_preset_name(opts, n.program, n.channel);
-    else if (preset == "measured") preset = measured_preset_name(opts, n.program, n.channel);
+    const std::string preset = note_preset_name(opts, n.program, n.channel);
 
     const std::uint64_t start = seconds_to_tick(play_us(start_us), opts.tick_hz);
     const std::uint64_t end = seconds_to_tick(play_us(end_us), opts.tick_hz);

@@ -92,6 +92,8 @@ mapping::Haptic drum_haptic(const mapping::Ranges& ranges);
 // `measured` picks the measured preset (drums: what `auto` picks); BadInput when the program has none.
 std::string auto_preset_name(const HapticOptions& opts, std::uint8_t program, std::uint8_t channel);
 std::string measured_preset_name(const HapticOptions& opts, std::uint8_t program, std::uint8_t channel);
+// The preset a note of (program, channel) plays with under opts.envelope: auto's, measured's, or the one named.
+std::string note_preset_name(const HapticOptions& opts, std::uint8_t program, std::uint8_t channel);
 
 HapticTrack build_haptic_track(const midi::Song& song, std::uint32_t track, const HapticOptions& opts);
 

@@ -202,53 +202,73 @@ double rms_error(const SoundEnvelope& e, const Stages& s, const envelope::Adsr& 
   return n ? std::sqrt(sum / static_cast<double>(n)) : 0.0;
 }
 
+namespace {
+
+// The value of one parameter in [lo, hi] with the least error, given the others: a 32-point grid (log-
+// spaced from lo > 0, or linear from 0), then golden section between the best point's neighbours. The
+// error function need not be unimodal over the whole range, only near its best grid point.
+template <class Error>
+double least_error(double current, double lo, double hi, bool log_spaced, Error error, double& best) {
+  constexpr int kGrid = 32;
+  const auto at = [&](int g) {
+    const double u = g / static_cast<double>(kGrid);
+    return log_spaced ? lo * std::pow(hi / lo, u) : lo + (hi - lo) * u;
+  };
+  double best_x = current;
+  int best_g = -1;
+  for (int g = 0; g <= kGrid; ++g) {
+    if (const double err = error(at(g)); err < best) {
+      best = err;
+      best_x = at(g);
+      best_g = g;
+    }
+  }
+  if (best_g < 0) return current;
+  double x0 = at(std::max(0, best_g - 1)), x3 = at(std::min(kGrid, best_g + 1));
+  constexpr double kGolden = 0.6180339887498949;
+  for (int it = 0; it < 24; ++it) {
+    const double x1 = x3 - kGolden * (x3 - x0), x2 = x0 + kGolden * (x3 - x0);
+    if (error(x1) < error(x2)) x3 = x2;
+    else x0 = x1;
+  }
+  if (const double err = error(0.5 * (x0 + x3)); err < best) {
+    best = err;
+    best_x = 0.5 * (x0 + x3);
+  }
+  return best_x;
+}
+
+}  // namespace
+
 envelope::Adsr fit_adsr(const SoundEnvelope& e, const Stages& s, double* rms) {
   envelope::Adsr a;
   a.shape = envelope::Shape::adsr;
   a.attack_ms = static_cast<float>(s.attack_s * 1e3);
   a.sustain = static_cast<float>(std::clamp(s.sustain, 0.0, 1.0));
-  // Eq. 10 falls by log(r) over R: the measured slope (96 dB per release_s) gives R for r = 1 %.
+  // Eq. 10 falls by log(r) over R, as FluidSynth's release falls 96 dB per release_s: the same curve
+  // with r = 1 % has R = the time to fall 40 dB.
   const double release_s = std::isnan(s.release_s) ? 0.0 : s.release_s * (-db(kReleaseRatio)) / kFluidSpanDb;
   a.release_ms = static_cast<float>(release_s * 1e3);
   a.final_ratio = static_cast<float>(release_s > 0 ? kReleaseRatio : 1.0);
   const double duration = std::max(0.001, e.note_off_s - s.delay_s) + release_s;
-  // Eq. 9's decay is linear in amplitude where FluidSynth's is linear in dB: Dc is the one that
-  // follows the sound best, searched on a log grid and refined by golden section.
-  const double held = std::max(0.0, e.note_off_s - s.delay_s - s.attack_s);
-  double best_dc = 0, best = rms_error(e, s, a, duration);
-  if (a.sustain < 0.999f && held > 0.002) {
-    const auto error_at = [&](double dc_ms) {
-      envelope::Adsr t = a;
-      t.decay_ms = static_cast<float>(dc_ms);
-      return rms_error(e, s, t, duration);
-    };
-    double lo_ms = 1.0, hi_ms = held * 1e3;
-    constexpr int kGrid = 48;
-    double grid_best = lo_ms;
-    for (int g = 0; g <= kGrid; ++g) {
-      const double dc = lo_ms * std::pow(hi_ms / lo_ms, g / static_cast<double>(kGrid));
-      const double err = error_at(dc);
-      if (err < best) {
-        best = err;
-        grid_best = dc;
-        best_dc = dc;
-      }
-    }
-    const double ratio = std::pow(hi_ms / lo_ms, 1.0 / kGrid);
-    double x0 = grid_best / ratio, x3 = grid_best * ratio;
-    constexpr double kGolden = 0.6180339887498949;
-    for (int it = 0; it < 30; ++it) {
-      const double x1 = x3 - kGolden * (x3 - x0), x2 = x0 + kGolden * (x3 - x0);
-      if (error_at(x1) < error_at(x2)) x3 = x2;
-      else x0 = x1;
-    }
-    const double refined = 0.5 * (x0 + x3);
-    if (const double err = error_at(refined); err < best) {
-      best = err;
-      best_dc = refined;
-    }
+  const double held_ms = std::max(1.0, (e.note_off_s - s.delay_s) * 1e3);
+  double best = rms_error(e, s, a, duration);
+  // Starting from the stages, A, Dc and S are adjusted in turn for the least RMS error: Eq. 9's decay is
+  // linear in amplitude where FluidSynth's is linear in dB, and real instruments beat and swell where
+  // the stages assume straight lines.
+  const auto with = [&](float envelope::Adsr::*field, double v) {
+    envelope::Adsr t = a;
+    t.*field = static_cast<float>(v);
+    return rms_error(e, s, t, duration);
+  };
+  for (int sweep = 0; sweep < 2; ++sweep) {
+    a.decay_ms = static_cast<float>(least_error(a.decay_ms, 0.5, held_ms, true,
+                                                [&](double v) { return with(&envelope::Adsr::decay_ms, v); }, best));
+    a.attack_ms = static_cast<float>(least_error(a.attack_ms, 0.5, held_ms, true,
+                                                 [&](double v) { return with(&envelope::Adsr::attack_ms, v); }, best));
+    a.sustain = static_cast<float>(least_error(a.sustain, 0.0, 1.0, false,
+                                               [&](double v) { return with(&envelope::Adsr::sustain, v); }, best));
   }
-  a.decay_ms = static_cast<float>(best_dc);
   if (rms) *rms = best;
   return a;
 }

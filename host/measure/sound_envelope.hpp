@@ -47,9 +47,10 @@ double time_to_fall_to(const SoundEnvelope& e, const Stages& s, double level);
 // The release measured from a second render released while still loud (time_to_fall_to).
 double release_of(const SoundEnvelope& e);
 
-// The paper's Eq. 9–10 fitted to the held note: A = attack, S = sustain, release R and r = 1 % from the
-// measured release slope, and Dc chosen for the least RMS error against the sound's envelope over the
-// note and its release (the note's duration D = note-off + R). `rms_error`: that error, full scale = peak.
+// The paper's Eq. 9–10 fitted to the held note: R and r = 1 % from the measured release slope (Eq. 10's
+// release is FluidSynth's curve); A, Dc and S, starting from the stages, for the least RMS error against
+// the sound's envelope over the note and its release (its duration D = note-off − delay + R).
+// `rms_error`: that error, full scale = the sound's peak.
 envelope::Adsr fit_adsr(const SoundEnvelope& e, const Stages& s, double* rms_error);
 
 // The RMS difference (full scale = the sound's peak) between the sound's envelope and `preset` played as

@@ -2,12 +2,14 @@
 // default), or the track's own (2013 paper, legacy2013's default). Expectations come from the paper's
 // Eq. 5–7 as printed, computed here from the song's notes.
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <map>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "host/common/error.hpp"
 #include "host/haptics/haptic_track.hpp"
@@ -221,6 +223,43 @@ TEST(KeyScope, NamesAreReadCaseInsensitivelyAndUnknownOnesRefused) {
   cfg.key_scope = "Track";
   hmp::haptics::apply_config(cfg, o);
   EXPECT_EQ(hmp::haptics::key_scope_of(o), KeyScope::track);
+}
+
+// `hmp info --json`: the song's pitched keys and each track's felt span under the chosen scope.
+nlohmann::json info(const std::string& options) {
+  const std::string cmd = std::string(HMP_BIN_DIR) + "/hmp info --json " + options + " " + kDemo;
+  std::FILE* p = popen(cmd.c_str(), "r");
+  std::string out;
+  char buf[4096];
+  for (std::size_t n; p && (n = std::fread(buf, 1, sizeof buf, p)) > 0;) out.append(buf, n);
+  EXPECT_EQ(p ? pclose(p) : -1, 0) << cmd;
+  return nlohmann::json::parse(out);
+}
+
+TEST(KeyScope, InfoShowsTheSongsKeysAndEachTracksFeltSpan) {
+  const midi::Song song = demo();
+  const Range r = range_of(song, pitched);
+  const auto by_song = info("");
+  EXPECT_EQ(by_song["song_keys"]["key_min"], r.k_min);
+  EXPECT_EQ(by_song["song_keys"]["key_max"], r.k_max);
+  EXPECT_EQ(by_song["song_keys"]["distinct_keys"], r.k_eps);
+  EXPECT_EQ(by_song["mapping"]["key_scope"], "song");
+  const auto by_track = info("--key-scope track");
+  EXPECT_EQ(by_track["mapping"]["key_scope"], "track");
+  for (std::size_t i = 0; i < song.tracks.size(); ++i) {
+    const auto& t = song.tracks[i];
+    if (t.note_count == 0) {
+      EXPECT_TRUE(by_song["tracks"][i]["freq_min_hz"].is_null());
+      continue;
+    }
+    double lo = 0, hi = 0, amp = 0;
+    eq5to7(r, t.key_min(), lo, amp);
+    eq5to7(r, t.key_max(), hi, amp);
+    EXPECT_NEAR(by_song["tracks"][i]["freq_min_hz"].get<double>(), lo, 1e-9) << t.name;
+    EXPECT_NEAR(by_song["tracks"][i]["freq_max_hz"].get<double>(), hi, 1e-9) << t.name;
+    EXPECT_EQ(by_track["tracks"][i]["freq_min_hz"].get<double>(), 50.0) << t.name;
+    EXPECT_EQ(by_track["tracks"][i]["freq_max_hz"].get<double>(), 250.0) << t.name;
+  }
 }
 
 }  // namespace
