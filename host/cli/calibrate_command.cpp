@@ -16,6 +16,7 @@
 #include "host/common/input_file.hpp"
 #include "host/config/config.hpp"
 #include "host/output/output_file.hpp"
+#include "host/config/config_edit.hpp"
 #include "host/simulate/calibration.hpp"
 #include "host/transport/device_spec.hpp"
 
@@ -81,7 +82,7 @@ void report_band(const simulate::CalibrationSetup& setup, double newtons) {
 
 void write_config(const std::string& path, bool exists, double newtons) {
   const std::string old = exists ? read_input_file(path) : std::string{};
-  const std::string text = simulate::with_peak_force(old, newtons);
+  const std::string text = config::with_peak_force(old, newtons);
   output::FilePtr f = output::open_for_writing(path, true);  // asked (or --force) before this
   if (std::fwrite(text.data(), 1, text.size(), f.get()) != text.size() || std::fflush(f.get()) != 0) {
     throw std::runtime_error(path + ": write failed");

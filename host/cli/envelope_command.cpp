@@ -34,9 +34,6 @@ struct EnvelopeOptions {
   bool force = false;
 };
 
-// The programs of Table 1's instruments: what is measured when no program is named.
-constexpr std::uint8_t kTable1Programs[] = {19, 73, 6, 24, 56, 40, 42, 43};
-
 std::string preset_name(std::uint8_t program) { return fmt::format("measured-{:03}", program); }
 
 std::string seconds(double s) { return std::isnan(s) ? "    -" : fmt::format("{:5.3f}", s); }
@@ -79,16 +76,11 @@ void write_presets(const std::string& path, bool force, const std::vector<measur
 }
 
 void plot(const std::string& dir, bool force, const measure::Measured& m) {
-  std::vector<float> sound, fit;
-  const double release_s = double(m.preset.release_ms) * 1e-3;
-  const double duration = m.held.note_off_s - m.stages.delay_s + release_s;
-  envelope::Envelope env;
-  const auto ticks = static_cast<std::uint32_t>(std::max(1.0, std::round(duration * 1000)));
-  env.start(m.preset, 1.0f, ticks, 1000.0f, 0.0f);
-  for (std::size_t i = 0; i < m.held.amplitude.size(); ++i) {
-    sound.push_back(static_cast<float>(m.held.amplitude[i] / m.stages.peak));
-    const double t = static_cast<double>(i) * m.held.step_s - m.stages.delay_s;
-    fit.push_back(t < 0 ? 0.0f : env.at(static_cast<std::uint32_t>(std::lround(t * 1000))));
+  std::vector<float> sound, fit(m.held.amplitude.size(), 0.0f);
+  for (double a : m.held.amplitude) sound.push_back(static_cast<float>(a / m.stages.peak));
+  const double duration = measure::note_duration(m.held, m.stages, m.preset);
+  for (const measure::CurvePoint& p : measure::preset_curve(m.held, m.stages, m.preset, duration)) {
+    fit[p.index] = static_cast<float>(p.value);
   }
   output::TracePlotSpec spec;
   spec.title = fmt::format("{} ({}): sound and Eq. 9-10 fit, RMS error {:.3f}", midi::gm_program_name(m.program),
@@ -111,7 +103,7 @@ int run_measure(const EnvelopeOptions& o) {
   mo.velocity = static_cast<std::uint8_t>(o.velocity);
   if (o.program) mo.programs = {static_cast<std::uint8_t>(*o.program)};
   else if (o.all) for (int p = 0; p < 128; ++p) mo.programs.push_back(static_cast<std::uint8_t>(p));
-  else mo.programs.assign(std::begin(kTable1Programs), std::end(kTable1Programs));
+  else for (const midi::Table1Instrument& i : midi::kTable1Instruments) mo.programs.push_back(i.typical);
   // FluidSynth would play some other preset for a program the SoundFont lacks: those are left out.
   const std::set<std::uint8_t> present = audio::soundfont_programs(mo.soundfont);
   std::string absent;

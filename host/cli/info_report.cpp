@@ -44,11 +44,13 @@ struct FrequencySpan {
   double lo = 0, hi = 0;
 };
 
-FrequencySpan frequency_span(const midi::Song& s, const midi::Track& t, const haptics::HapticOptions& opts) {
-  const haptics::KeyScope scope = haptics::key_scope_of(opts);
-  const mapping::KeySet own = haptics::pitched_keys(s, t.index);
-  const mapping::Mapper mapper(opts.mapping, opts.ranges,
-                               scope == haptics::KeyScope::song ? haptics::pitched_keys(s) : own);
+// `song_keys`: the song's pitched keys (haptics::pitched_keys), found once for every track.
+FrequencySpan frequency_span(const midi::Song& s, const midi::Track& t, const haptics::HapticOptions& opts,
+                             const mapping::KeySet& song_keys) {
+  // A track without drum notes has exactly its own keys as pitched keys: no pass over the song needed.
+  const mapping::KeySet own = t.has_channel(midi::kDrumChannel) ? haptics::pitched_keys(s, t.index) : t.keys;
+  const bool song_scope = haptics::key_scope_of(opts) == haptics::KeyScope::song;
+  const mapping::Mapper mapper(opts.mapping, opts.ranges, song_scope ? song_keys : own);
   FrequencySpan span;
   for (int k = own.min(); k >= 0 && k <= own.max(); ++k) {
     if (!own.contains(static_cast<std::uint8_t>(k))) continue;
@@ -80,7 +82,8 @@ std::string span_text(const FrequencySpan& f) {
   return f.lo == f.hi ? fmt::format("{:.0f}", f.lo) : fmt::format("{:.0f}–{:.0f}", f.lo, f.hi);
 }
 
-nlohmann::json track_json(const midi::Song& s, const midi::Track& t, const haptics::HapticOptions& opts) {
+nlohmann::json track_json(const midi::Song& s, const midi::Track& t, const haptics::HapticOptions& opts,
+                          const mapping::KeySet& song_keys) {
   nlohmann::json channels = nlohmann::json::array();
   for (std::uint8_t c = 0; c < 16; ++c) {
     if (t.has_channel(c)) channels.push_back(c + 1);
@@ -90,7 +93,7 @@ nlohmann::json track_json(const midi::Song& s, const midi::Track& t, const hapti
     programs.push_back({{"channel", p.channel + 1}, {"program", p.program},
                         {"name", midi::gm_instrument_name(p.program, p.channel)}, {"notes", p.notes}});
   }
-  const FrequencySpan span = frequency_span(s, t, opts);
+  const FrequencySpan span = frequency_span(s, t, opts, song_keys);
   return {{"index", t.index},
           {"name", t.name},
           {"channels", channels},
@@ -130,7 +133,7 @@ int run_info(const InfoOptions& o) {
                     {"freq_range_hz", {opts.ranges.f_min_hz, opts.ranges.f_max_hz}}};
     j["song_keys"] = {{"key_min", song_keys.min()}, {"key_max", song_keys.max()}, {"distinct_keys", song_keys.count()}};
     j["tracks"] = nlohmann::json::array();
-    for (const midi::Track& t : s.tracks) j["tracks"].push_back(track_json(s, t, opts));
+    for (const midi::Track& t : s.tracks) j["tracks"].push_back(track_json(s, t, opts, song_keys));
     j["tempo_changes"] = nlohmann::json::array();
     for (const midi::TempoChange& c : s.tempo_changes) {
       j["tempo_changes"].push_back({{"tick", c.tick}, {"time_s", static_cast<double>(c.us) * 1e-6}, {"bpm", c.bpm()}});
@@ -166,7 +169,7 @@ int run_info(const InfoOptions& o) {
     fmt::print("  {:>3}  {:<24.24} {:<8} {:<26.26} {:>6}  {:<9} {:>4}  {:<12} {:>9}  {:>8.2f}\n", t.index, t.name,
                channels_text(t), instrument, t.note_count, keys, t.distinct_keys(),
                t.note_count ? envelope_of(t, opts) : "-",
-               span_text(frequency_span(s, t, opts)),
+               span_text(frequency_span(s, t, opts, song_keys)),
                t.distinct_keys() > 1 ? rank_jnd_steps(t) / (t.distinct_keys() - 1) : 0.0);
   }
   bool any_controller = false;

@@ -8,6 +8,7 @@
 #include "host/common/error.hpp"
 #include "host/haptics/sustain_pedal.hpp"
 #include "host/midi/gm.hpp"
+#include "shared/common/text.hpp"
 #include "shared/synth/frequency.hpp"
 
 namespace hmp::haptics {
@@ -56,12 +57,14 @@ class SlotTable {
 
 const char* name(KeyScope s) { return s == KeyScope::song ? "song" : "track"; }
 
-bool find_key_scope(const std::string& text, KeyScope& out) {
-  const std::string t = lower(text);
-  if (t == "song") out = KeyScope::song;
-  else if (t == "track") out = KeyScope::track;
-  else return false;
-  return true;
+bool find_key_scope(const std::string& wanted, KeyScope& out) {
+  for (KeyScope s : {KeyScope::song, KeyScope::track}) {
+    if (text::iequals(wanted.c_str(), name(s))) {
+      out = s;
+      return true;
+    }
+  }
+  return false;
 }
 
 KeyScope key_scope_of(const HapticOptions& opts) {

@@ -78,14 +78,21 @@ std::vector<Measured> measure_programs(const MeasureOptions& o,
   std::vector<Note> held;
   for (std::uint8_t p : o.programs) held.push_back({p, o.key, on_block(o.hold_s)});
   if (progress) progress("rendering " + std::to_string(held.size()) + " held note(s)");
-  std::vector<SoundEnvelope> envelopes = render(o, held);
+  const std::vector<SoundEnvelope> envelopes = render(o, held);
+  std::vector<Measured> out(held.size());
+  for (std::size_t i = 0; i < held.size(); ++i) {
+    out[i].program = held[i].program;
+    out[i].key = held[i].key;
+    out[i].held = envelopes[i];
+    out[i].stages = fit_stages(envelopes[i]);
+  }
   // An instrument whose samples do not reach the key (a contrabass at middle C) is tried an octave or
   // two lower, then higher, unless the key was asked for.
   for (int shift : {-12, -24, 12, 24}) {
     if (!o.key_fallback) break;
     std::vector<std::size_t> silent;
-    for (std::size_t i = 0; i < held.size(); ++i) {
-      if (!fit_stages(envelopes[i]).sounded) silent.push_back(i);
+    for (std::size_t i = 0; i < out.size(); ++i) {
+      if (!out[i].stages.sounded) silent.push_back(i);
     }
     const int key = o.key + shift;
     if (silent.empty() || key < 0 || key > 127) continue;
@@ -94,33 +101,31 @@ std::vector<Measured> measure_programs(const MeasureOptions& o,
     if (progress) progress("rendering " + std::to_string(retry.size()) + " silent note(s) at key " + std::to_string(key));
     const std::vector<SoundEnvelope> again = render(o, retry);
     for (std::size_t k = 0; k < silent.size(); ++k) {
-      held[silent[k]] = retry[k];
-      envelopes[silent[k]] = again[k];
+      Measured& m = out[silent[k]];
+      m.key = retry[k].key;
+      m.held = again[k];
+      m.stages = fit_stages(again[k]);
     }
   }
 
-  std::vector<Measured> out(held.size());
-  std::vector<Note> again;
-  std::vector<std::size_t> again_of;
-  for (std::size_t i = 0; i < held.size(); ++i) {
-    out[i].program = held[i].program;
-    out[i].key = held[i].key;
-    out[i].held = envelopes[i];
-    out[i].stages = fit_stages(envelopes[i]);
-    if (out[i].stages.sounded && std::isnan(out[i].stages.release_s)) {
-      const double t = time_to_fall_to(envelopes[i], out[i].stages, kLoudAtRelease);
-      if (std::isfinite(t) && t > 0.01) {
-        again.push_back({held[i].program, held[i].key, on_block(t)});
-        again_of.push_back(i);
-      }
+  // A note that has died away before its note-off shows no release: rendered again, released loud.
+  std::vector<Note> early;
+  std::vector<std::size_t> early_of;
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const Measured& m = out[i];
+    if (!m.stages.sounded || !std::isnan(m.stages.release_s)) continue;
+    const double t = time_to_fall_to(m.held, m.stages, kLoudAtRelease);
+    if (std::isfinite(t) && t > 0.01) {
+      early.push_back({m.program, m.key, on_block(t)});
+      early_of.push_back(i);
     }
   }
-  if (!again.empty()) {
-    if (progress) progress("rendering " + std::to_string(again.size()) + " note(s) released early, for their release");
-    const std::vector<SoundEnvelope> early = render(o, again);
-    for (std::size_t k = 0; k < again.size(); ++k) {
-      Measured& m = out[again_of[k]];
-      m.stages.release_s = release_of(early[k]);
+  if (!early.empty()) {
+    if (progress) progress("rendering " + std::to_string(early.size()) + " note(s) released early, for their release");
+    const std::vector<SoundEnvelope> released = render(o, early);
+    for (std::size_t k = 0; k < early.size(); ++k) {
+      Measured& m = out[early_of[k]];
+      m.stages.release_s = release_of(released[k]);
       m.release_from_second_render = true;
     }
   }

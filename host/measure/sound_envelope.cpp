@@ -57,7 +57,7 @@ SoundEnvelope envelope_of(const float* left, const float* right, std::size_t fra
   // Prefix sums of the power, in double: exact enough over minutes of audio.
   std::vector<double> power(frames + 1, 0.0);
   for (std::size_t i = 0; i < frames; ++i) {
-    const double l = left[i], r = right[i];
+    const auto l = static_cast<double>(left[i]), r = static_cast<double>(right[i]);
     power[i + 1] = power[i] + 0.5 * (l * l + r * r);
   }
   const auto window = std::max<std::size_t>(8, static_cast<std::size_t>(std::lround(2.0 * sample_rate / fundamental_hz)));
@@ -185,20 +185,45 @@ double time_to_fall_to(const SoundEnvelope& e, const Stages& s, double level) {
   return kNaN;
 }
 
-double rms_error(const SoundEnvelope& e, const Stages& s, const envelope::Adsr& preset, double duration_s) {
+namespace {
+
+// Calls visit(point) for each point of preset_curve() without storing them (the fit evaluates it ~1,000
+// times per program).
+template <class Visit>
+void visit_curve(const SoundEnvelope& e, const Stages& s, const envelope::Adsr& preset, double duration_s,
+                 Visit visit) {
   constexpr double kTickHz = 1000.0;  // the envelope is compared every millisecond, as the device plays it
   envelope::Envelope env;
   const auto ticks = static_cast<std::uint32_t>(std::max(1.0, std::round(duration_s * kTickHz)));
   env.start(preset, 1.0f, ticks, static_cast<float>(kTickHz), 0.0f);
-  double sum = 0;
-  std::size_t n = 0;
   for (std::uint32_t k = 0; k < ticks; ++k) {
     const std::size_t i = index_of(e, s.delay_s + k / kTickHz);
     if (i >= e.amplitude.size()) break;
-    const double d = e.amplitude[i] / s.peak - static_cast<double>(env.at(k));
+    visit(CurvePoint{i, static_cast<double>(env.at(k))});
+  }
+}
+
+}  // namespace
+
+double note_duration(const SoundEnvelope& e, const Stages& s, const envelope::Adsr& preset) {
+  return std::max(0.001, e.note_off_s - s.delay_s) + static_cast<double>(preset.release_ms) * 1e-3;
+}
+
+std::vector<CurvePoint> preset_curve(const SoundEnvelope& e, const Stages& s, const envelope::Adsr& preset,
+                                     double duration_s) {
+  std::vector<CurvePoint> out;
+  visit_curve(e, s, preset, duration_s, [&](const CurvePoint& p) { out.push_back(p); });
+  return out;
+}
+
+double rms_error(const SoundEnvelope& e, const Stages& s, const envelope::Adsr& preset, double duration_s) {
+  double sum = 0;
+  std::size_t n = 0;
+  visit_curve(e, s, preset, duration_s, [&](const CurvePoint& p) {
+    const double d = e.amplitude[p.index] / s.peak - p.value;
     sum += d * d;
     ++n;
-  }
+  });
   return n ? std::sqrt(sum / static_cast<double>(n)) : 0.0;
 }
 
@@ -250,7 +275,7 @@ envelope::Adsr fit_adsr(const SoundEnvelope& e, const Stages& s, double* rms) {
   const double release_s = std::isnan(s.release_s) ? 0.0 : s.release_s * (-db(kReleaseRatio)) / kFluidSpanDb;
   a.release_ms = static_cast<float>(release_s * 1e3);
   a.final_ratio = static_cast<float>(release_s > 0 ? kReleaseRatio : 1.0);
-  const double duration = std::max(0.001, e.note_off_s - s.delay_s) + release_s;
+  const double duration = note_duration(e, s, a);
   const double held_ms = std::max(1.0, (e.note_off_s - s.delay_s) * 1e3);
   double best = rms_error(e, s, a, duration);
   // Starting from the stages, A, Dc and S are adjusted in turn for the least RMS error: Eq. 9's decay is
@@ -262,11 +287,11 @@ envelope::Adsr fit_adsr(const SoundEnvelope& e, const Stages& s, double* rms) {
     return rms_error(e, s, t, duration);
   };
   for (int sweep = 0; sweep < 2; ++sweep) {
-    a.decay_ms = static_cast<float>(least_error(a.decay_ms, 0.5, held_ms, true,
+    a.decay_ms = static_cast<float>(least_error(static_cast<double>(a.decay_ms), 0.5, held_ms, true,
                                                 [&](double v) { return with(&envelope::Adsr::decay_ms, v); }, best));
-    a.attack_ms = static_cast<float>(least_error(a.attack_ms, 0.5, held_ms, true,
+    a.attack_ms = static_cast<float>(least_error(static_cast<double>(a.attack_ms), 0.5, held_ms, true,
                                                  [&](double v) { return with(&envelope::Adsr::attack_ms, v); }, best));
-    a.sustain = static_cast<float>(least_error(a.sustain, 0.0, 1.0, false,
+    a.sustain = static_cast<float>(least_error(static_cast<double>(a.sustain), 0.0, 1.0, false,
                                                [&](double v) { return with(&envelope::Adsr::sustain, v); }, best));
   }
   if (rms) *rms = best;

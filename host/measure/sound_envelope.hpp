@@ -53,8 +53,19 @@ double release_of(const SoundEnvelope& e);
 // `rms_error`: that error, full scale = the sound's peak.
 envelope::Adsr fit_adsr(const SoundEnvelope& e, const Stages& s, double* rms_error);
 
-// The RMS difference (full scale = the sound's peak) between the sound's envelope and `preset` played as
-// a note of duration `duration_s` starting at the attack's start.
+// The note's duration D as Eq. 10 plays it: the attack's start to the note-off, plus R.
+double note_duration(const SoundEnvelope& e, const Stages& s, const envelope::Adsr& preset);
+
+// `preset` played as a note of duration `duration_s` from the attack's start, one point per device tick
+// (1 ms) paired with the envelope's sample at that time: what rms_error compares and --plot draws.
+struct CurvePoint {
+  std::size_t index;  // into SoundEnvelope::amplitude
+  double value;       // the preset's level, full scale = 1
+};
+std::vector<CurvePoint> preset_curve(const SoundEnvelope& e, const Stages& s, const envelope::Adsr& preset,
+                                     double duration_s);
+
+// The RMS difference (full scale = the sound's peak) between the sound's envelope and preset_curve().
 double rms_error(const SoundEnvelope& e, const Stages& s, const envelope::Adsr& preset, double duration_s);
 
 }  // namespace hmp::measure

@@ -70,8 +70,10 @@ const char* gm_instrument_name(std::uint8_t program, std::uint8_t channel) {
 }
 
 bool table1_instrument(std::uint8_t program) {
-  return program == 6 || (program >= 16 && program <= 20) || program == 24 || program == 25 || program == 40 ||
-         program == 42 || program == 43 || program == 56 || program == 73;
+  for (const Table1Instrument& i : kTable1Instruments) {
+    if (program >= i.first && program <= i.last) return true;
+  }
+  return false;
 }
 
 envelope::Preset auto_preset(std::uint8_t program, std::uint8_t channel) {

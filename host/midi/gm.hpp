@@ -20,9 +20,21 @@ const char* gm_instrument_name(std::uint8_t program, std::uint8_t channel);
 // Reed/Pipe → flute; Synth lead → organ; Synth pad → violin; anything else → square.
 // Channel 10 (index 9, drums) → guitar, whatever the program.
 envelope::Preset auto_preset(std::uint8_t program, std::uint8_t channel);
-// The programs that are one of Table 1's measured instruments (harpsichord 6, organs 16–20, acoustic
-// guitars 24–25, violin 40, cello 42, contrabass 43, trumpet 56, flute 73): `auto` keeps Table 1's
-// envelope for them even when measured presets are configured.
+// Table 1's eight measured instruments as GM programs: each is the programs first…last (organ: the five
+// organs 16–20; guitar: nylon and steel 24–25; the others one program), `typical` the one that stands for
+// it (`hmp envelope measure` measures that one by default).
+struct Table1Instrument {
+  envelope::Preset preset;
+  std::uint8_t first, last, typical;
+};
+inline constexpr Table1Instrument kTable1Instruments[] = {
+    {envelope::Preset::organ, 16, 20, 19},      {envelope::Preset::flute, 73, 73, 73},
+    {envelope::Preset::harpsichord, 6, 6, 6},   {envelope::Preset::guitar, 24, 25, 24},
+    {envelope::Preset::trumpet, 56, 56, 56},    {envelope::Preset::violin, 40, 40, 40},
+    {envelope::Preset::cello, 42, 42, 42},      {envelope::Preset::contrabass, 43, 43, 43},
+};
+// Whether `program` is one of them: `auto` keeps Table 1's envelope for these even when measured
+// presets are configured.
 bool table1_instrument(std::uint8_t program);
 // design §6: drum notes (channel 10) are felt at a constant frequency rather than mapped from the key.
 inline bool auto_constant_frequency(std::uint8_t channel) { return channel == 9; }

@@ -10,7 +10,6 @@
 #include <cstdint>
 #include <optional>
 #include <string>
-#include <string_view>
 #include <vector>
 
 namespace hmp::simulate {
@@ -60,9 +59,5 @@ struct Calibration {
 // the target is out of reach.
 Calibration calibrate(const CalibrationSetup& setup, double hz, double target_m, double tolerance = 0.01);
 
-// `toml` with [device] peak_force_n set to `newtons`, everything else kept as it is: the key's line is
-// replaced, or added under [device], or a [device] table is appended. Throws BadInput when the key is
-// written in a form this does not edit (a dotted key or an inline table).
-std::string with_peak_force(std::string_view toml, double newtons);
 
 }  // namespace hmp::simulate

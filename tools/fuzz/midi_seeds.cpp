@@ -4,9 +4,10 @@
 // Small seeds matter: libFuzzer mutates them many times faster than the 50 KB real songs.
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <string>
 #include <vector>
+
+#include "seed_file.hpp"
 
 namespace fs = std::filesystem;
 using Bytes = std::vector<unsigned char>;
@@ -40,9 +41,7 @@ Bytes with_end(Bytes events) {
 }
 
 bool write(const fs::path& path, const Bytes& bytes) {
-  std::ofstream out(path, std::ios::binary);
-  out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-  return static_cast<bool>(out);
+  return hmp::fuzz::write_seed_file(path.string(), bytes.data(), bytes.size());
 }
 
 bool hand_made(const fs::path& dir) {
@@ -86,11 +85,9 @@ bool hand_made(const fs::path& dir) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 2) {
-    std::fprintf(stderr, "usage: %s OUTPUT_DIR (must exist)\n", argv[0]);
-    return 2;
-  }
-  const fs::path dir = argv[1];
+  const std::string dir_text = hmp::fuzz::seed_dir(argc, argv);
+  if (dir_text.empty()) return 2;
+  const fs::path dir = dir_text;
   bool ok = hand_made(dir);
   const fs::path corpus = fs::path(HMP_TEST_DATA_DIR) / "midi";
   std::error_code ec;

@@ -3,13 +3,12 @@
 // HID reports both ways (interrupt OUT, SET_REPORT), a suspend/resume and a second enumeration after a bus
 // reset, back-to-back SETUPs, and RX FIFO entries of the kinds the core does not send.
 #include <cstdint>
-#include <cstdio>
-#include <fstream>
 #include <initializer_list>
 #include <string>
 #include <vector>
 
 #include "otg_ops.hpp"
+#include "seed_file.hpp"
 #include "shared/protocol/protocol.hpp"
 
 namespace protocol = hmp::protocol;
@@ -61,19 +60,14 @@ struct Program {
 };
 
 bool write(const std::string& dir, const std::string& name, const Program& p) {
-  std::ofstream out(dir + "/" + name + ".bin", std::ios::binary);
-  out.write(reinterpret_cast<const char*>(p.bytes.data()), static_cast<std::streamsize>(p.bytes.size()));
-  return static_cast<bool>(out);
+  return hmp::fuzz::write_seed_file(dir + "/" + name + ".bin", p.bytes.data(), p.bytes.size());
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 2) {
-    std::fprintf(stderr, "usage: %s OUTPUT_DIR (must exist)\n", argv[0]);
-    return 2;
-  }
-  const std::string dir = argv[1];
+  const std::string dir = hmp::fuzz::seed_dir(argc, argv);
+  if (dir.empty()) return 2;
   protocol::Report hello;
   if (!protocol::encode(protocol::make(protocol::Type::hello, 1), hello)) return 1;
   bool ok = true;

@@ -1,9 +1,9 @@
 // Writes the seed corpus of fuzz_protocol: one valid report per message type (notes and started at every
 // count), so the fuzzer starts from inputs that get past the type and range checks.
 #include <cstdio>
-#include <fstream>
 #include <string>
 
+#include "seed_file.hpp"
 #include "shared/protocol/protocol.hpp"
 
 namespace protocol = hmp::protocol;
@@ -17,19 +17,14 @@ bool write_seed(const std::string& dir, const std::string& name, const protocol:
     std::fprintf(stderr, "protocol_seeds: %s does not encode\n", name.c_str());
     return false;
   }
-  std::ofstream out(dir + "/" + name + ".bin", std::ios::binary);
-  out.write(reinterpret_cast<const char*>(r), sizeof r);
-  return static_cast<bool>(out);
+  return hmp::fuzz::write_seed_file(dir + "/" + name + ".bin", r, sizeof r);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 2) {
-    std::fprintf(stderr, "usage: %s OUTPUT_DIR (must exist)\n", argv[0]);
-    return 2;
-  }
-  const std::string dir = argv[1];
+  const std::string dir = hmp::fuzz::seed_dir(argc, argv);
+  if (dir.empty()) return 2;
   bool ok = true;
   const Type types[] = {Type::hello,     Type::sync,       Type::long_note, Type::preset, Type::settings,
                         Type::transport, Type::estop,      Type::hello_reply, Type::sync_reply, Type::status};

@@ -55,18 +55,6 @@ TEST(Calibration, ATargetOutOfReachIsRefused) {
   EXPECT_LT(c.limit->displacement_m, 1e-3);
 }
 
-TEST(Calibration, ConfigEditKeepsEverythingElse) {
-  EXPECT_EQ(sim::with_peak_force("", 2.5), "[device]\npeak_force_n = 2.5\n");
-  EXPECT_EQ(sim::with_peak_force("[mapping]\nmode = \"paper\"", 2.5),
-            "[mapping]\nmode = \"paper\"\n\n[device]\npeak_force_n = 2.5\n");
-  EXPECT_EQ(sim::with_peak_force("# mine\n[device]\ntick_hz = 1000\npeak_force_n = 1.0  # old\n[gm]\n", 3),
-            "# mine\n[device]\ntick_hz = 1000\npeak_force_n = 3  # old\n[gm]\n");
-  EXPECT_EQ(sim::with_peak_force("[device]\ntick_hz = 1000\n[gm]\n\"1\" = \"organ\"", 3),
-            "[device]\npeak_force_n = 3\ntick_hz = 1000\n[gm]\n\"1\" = \"organ\"");
-  EXPECT_THROW(sim::with_peak_force("device.peak_force_n = 1\n", 3), hmp::BadInput);
-  EXPECT_THROW(sim::with_peak_force("device = { peak_force_n = 1 }\n", 3), hmp::BadInput);
-}
-
 }  // namespace
 
 namespace {

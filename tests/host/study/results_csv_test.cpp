@@ -7,10 +7,12 @@
 
 #include "host/common/error.hpp"
 #include "host/study/results_csv.hpp"
+#include "tests/host/study/results_error.hpp"
 
 namespace {
 
 using namespace hmp::study;
+using hmp::study::test::error_of;
 using namespace std::string_literals;
 
 // One practice round of participant p1: three rows, each envelope, key and rank once.
@@ -35,15 +37,6 @@ std::string round_text(const std::string& version = "1.0") {
     text += format_row(r) + "\n";
   }
   return text;
-}
-
-std::string error_of(const std::string& text) {
-  try {
-    parse_results(text, "res.csv");
-  } catch (const hmp::BadInput& e) {
-    return e.what();
-  }
-  return "";
 }
 
 TEST(ResultsCsvText, AByteOrderMarkIsAccepted) {

@@ -13,10 +13,12 @@
 #include "host/study/analysis.hpp"
 #include "host/study/results_csv.hpp"
 #include "host/study/session.hpp"
+#include "tests/host/study/results_error.hpp"
 
 namespace {
 
 using namespace hmp::study;
+using hmp::study::test::error_of;
 
 std::string plan_text(const std::vector<Round>& plan) {
   std::string s;
@@ -219,15 +221,6 @@ TEST(StudySession, ResumesAfterTheRoundsAlreadyWritten) {
   } catch (const hmp::BadInput& e) {
     EXPECT_NE(std::string(e.what()).find("--seed 5"), std::string::npos) << e.what();
   }
-}
-
-std::string error_of(const std::string& text) {
-  try {
-    parse_results(text, "res.csv");
-  } catch (const hmp::BadInput& e) {
-    return e.what();
-  }
-  return "";
 }
 
 TEST(StudyResultsFile, BadRowsNameFileAndLine) {
