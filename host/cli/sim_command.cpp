@@ -1,9 +1,15 @@
 // hmp sim SONG --track T [--out FILE.csv|.png] — plays one track on the simulated device with its plant
 // (design §12, §13 `sim`) and shows the force the strings actually put on the grip next to the vibration
 // the firmware was asked for: the fidelity of the whole chain (synthesis → drive → motors → strings).
+// The plant's physics come from the config's [plant] table and --string-stiffness, --integrator,
+// --max-step. With --work-precision the passage's duties are recorded and replayed under every integrator
+// and CVODE, and the error of each against a tight CVODE reference is printed (or written as CSV / PNG)
+// against its run time: a user checks the simulator on their own device's parameters.
 // The song goes through the same haptic-track builder as `hmp render` and reaches the device as protocol
 // reports (Hello, Settings, Preset, Notes within the device's credit, Play, Syncs), exactly as over USB.
 #include <algorithm>
+#include <array>
+#include <limits>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -18,7 +24,11 @@
 #include "host/output/output_file.hpp"
 #include "host/output/trace_plot.hpp"
 #include "host/player/note_batcher.hpp"
+#include "host/config/config.hpp"
+#include "host/output/loglog_plot.hpp"
 #include "host/simulate/fidelity.hpp"
+#include "host/simulate/plant_config.hpp"
+#include "host/simulate/work_precision.hpp"
 #include "host/simulate/sim_host.hpp"
 
 namespace hmp::cli {
@@ -33,9 +43,13 @@ struct SimCliOptions {
   bool force = false;
   double peak_force_n = 1.0;
   bool plain_drive = false;
-  std::string integrator = "rosenbrock2";
+  bool work_precision = false;
+  simulate::PlantOverrides plant;
   HapticCliOptions haptic;
 };
+
+// Longest passage --work-precision replays: the reference takes seconds per simulated second.
+constexpr double kMaxWorkPrecisionSeconds = 20.0;
 
 void write_csv(const SimCliOptions& o, const std::vector<simulate::ForceSample>& samples, double t0, std::uint32_t tick_hz) {
   output::FilePtr f = output::open_for_writing(o.out, o.force);
@@ -49,15 +63,84 @@ void write_csv(const SimCliOptions& o, const std::vector<simulate::ForceSample>&
   output::close_output(f);
 }
 
+void write_work_precision_csv(const SimCliOptions& o, const simulate::WorkPrecision& wp) {
+  output::FilePtr f = output::open_for_writing(o.out, o.force);
+  std::fputs("integrator,steps_per_tick,rtol,default,ok,force_error_rel,finger_force_error_rel,realtime_factor,"
+             "reference_convergence_force,reference_convergence_finger\n",
+             f.get());
+  for (const simulate::WorkPrecisionPoint& p : wp.points) {
+    std::fprintf(f.get(), "%s,%d,%g,%d,%d,%.4g,%.4g,%.4g,%.3g,%.3g\n", p.integrator.c_str(), p.steps_per_tick, p.rtol,
+                 p.is_default ? 1 : 0, p.ok ? 1 : 0, p.error.force, p.error.finger_force, p.realtime_factor,
+                 wp.reference_convergence.force, wp.reference_convergence.finger_force);
+  }
+  output::close_output(f);
+}
+
+void print_work_precision(const simulate::WorkPrecision& wp) {
+  std::printf("reference: cvode, its change on halving the tolerance %.2g (string force), %.2g (finger force)\n",
+              wp.reference_convergence.force, wp.reference_convergence.finger_force);
+  std::printf("%-22s %9s %14s %14s %10s\n", "integrator", "steps/tick", "string force", "finger force", "x realtime");
+  for (const simulate::WorkPrecisionPoint& p : wp.points) {
+    const std::string name = p.integrator + (p.is_default ? " (default)" : "");
+    const std::string steps = p.integrator == "cvode" ? fmt::format("rtol {:g}", p.rtol) : std::to_string(p.steps_per_tick);
+    if (!p.ok) {
+      std::printf("%-22s %9s %14s\n", name.c_str(), steps.c_str(), "unstable");
+      continue;
+    }
+    // An error below ten times the reference's own uncertainty is not resolved: shown as an upper bound.
+    const auto cell = [&](double e, double c) {
+      return wp.claimed(e, c) ? fmt::format("{:.3g}%", 100 * e) : fmt::format("< {:.2g}%", 1000 * c);
+    };
+    std::printf("%-22s %9s %14s %14s %10.1f\n", name.c_str(), steps.c_str(),
+                cell(p.error.force, wp.reference_convergence.force).c_str(),
+                cell(p.error.finger_force, wp.reference_convergence.finger_force).c_str(), p.realtime_factor);
+  }
+}
+
+void draw_work_precision(const SimCliOptions& o, const simulate::WorkPrecision& wp, const std::string& title) {
+  output::LogLogPanel grip{"string force on the grip", {}}, finger{"finger force", {}};
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (const simulate::WorkPrecisionPoint& p : wp.points) {
+    for (output::LogLogPanel* panel : {&grip, &finger}) {
+      if (panel->series.empty() || panel->series.back().label != p.integrator)
+        panel->series.push_back({p.integrator, {}, -1});
+      output::LogLogSeries& s = panel->series.back();
+      if (p.is_default) s.ringed = static_cast<int>(s.points.size());
+      const double error = panel == &grip ? p.error.force : p.error.finger_force;
+      s.points.emplace_back(p.ok ? 1.0 / p.realtime_factor : nan, p.ok ? error : nan);
+    }
+  }
+  output::LogLogPlotSpec spec;
+  spec.title = title;
+  spec.x_label = "CPU seconds per simulated second";
+  spec.y_label = "relative error against CVODE (RMS)";
+  spec.x_guides = {{1.0, "real time"}};
+  output::write_loglog_png(o.out, {grip, finger}, spec, o.force);
+}
+
 int run_sim(const SimCliOptions& o) {
   const std::string fmt_out = o.out == "-" ? "csv" : output::extension_of(o.out);
   if (fmt_out != "csv" && fmt_out != "png") throw BadInput("--out " + o.out + ": use a .csv or .png file");
   if (!(o.peak_force_n > 0 && o.peak_force_n <= 20)) throw BadInput("--peak-force: must be in (0, 20] N");
-  sim::plant::Method method{};
-  if (!sim::plant::parse_method(o.integrator, method)) {
-    throw BadInput("--integrator " + o.integrator +
-                   ": unknown (explicit_euler, semi_implicit_euler, rk4, linear_implicit_euler, rosenbrock2)");
+  sim::SimOptions so;
+  so.plant = sim::PlantOptions{};
+  config::PlantConfig plant_config;
+  for (const std::string& path : o.haptic.config_paths) {
+    const config::PlantConfig c = config::load(path).plant;  // later files override earlier ones
+    const auto keep = [](auto& to, const auto& from) {
+      if (from) to = from;
+    };
+    keep(plant_config.string_stiffness, c.string_stiffness);
+    keep(plant_config.string_damping, c.string_damping);
+    keep(plant_config.grip_mass, c.grip_mass);
+    keep(plant_config.motor_inertia, c.motor_inertia);
+    keep(plant_config.motor_inductance, c.motor_inductance);
+    keep(plant_config.finger_stiffness, c.finger_stiffness);
+    keep(plant_config.finger_damping, c.finger_damping);
+    keep(plant_config.max_step, c.max_step);
+    keep(plant_config.integrator, c.integrator);
   }
+  simulate::apply_plant_settings(plant_config, o.plant, so.plant->params);
   const haptics::HapticOptions opts = resolve(o.haptic);
   output::check_writable(o.out, o.force);
 
@@ -68,10 +151,11 @@ int run_sim(const SimCliOptions& o) {
   const std::uint64_t first = w.first_tick, end = w.end_tick;
   if (end - first > 600ull * opts.tick_hz) throw BadInput("--from/--to: at most 600 s of simulation at a time");
 
-  sim::SimOptions so;
+  if (o.work_precision && static_cast<double>(end - first) > kMaxWorkPrecisionSeconds * opts.tick_hz) {
+    throw BadInput(fmt::format("--work-precision: the passage is {:.1f} s; pick at most {:g} s with --from/--to",
+                               static_cast<double>(end - first) / opts.tick_hz, kMaxWorkPrecisionSeconds));
+  }
   so.tick_hz = opts.tick_hz;
-  so.plant = sim::PlantOptions{};
-  so.plant->params.stepper.method = method;
   so.drive.compensator.enabled = !o.plain_drive;
   sim::SimDevice dev(so);
   simulate::SimHost host(dev);
@@ -98,6 +182,11 @@ int run_sim(const SimCliOptions& o) {
   const std::uint64_t lookahead = opts.tick_hz / 5, sync_period = opts.tick_hz / 10;
   const double dir_y = static_cast<double>(settings.direction[1]);  // the direction is (0, 1, 0) unless configured
 
+  simulate::PlantScene replay;  // --work-precision: the passage's input, from the plant's reset on
+  replay.name = "passage";
+  replay.params = so.plant->params;
+  replay.bias_tension = so.plant->bias_tension;
+  replay.drive.tick_s = 1.0 / opts.tick_hz;
   std::vector<simulate::ForceSample> samples;
   samples.reserve(end - first);
   std::size_t cursor = 0;
@@ -115,6 +204,12 @@ int run_sim(const SimCliOptions& o) {
     }
     const sim::plant::PlantOutput before = dev.plant()->output();  // the force at the start of this tick
     dev.advance(1);
+    if (o.work_precision) {  // the duties this tick drove the plant with, for the replays
+      std::array<double, 8> d{};
+      for (int i = 0; i < 8; ++i) d[static_cast<std::size_t>(i)] = static_cast<double>(dev.duties()[i]);
+      replay.drive.duty.push_back(d);
+      replay.drive.anchor.push_back(so.plant->params.finger.anchor);
+    }
     if (dev.tick() < base) continue;
     simulate::ForceSample s;
     s.commanded = dev.last_output() * settings.peak_force_n;
@@ -129,8 +224,29 @@ int run_sim(const SimCliOptions& o) {
   host.collect();
   if (dev.plant_unstable()) {
     throw std::runtime_error(fmt::format("the plant simulation went unstable at {:.3f} s: integrator {} is past its "
-                                         "stable step (use rosenbrock2)", static_cast<double>(samples.size()) / opts.tick_hz,
-                                         o.integrator));
+                                         "stable step (use {})", static_cast<double>(samples.size()) / opts.tick_hz,
+                                         sim::plant::method_name(so.plant->params.stepper.method),
+                                         sim::plant::method_name(simulate::default_method())));
+  }
+  const midi::Track& t = r.song.tracks[track];
+  if (o.work_precision) {
+    const double seconds = static_cast<double>(replay.drive.duty.size()) / opts.tick_hz;
+    std::fprintf(stderr, "work-precision: %.2f s of the plant's input, replayed under every integrator and CVODE\n",
+                 seconds);
+    ProgressBar wp_bar("work-precision");
+    simulate::WorkPrecisionOptions wo;
+    std::size_t runs = 0;
+    const std::size_t total = 2 + wo.methods.size() * (wo.steps_per_tick.size() + 1) + wo.cvode_rtols.size();
+    wo.progress = [&](std::string_view) { wp_bar.update(runs++, total); };
+    const simulate::WorkPrecision wp = simulate::work_precision(replay, wo);
+    wp_bar.update(total, total);
+    if (o.out == "-") print_work_precision(wp);
+    else if (fmt_out == "csv") write_work_precision_csv(o, wp);
+    else {
+      draw_work_precision(o, wp, fmt::format("{} — track {} \"{}\": plant integrators on this passage (k = {:g} N/m)",
+                                             o.song, track, t.name, so.plant->params.string.stiffness));
+    }
+    return kExitOk;
   }
   if (dev.core().faults() != 0) {
     std::fprintf(stderr, "warning: the device latched faults 0x%x (see docs/spidar.md, Firmware drive)\n",
@@ -152,7 +268,6 @@ int run_sim(const SimCliOptions& o) {
       commanded.push_back(s.commanded);
       actual.push_back(s.actual);
     }
-    const midi::Track& t = r.song.tracks[track];
     output::TracePlotSpec spec;
     spec.title = fmt::format("{} — track {} \"{}\" ({}) on the simulated device{}", o.song, track, t.name,
                              midi::gm_instrument_name(t.program(), t.channel()), o.plain_drive ? ", plain drive" : "");
@@ -181,7 +296,16 @@ void register_sim(CLI::App& app, Registry& registry) {
   cmd->add_option("--to", o->to_s, "End of the window in seconds of the song");
   cmd->add_option("--peak-force", o->peak_force_n, "Force at full scale in N (device setting, default 1)");
   cmd->add_flag("--plain-drive", o->plain_drive, "Stall duties without the dynamics compensation (to compare)");
-  cmd->add_option("--integrator", o->integrator, "Plant integrator (default rosenbrock2)")->capture_default_str();
+  cmd->add_option("--integrator", o->plant.integrator,
+                  "Plant integrator: " + simulate::integrator_names() + " (default " +
+                      std::string(sim::plant::method_name(simulate::default_method())) + ", or [plant] integrator)");
+  cmd->add_option("--string-stiffness", o->plant.string_stiffness,
+                  "String stiffness in N/m (default 1e4, or [plant] string_stiffness)");
+  cmd->add_option("--max-step", o->plant.max_step,
+                  "Largest internal step of the integrator in s (default: the integrator's own)");
+  cmd->add_flag("--work-precision", o->work_precision,
+                "Replay the passage under every integrator and CVODE: error against run time (table, --out "
+                "FILE.csv or FILE.png); at most 20 s, pick it with --from/--to");
   cmd->add_flag("-f,--force", o->force, "Overwrite an existing output file");
   add_haptic_options(cmd, o->haptic);
   cmd->callback([o, &registry] { registry.set([o] { return run_sim(*o); }); });

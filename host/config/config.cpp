@@ -94,7 +94,7 @@ Config load(const std::string& path) {
                    std::string(e.description()));
   }
   const Reader r(path);
-  r.only(root, "", {"mapping", "envelope", "presets", "gm", "measured", "device"});
+  r.only(root, "", {"mapping", "envelope", "presets", "gm", "measured", "device", "plant"});
   Config c;
   if (const toml::node* n = root.get("mapping")) {
     const auto& t = r.table(*n, "mapping");
@@ -148,6 +148,26 @@ Config load(const std::string& path) {
     }
     if (auto* v = t.get("peak_force_n")) c.peak_force_n = r.number(*v, "device.peak_force_n");
     if (auto* v = t.get("direction")) c.direction = r.numbers<3>(*v, "device.direction");
+  }
+  if (const toml::node* n = root.get("plant")) {
+    const auto& t = r.table(*n, "plant");
+    PlantConfig& p = c.plant;
+    const std::pair<const char*, std::optional<double>*> values[] = {
+        {"string_stiffness", &p.string_stiffness}, {"string_damping", &p.string_damping},
+        {"grip_mass", &p.grip_mass},               {"motor_inertia", &p.motor_inertia},
+        {"motor_inductance", &p.motor_inductance}, {"finger_stiffness", &p.finger_stiffness},
+        {"finger_damping", &p.finger_damping},     {"max_step", &p.max_step}};
+    std::set<std::string> keys{"integrator"};
+    for (const auto& [key, out] : values) keys.emplace(key);
+    r.only(t, "plant", keys);
+    for (const auto& [key, out] : values) {
+      const toml::node* v = t.get(key);
+      if (v == nullptr) continue;
+      const double x = r.number(*v, std::string("plant.") + key);
+      if (!(x > 0 && x <= kMaxPlantValue)) r.fail(std::string("'plant.") + key + "' must be positive and at most 1e9");
+      *out = x;
+    }
+    if (auto* v = t.get("integrator")) p.integrator = r.text(*v, "plant.integrator");
   }
   return c;
 }

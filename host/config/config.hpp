@@ -9,6 +9,9 @@
 //   [gm]        "33" = "NAME"             (program 0–127 → preset name; overrides design §6 `auto`)
 //   [measured]  "33" = "NAME"             (program → preset `hmp envelope measure` fitted to its sound)
 //   [device]    tick_hz = 1000            peak_force_n = 1.0   direction = [0, 1, 0]
+//   [plant]     the simulated device's physics (`hmp sim`, `hmp play --device sim`): string_stiffness
+//               (N/m), string_damping (N·s/m), grip_mass (kg), motor_inertia (kg·m²), motor_inductance (H),
+//               finger_stiffness (N/m), finger_damping (N·s/m), integrator = "exponential", max_step (s)
 #include <array>
 #include <cstdint>
 #include <map>
@@ -18,6 +21,14 @@
 #include "shared/envelope/envelope.hpp"
 
 namespace hmp::config {
+
+// [plant]: each value positive and finite, at most kMaxPlantValue.
+struct PlantConfig {
+  std::optional<double> string_stiffness, string_damping, grip_mass, motor_inertia, motor_inductance;
+  std::optional<double> finger_stiffness, finger_damping, max_step;
+  std::optional<std::string> integrator;
+};
+inline constexpr double kMaxPlantValue = 1e9;
 
 struct Config {
   std::optional<std::string> mapping_mode;
@@ -33,6 +44,7 @@ struct Config {
   std::optional<std::uint32_t> tick_hz;
   std::optional<double> peak_force_n;
   std::optional<std::array<double, 3>> direction;
+  PlantConfig plant;
 };
 
 // Throws BadInput: "FILE: unknown key 'mapping.frq_range'", "FILE:12:3: <toml parse error>", …

@@ -43,6 +43,11 @@ void write_traces_png(const std::string& path, const std::vector<Trace>& traces,
   write_png(path, force, [&](const PlotBackend& b, const std::string& to) { return b.traces_png(to, traces, spec); });
 }
 
+void write_loglog_png(const std::string& path, const std::vector<LogLogPanel>& panels, const LogLogPlotSpec& spec,
+                      bool force) {
+  write_png(path, force, [&](const PlotBackend& b, const std::string& to) { return b.loglog_png(to, panels, spec); });
+}
+
 }  // namespace hmp::output
 
 namespace hmp::study {

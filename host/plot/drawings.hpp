@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "host/output/loglog_plot.hpp"
 #include "host/output/signal_plot.hpp"
 #include "host/output/trace_plot.hpp"
 #include "host/study/analysis.hpp"
@@ -16,5 +17,7 @@ std::string draw_signal_png(const std::string& path, std::span<const float> samp
 std::string draw_traces_png(const std::string& path, const std::vector<output::Trace>& traces,
                             const output::TracePlotSpec& spec);
 std::string draw_study_figure_png(const std::string& path, const std::vector<study::GroupAnalysis>& groups);
+std::string draw_loglog_png(const std::string& path, const std::vector<output::LogLogPanel>& panels,
+                            const output::LogLogPlotSpec& spec);
 
 }  // namespace hmp::plot

@@ -20,6 +20,10 @@ class CairoBackend final : public output::PlotBackend {
                                const std::vector<study::GroupAnalysis>& groups) const override {
     return draw_study_figure_png(path, groups);
   }
+  std::string loglog_png(const std::string& path, const std::vector<output::LogLogPanel>& panels,
+                         const output::LogLogPlotSpec& spec) const override {
+    return draw_loglog_png(path, panels, spec);
+  }
 };
 
 }  // namespace

@@ -35,9 +35,14 @@ PlantDynamics::PlantDynamics(const PlantParams& params)
       inv_inductance_(1.0 / params.motor.inductance),
       inv_inertia_(1.0 / params.motor.inertia),
       inv_mass_(1.0 / params.grip.mass),
-      inv_grip_inertia_(1.0 / params.grip.inertia()) {}
+      inv_grip_inertia_(1.0 / params.grip.inertia()),
+      drift_scale_(std::sqrt(params.string.stiffness / kLinearDrift.stiff)) {}
 
 void PlantDynamics::evaluate(const double* y, PlantForces& out, bool bilateral) const {
+  compute(y, out, bilateral ? TensionRule::near_bilateral : TensionRule::unilateral, 0);
+}
+
+void PlantDynamics::compute(const double* y, PlantForces& out, TensionRule rule, std::uint32_t piece) const {
   const bool full = !params_.scene.translation_only;
   const Vec3d x = load3(y + state::position);
   const Vec3d v = load3(y + state::velocity);
@@ -56,11 +61,14 @@ void PlantDynamics::evaluate(const double* y, PlantForces& out, bool bilateral) 
     const double s = g.length[i] - (free_length_[i] - r * y[state::angle + i]);
     out.stretch[i] = s;
     const bool near = s > -kJacobianSlackMargin;
+    const double rate = r * y[state::speed + i] - dot(g.u[i], v) - dot(g.m[i], w);
+    const double spring = k * s + c * rate;
+    out.spring[i] = spring;
     double t = 0;
-    if (s > 0 || (bilateral && near)) {
-      const double rate = r * y[state::speed + i] - dot(g.u[i], v) - dot(g.m[i], w);
-      t = k * s + c * rate;
-      if (!bilateral && t < 0) t = 0;  // damping cannot make a string push
+    switch (rule) {
+      case TensionRule::unilateral: t = s > 0 && spring > 0 ? spring : 0.0; break;  // damping cannot push
+      case TensionRule::near_bilateral: t = s > 0 || near ? spring : 0.0; break;
+      case TensionRule::piece: t = piece & (1u << i) ? spring : 0.0; break;
     }
     if (s > 0) out.taut |= 1u << i;
     if (near) out.near_taut |= 1u << i;
@@ -83,13 +91,60 @@ void PlantDynamics::evaluate(const double* y, PlantForces& out, bool bilateral) 
   }
 }
 
-void PlantDynamics::derivative(const double* y, double* dydt) { rates(y, dydt, false, &near_taut_); }
+void PlantDynamics::derivative(const double* y, double* dydt) {
+  rates(y, dydt, TensionRule::unilateral, 0, &near_taut_);
+}
 
-void PlantDynamics::smooth_derivative(const double* y, double* dydt) { rates(y, dydt, true, nullptr); }
+void PlantDynamics::smooth_derivative(const double* y, double* dydt) {
+  rates(y, dydt, TensionRule::near_bilateral, 0, nullptr);
+}
 
-void PlantDynamics::rates(const double* y, double* dydt, bool bilateral, std::uint32_t* near_taut) const {
+void PlantDynamics::piece_derivative(const double* y, std::uint32_t piece, double* dydt) {
+  rates(y, dydt, TensionRule::piece, piece, nullptr);
+}
+
+int PlantDynamics::switch_functions(const double* y, double* g) const {
   PlantForces f;
-  evaluate(y, f, bilateral);
+  compute(y, f, TensionRule::unilateral, 0);
+  for (int i = 0; i < kStrings; ++i) {
+    g[i] = f.stretch[i];
+    g[kStrings + i] = f.spring[i];
+  }
+  return 2 * kStrings;
+}
+
+std::uint32_t PlantDynamics::piece_of(const double* g) const {
+  std::uint32_t piece = 0;
+  for (int i = 0; i < kStrings; ++i)
+    if (g[i] > 0 && g[kStrings + i] > 0) piece |= 1u << i;
+  return piece;
+}
+
+double PlantDynamics::linearisation_drift(const double* origin, const double* y) const {
+  double d2 = 0;
+  for (int i = 0; i < 3; ++i) {
+    const double d = y[state::position + i] - origin[state::position + i];
+    d2 += d * d;
+  }
+  double drift = std::sqrt(d2) / kLinearDrift.distance;
+  if (!params_.scene.translation_only) {
+    // The angle between two unit quaternions: 2·acos|⟨a, b⟩| ≈ 2·|a − b| for small ones (sign-free).
+    double dot = 0, na = 0, nb = 0;
+    for (int i = 0; i < 4; ++i) {
+      dot += origin[state::orientation + i] * y[state::orientation + i];
+      na += origin[state::orientation + i] * origin[state::orientation + i];
+      nb += y[state::orientation + i] * y[state::orientation + i];
+    }
+    const double c = std::fmin(1.0, std::fabs(dot) / std::sqrt(na * nb));
+    drift = std::fmax(drift, 2.0 * std::acos(c) / kLinearDrift.angle);
+  }
+  return drift * drift_scale_;
+}
+
+void PlantDynamics::rates(const double* y, double* dydt, TensionRule rule, std::uint32_t piece,
+                          std::uint32_t* near_taut) const {
+  PlantForces f;
+  compute(y, f, rule, piece);
   if (near_taut) *near_taut = f.near_taut;
   const MotorDynamics& m = params_.motor;
   const double kt = m.drive.torque_constant, b = m.drive.viscous_friction, r = m.drive.pulley_radius;

@@ -39,10 +39,25 @@ inline constexpr int full_size = 37;
 // would cost accuracy (measured: a free-running motor 0.014% slow at 125 µs steps).
 inline constexpr double kJacobianSlackMargin = 5e-3;
 
+// How far the grip may move from where the exponential integrator linearised the equations before it
+// linearises again (see PlantDynamics::linearisation_drift). The strings' ringing is lightly damped and
+// fast, and its coupling to the grip turns with the strings' directions, so stiffer strings need a
+// closer linearisation: the reach scales as √(stiff / k), `distance` and `angle` at k = `stiff`
+// (chosen by the sim-work-precision benchmark: docs/performance.md).
+struct LinearDrift {
+  double distance = 0.5e-3;  // m
+  double angle = 0.01;       // rad
+  double stiff = 1e5;        // N/m
+};
+inline constexpr LinearDrift kLinearDrift{};
+
 // Everything the equations compute on the way to the derivative: what the board and the tests read.
 struct PlantForces {
   double tension[spidar::kStrings]{};  // N
   double stretch[spidar::kStrings]{};  // m (negative: slack)
+  // k·s_i + c·ṡ_i whatever the signs: the string pulls while this and s_i are both positive. Its zeros and
+  // the stretch's are where the right-hand side jumps (what an event-locating solver looks for).
+  double spring[spidar::kStrings]{};   // N
   Vec3d string_force{};                // Σ T_i u_i on the grip, N
   Vec3d string_torque{};               // Σ T_i m_i about the grip centre, N·m
   Vec3d finger_force{};                // force of the grip on the finger (zero without a finger), N
@@ -81,8 +96,22 @@ class PlantDynamics final : public OdeSystem {
   std::uint32_t structure_key() const override { return near_taut_; }
   void project(double* y) const override;
 
+  // Pieces: bit i of a piece is string i pulling (s_i > 0 and k·s_i + c·ṡ_i > 0). The switch functions
+  // are the eight stretches, then the eight spring forces; a piece's derivative makes its strings
+  // bilateral spring-dampers and the others absent.
+  int switch_functions(const double* y, double* g) const override;
+  std::uint32_t piece_of(const double* g) const override;
+  void piece_derivative(const double* y, std::uint32_t piece, double* dydt) override;
+  // The equations are nonlinear in the grip's pose only (string directions and lever arms): the drift
+  // is the larger of the grip's displacement over kLinearDrift.distance and its rotation over
+  // kLinearDrift.angle, both shrunk for stiff strings.
+  double linearisation_drift(const double* origin, const double* y) const override;
+
  private:
-  void rates(const double* y, double* dydt, bool bilateral, std::uint32_t* near_taut) const;
+  // How each string's tension follows from its spring force k·s + c·ṡ.
+  enum class TensionRule : std::uint8_t { unilateral, near_bilateral, piece };
+  void compute(const double* y, PlantForces& out, TensionRule rule, std::uint32_t piece) const;
+  void rates(const double* y, double* dydt, TensionRule rule, std::uint32_t piece, std::uint32_t* near_taut) const;
 
   PlantParams params_;
   int size_;
@@ -92,6 +121,7 @@ class PlantDynamics final : public OdeSystem {
   std::uint32_t near_taut_ = 0;
   // Constants of the motor equations, divided once.
   double inv_inductance_, inv_inertia_, inv_mass_, inv_grip_inertia_;
+  double drift_scale_;  // √(k / kLinearDrift.stiff): the reach's scale for the strings' stiffness
 };
 
 }  // namespace hmp::sim::plant

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "boards/sim/plant/exponential.hpp"
+
 namespace hmp::sim::plant {
 
 namespace {
@@ -254,9 +256,12 @@ std::string_view method_name(Method m) {
     case Method::rk4: return "rk4";
     case Method::linear_implicit_euler: return "linear_implicit_euler";
     case Method::rosenbrock2: return "rosenbrock2";
+    case Method::exponential: return "exponential";
   }
   return "?";
 }
+
+double default_max_step(Method m) { return m == Method::exponential ? 1e-3 : 1.25e-4; }
 
 bool parse_method(std::string_view name, Method& out) {
   for (Method m : kAllMethods)
@@ -274,6 +279,7 @@ std::unique_ptr<Integrator> make_integrator(Method method, const IntegratorOptio
     case Method::rk4: return std::make_unique<RungeKutta4>();
     case Method::linear_implicit_euler: return std::make_unique<LinearImplicitEuler>(options.jacobian_max_age);
     case Method::rosenbrock2: return std::make_unique<Rosenbrock2>(options.jacobian_max_age);
+    case Method::exponential: return make_exponential_integrator();
   }
   return nullptr;
 }

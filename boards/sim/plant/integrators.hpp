@@ -11,6 +11,8 @@
 //   rosenbrock2            ROS2 (Verwer et al. 1999) with γ = 1 − 1/√2: two        order 2, L-stable
 //                          stages, one LU; order 2 for any J, so a Jacobian kept
 //                          for several steps (a W-method) costs no order
+//   exponential            ETD2 on each smooth piece (exponential.hpp): exact for   order 2, A-stable
+//                          the linearised plant, switches located inside the step   (exact on linear)
 //
 // Memory is allocated once, at construction; step() does not allocate or throw.
 #include <array>
@@ -22,11 +24,24 @@ namespace hmp::sim::plant {
 
 // 8 motors × (angle, speed, current) + grip position, orientation quaternion, velocity, angular velocity.
 inline constexpr int kMaxState = 37;
+// Switch functions of a piecewise-smooth system (two per string: stretch and spring force).
+inline constexpr int kMaxSwitches = 16;
 
-enum class Method : std::uint8_t { explicit_euler, semi_implicit_euler, rk4, linear_implicit_euler, rosenbrock2 };
+enum class Method : std::uint8_t {
+  explicit_euler,
+  semi_implicit_euler,
+  rk4,
+  linear_implicit_euler,
+  rosenbrock2,
+  exponential
+};
 inline constexpr Method kAllMethods[] = {Method::explicit_euler, Method::semi_implicit_euler, Method::rk4,
-                                         Method::linear_implicit_euler, Method::rosenbrock2};
+                                         Method::linear_implicit_euler, Method::rosenbrock2, Method::exponential};
 std::string_view method_name(Method m);
+// The step each method takes by default: the exponential integrator is exact while the duty is held, so
+// one step per tick of up to 1 ms; the others need 125 µs to keep a 250 Hz vibration's force error at
+// 10⁴ N/m under 1 % (docs/performance.md).
+double default_max_step(Method m);
 bool parse_method(std::string_view name, Method& out);
 
 // A first-order system y' = f(y) whose states split into positions (angles, positions, orientation) and
@@ -50,6 +65,30 @@ class OdeSystem {
   virtual std::uint32_t structure_key() const { return 0; }
   // Brings a state back onto its manifold after a step (unit quaternion).
   virtual void project(double* y) const = 0;
+
+  // ---- piecewise-smooth structure (the exponential integrator) ----
+  // A model whose right-hand side is smooth between switches (a string going slack) names the smooth piece
+  // a state is on: its switch functions g (at most kMaxSwitches; the piece changes only where one of them
+  // changes sign), the piece those signs select, and the derivative of one piece extended beyond its
+  // borders. The default is one piece everywhere.
+  virtual int switch_functions(const double* y, double* g) const {
+    (void)y, (void)g;
+    return 0;
+  }
+  virtual std::uint32_t piece_of(const double* g) const {
+    (void)g;
+    return 0;
+  }
+  virtual void piece_derivative(const double* y, std::uint32_t piece, double* dydt) {
+    (void)piece;
+    derivative(y, dydt);
+  }
+  // How far state y has moved from `origin` as the model's nonlinearity sees it, in units where 1 is as
+  // far as a linearisation taken at `origin` may be used (0: the model is linear on each piece).
+  virtual double linearisation_drift(const double* origin, const double* y) const {
+    (void)origin, (void)y;
+    return 0;
+  }
 };
 
 class Integrator {

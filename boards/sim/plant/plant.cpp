@@ -85,7 +85,7 @@ const PlantOutput& Plant::step(const double (&duty)[kStrings], double dt) {
     dynamics_.set_voltage(i, d * supply);
   }
   if (out_.status == Status::ok && dt > 0) {
-    const double max_step = params().stepper.max_step;
+    const double max_step = params().stepper.effective_max_step();
     const double ratio = max_step > 0 ? dt / max_step : 1.0;
     // The 1e-9 keeps dt = n·max_step (up to rounding) at n sub-steps.
     const int substeps = ratio > 1.0 ? static_cast<int>(std::ceil(ratio - 1e-9)) : 1;

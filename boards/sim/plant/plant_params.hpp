@@ -54,14 +54,15 @@ struct Scene {
 };
 
 struct StepperParams {
-  Method method = Method::rosenbrock2;
-  // Largest internal step: step(duties, dt) takes ceil(dt / max_step) equal sub-steps. The default keeps
-  // the force error of a 250 Hz vibration under 1% (docs/performance.md, sim-work-precision).
-  double max_step = 1.25e-4;  // s
+  Method method = Method::exponential;
+  // Largest internal step: step(duties, dt) takes ceil(dt / max_step) equal sub-steps; 0: the method's
+  // default_max_step() (docs/performance.md, sim-work-precision, measures each).
+  double max_step = 0;  // s
   // Linearly implicit methods re-evaluate their Jacobian after this much simulated time (and when a
   // string comes within kJacobianSlackMargin of taut or leaves it); in between they are W-methods with a
   // frozen one. It changes only as the grip moves, a few mm in 8 ms at hand speeds.
   double jacobian_max_age = 8e-3;  // s
+  double effective_max_step() const { return max_step > 0 ? max_step : default_max_step(method); }
 };
 
 struct PlantParams {

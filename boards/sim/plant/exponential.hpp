@@ -1,0 +1,22 @@
+#pragma once
+// The exponential integrator (Method::exponential): ETD2 (Cox and Matthews' exponential Runge–Kutta of
+// order 2) on each smooth piece of the plant. With A the Jacobian of the piece the state is on,
+// E = e^{hA}, P = ∫₀^h e^{sA} ds and Q = ∫₀^h e^{(h−s)A}·s ds:
+//   a = y + P·f(y),   y ← a + (Q/h)·(f(a) − E·f(y))
+// exact while the equations are linear (strings taut, the grip where A was taken, the duty held for the
+// tick) and second order otherwise, the change of the nonlinear remainder over the step taken as linear.
+// A (and E, P, Q) is kept while the system's linearisation_drift() from where it was taken stays below 1;
+// the linearisations of several pieces and poses are cached, a vibrating grip revisiting the same ones.
+//
+// Switches inside a step are located: the piece's switch functions are predicted along the step at
+// kCheckpoints points from their linearisation; a step over which the piece changes is taken instead as
+// kCheckpoints sub-steps, those in which a switch falls as finer ones, each on the piece its start is on.
+#include <memory>
+
+#include "boards/sim/plant/integrators.hpp"
+
+namespace hmp::sim::plant {
+
+std::unique_ptr<Integrator> make_exponential_integrator();
+
+}  // namespace hmp::sim::plant

@@ -1,0 +1,33 @@
+#pragma once
+// PNG of error against cost, log–log, in one or more panels side by side (cairo, in the plot module): the
+// plant simulator's work-precision figures (`hmp sim --work-precision`, the sim-work-precision benchmark).
+// Each series is a polyline through its points with a dot on each; one point of a series may be ringed.
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace hmp::output {
+
+struct LogLogSeries {
+  std::string label;
+  std::vector<std::pair<double, double>> points;  // (x, y), both > 0 (others are left out)
+  int ringed = -1;                                // index of a point to ring (the default setting), or −1
+};
+
+struct LogLogPanel {
+  std::string title;
+  std::vector<LogLogSeries> series;  // coloured by their index, the same in every panel
+};
+
+struct LogLogPlotSpec {
+  std::string title, x_label, y_label;
+  // Dashed guide lines across every panel (a target), with their labels.
+  std::vector<std::pair<double, std::string>> x_guides, y_guides;
+  int panel_width = 420, height = 520;
+};
+
+// Throws BadInput if the file may not be written (see output_file.hpp).
+void write_loglog_png(const std::string& path, const std::vector<LogLogPanel>& panels, const LogLogPlotSpec& spec,
+                      bool force);
+
+}  // namespace hmp::output

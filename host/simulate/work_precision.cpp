@@ -1,0 +1,148 @@
+#include "host/simulate/work_precision.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <ctime>
+#include <limits>
+#include <stdexcept>
+
+#include "boards/sim/plant/plant.hpp"
+
+namespace hmp::simulate {
+
+namespace plant = sim::plant;
+
+namespace {
+
+double thread_cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+double relative_error(const std::vector<plant::Vec3d>& x, const std::vector<plant::Vec3d>& ref) {
+  if (ref.empty() || x.size() != ref.size()) return std::numeric_limits<double>::quiet_NaN();
+  plant::Vec3d mean{};
+  for (const plant::Vec3d& v : ref) mean += v;
+  mean = (1.0 / static_cast<double>(ref.size())) * mean;
+  double num = 0, den = 0;
+  for (std::size_t k = 0; k < ref.size(); ++k) {
+    num += spidar::norm2(x[k] - ref[k]);
+    den += spidar::norm2(ref[k] - mean);
+  }
+  return den > 0 ? std::sqrt(num / den) : std::numeric_limits<double>::quiet_NaN();
+}
+
+double seconds_of(const PlantScene& scene) {
+  return static_cast<double>(scene.drive.duty.size()) * scene.drive.tick_s;
+}
+
+}  // namespace
+
+TraceError trace_error(const PlantTrace& run, const PlantTrace& reference) {
+  return {relative_error(run.string_force, reference.string_force),
+          relative_error(run.finger_force, reference.finger_force)};
+}
+
+plant::Method default_method() { return plant::StepperParams{}.method; }
+
+int default_steps_per_tick(double tick_s) {
+  const double step = plant::StepperParams{}.effective_max_step();
+  return std::max(1, static_cast<int>(std::ceil(tick_s / step - 1e-9)));
+}
+
+PlantTrace run_plant(const PlantScene& scene, plant::Method method, double max_step) {
+  plant::PlantParams p = scene.params;
+  p.stepper.method = method;
+  p.stepper.max_step = max_step;
+  plant::Plant sim(p);
+  sim.reset(scene.bias_tension);
+  const std::size_t ticks = scene.drive.duty.size();
+  PlantTrace t;
+  t.string_force.reserve(ticks);
+  t.finger_force.reserve(ticks);
+  t.tension.reserve(ticks);
+  double d[spidar::kStrings];
+  const double start = thread_cpu_seconds();
+  for (std::size_t k = 0; k < ticks && !sim.unstable(); ++k) {
+    for (int i = 0; i < spidar::kStrings; ++i) d[i] = scene.drive.duty[k][static_cast<std::size_t>(i)];
+    sim.set_finger_anchor(scene.drive.anchor[k]);
+    const plant::PlantOutput& out = sim.step(d, scene.drive.tick_s);
+    t.string_force.push_back(out.string_force);
+    t.finger_force.push_back(out.finger_force);
+    std::array<double, 8> tension{};
+    std::copy(std::begin(out.tension), std::end(out.tension), tension.begin());
+    t.tension.push_back(tension);
+  }
+  t.cpu_s = thread_cpu_seconds() - start;
+  t.steps = static_cast<long>(sim.integrator().evaluations());
+  if (sim.unstable()) {
+    t.ok = false;
+    t.error = "unstable";
+  }
+  return t;
+}
+
+WorkPrecision work_precision(const PlantScene& scene, const WorkPrecisionOptions& o) {
+  const auto say = [&](const std::string& what) {
+    if (o.progress) o.progress(what);
+  };
+  WorkPrecision wp;
+  const double seconds = seconds_of(scene);
+  ReferenceOptions ro;
+  ro.rtol = o.reference_rtol;
+  say("reference (cvode, rtol " + std::to_string(o.reference_rtol) + ")");
+  const PlantTrace coarse = cvode_reference(scene.params, scene.bias_tension, scene.drive, ro);
+  if (!coarse.ok) throw std::runtime_error("reference: " + coarse.error);
+  ro.rtol = o.reference_rtol / 2;
+  say("reference (cvode, rtol / 2)");
+  wp.reference = cvode_reference(scene.params, scene.bias_tension, scene.drive, ro);
+  if (!wp.reference.ok) throw std::runtime_error("reference: " + wp.reference.error);
+  wp.reference_convergence = trace_error(coarse, wp.reference);
+
+  const double tick = scene.drive.tick_s;
+  const int default_steps = default_steps_per_tick(tick);
+  for (plant::Method m : o.methods) {
+    std::vector<int> steps = o.steps_per_tick;
+    if (m == default_method() && std::find(steps.begin(), steps.end(), default_steps) == steps.end())
+      steps.push_back(default_steps);
+    std::sort(steps.begin(), steps.end());
+    for (int n : steps) {
+      say(std::string(plant::method_name(m)) + ", " + std::to_string(n) + " steps per tick");
+      WorkPrecisionPoint p;
+      p.integrator = std::string(plant::method_name(m));
+      p.steps_per_tick = n;
+      p.is_default = m == default_method() && n == default_steps;
+      PlantTrace t = run_plant(scene, m, tick / n);
+      p.ok = t.ok;
+      if (p.ok) {
+        p.error = trace_error(t, wp.reference);
+        double cpu = t.cpu_s;
+        for (int r = 1; r < o.repeats; ++r) cpu = std::min(cpu, run_plant(scene, m, tick / n).cpu_s);
+        p.cpu_s = cpu;
+        p.realtime_factor = cpu > 0 ? seconds / cpu : std::numeric_limits<double>::infinity();
+      }
+      wp.points.push_back(p);
+    }
+  }
+  for (double rtol : o.cvode_rtols) {
+    say("cvode, rtol " + std::to_string(rtol));
+    WorkPrecisionPoint p;
+    p.integrator = "cvode";
+    p.rtol = rtol;
+    ReferenceOptions co;
+    co.rtol = rtol;
+    co.atol_factor = rtol;
+    PlantTrace t = cvode_reference(scene.params, scene.bias_tension, scene.drive, co);
+    p.ok = t.ok;
+    if (p.ok) {
+      p.error = trace_error(t, wp.reference);
+      p.cpu_s = t.cpu_s;
+      p.realtime_factor = t.cpu_s > 0 ? seconds / t.cpu_s : std::numeric_limits<double>::infinity();
+    }
+    wp.points.push_back(p);
+  }
+  return wp;
+}
+
+}  // namespace hmp::simulate

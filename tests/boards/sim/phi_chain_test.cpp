@@ -1,0 +1,131 @@
+// The exponential integrator's matrix functions (boards/sim/plant/phi_chain): E = e^{τA}, P = ∫₀^τ e^{sA} ds
+// and Q = ∫₀^τ e^{(τ−s)A}·s ds at every level τ = h/2^ℓ, against closed forms computed here in long double:
+// a damped oscillator's e^{At} = e^{−ζωt}·(cos ω_d t·I + sin ω_d t / ω_d·(A + ζω·I)), P = A⁻¹(E − I),
+// Q = A⁻¹(P − τI). Block-diagonal sets of oscillators from 10 Hz to 7 kHz (the plant's string modes at
+// 10⁷ N/m), disguised by a diagonal similarity spanning eight decades (states in radians, amperes and
+// metres), which the balancing must undo.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "boards/sim/plant/phi_chain.hpp"
+
+namespace hmp::sim::plant {
+namespace {
+
+using Real = long double;
+
+struct Oscillator {
+  Real omega, zeta;
+};
+
+// E, P, Q of one oscillator over t (2×2, row-major). For ωt < ½ the closed forms of P and Q cancel
+// badly, and the series E = Σ (tA)^k/k!, P = t·Σ (tA)^k/(k+1)!, Q = t²·Σ (tA)^k/(k+2)! is used instead.
+void closed_form(const Oscillator& o, Real t, Real (&e)[4], Real (&p)[4], Real (&q)[4]) {
+  const Real w = o.omega, z = o.zeta, wd = w * std::sqrt(1 - z * z);
+  const Real a[4] = {0, 1, -w * w, -2 * z * w};
+  if (w * t < 0.5L) {
+    Real power[4] = {1, 0, 0, 1}, fact = 1;  // (tA)^k and k!
+    for (int i = 0; i < 4; ++i) e[i] = p[i] = q[i] = 0;
+    for (int k = 0; k < 40; ++k) {
+      for (int i = 0; i < 4; ++i) {
+        e[i] += power[i] / fact;
+        p[i] += t * power[i] / (fact * (k + 1));
+        q[i] += t * t * power[i] / (fact * (k + 1) * (k + 2));
+      }
+      Real next[4];
+      for (int i = 0; i < 2; ++i)
+        for (int j = 0; j < 2; ++j) next[i * 2 + j] = t * (power[i * 2] * a[j] + power[i * 2 + 1] * a[2 + j]);
+      for (int i = 0; i < 4; ++i) power[i] = next[i];
+      fact *= k + 1;
+    }
+    return;
+  }
+  const Real decay = std::exp(-z * w * t), c = std::cos(wd * t), s = std::sin(wd * t) / wd;
+  for (int i = 0; i < 4; ++i) e[i] = decay * (s * (a[i] + (i == 0 || i == 3 ? z * w : 0)) + (i == 0 || i == 3 ? c : 0));
+  // A⁻¹ = [[−2ζω, −1], [ω², 0]] / ω².
+  const Real inv[4] = {-2 * z * w / (w * w), -1 / (w * w), 1, 0};
+  const auto apply = [&](const Real (&m)[4], Real (&out)[4]) {
+    for (int i = 0; i < 2; ++i)
+      for (int j = 0; j < 2; ++j) out[i * 2 + j] = inv[i * 2] * m[j] + inv[i * 2 + 1] * m[2 + j];
+  };
+  Real em[4] = {e[0] - 1, e[1], e[2], e[3] - 1};
+  apply(em, p);
+  Real pm[4] = {p[0] - t, p[1], p[2], p[3] - t};
+  apply(pm, q);
+}
+
+void check(const std::vector<Oscillator>& oscillators, double h, double tolerance) {
+  const int n = 2 * static_cast<int>(oscillators.size());
+  // The similarity: state i scaled by 10^(8·i/n − 4), alternating up and down the range.
+  std::vector<Real> d(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) d[static_cast<std::size_t>(i)] = std::pow(10.0L, (i % 2 ? 4.0L : -4.0L) * (i * 2.0L / n - 1));
+  std::vector<double> a(static_cast<std::size_t>(n * n), 0.0);
+  for (std::size_t k = 0; k < oscillators.size(); ++k) {
+    const Real w = oscillators[k].omega, z = oscillators[k].zeta;
+    const int b = 2 * static_cast<int>(k);
+    const Real block[4] = {0, 1, -w * w, -2 * z * w};
+    for (int i = 0; i < 2; ++i)
+      for (int j = 0; j < 2; ++j)
+        a[static_cast<std::size_t>((b + i) * n + b + j)] =
+            static_cast<double>(block[i * 2 + j] * d[static_cast<std::size_t>(b + i)] / d[static_cast<std::size_t>(b + j)]);
+  }
+  PhiChain chain(6);
+  chain.compute(a.data(), n, h, 6);
+  for (int level = 0; level < 6; ++level) {
+    const Real t = std::ldexp(static_cast<Real>(h), -level);
+    const double* got[3] = {chain.exponential(level), chain.integral(level), chain.ramp(level)};
+    for (std::size_t k = 0; k < oscillators.size(); ++k) {
+      Real want[3][4];
+      closed_form(oscillators[k], t, want[0], want[1], want[2]);
+      const int b = 2 * static_cast<int>(k);
+      for (int f = 0; f < 3; ++f) {
+        // Each block compared in its own (unscaled) units, relative to its largest entry.
+        Real scale = 0, worst = 0;
+        for (int i = 0; i < 2; ++i)
+          for (int j = 0; j < 2; ++j) {
+            const std::size_t at = static_cast<std::size_t>((b + i) * n + b + j);
+            const Real unscaled = got[f][at] * d[static_cast<std::size_t>(b + j)] / d[static_cast<std::size_t>(b + i)];
+            scale = std::fmax(scale, std::fabs(want[f][i * 2 + j]));
+            worst = std::fmax(worst, std::fabs(unscaled - want[f][i * 2 + j]));
+          }
+        EXPECT_LE(static_cast<double>(worst / scale), tolerance)
+            << "function " << f << " (E, P, Q), level " << level << ", oscillator " << k;
+      }
+      // Nothing leaks between the blocks.
+      for (int i = 0; i < n; ++i) {
+        if (i / 2 == b / 2) continue;
+        EXPECT_EQ(got[0][static_cast<std::size_t>(i * n + b)], 0.0) << "row " << i;
+      }
+    }
+  }
+}
+
+TEST(PhiChain, OscillatorsFromSoftToWireLikeStrings) {
+  std::vector<Oscillator> set;
+  for (int k = 0; k < 18; ++k) set.push_back({2 * 3.14159265358979L * 10 * std::pow(700.0L, k / 17.0L), 0.005L + 0.02L * k});
+  check(set, 1e-3, 1e-10);
+}
+
+TEST(PhiChain, ShortAndLongSteps) {
+  const std::vector<Oscillator> set = {{62.8L, 0.3L}, {4.5e4L, 0.0045L}, {1e3L, 0.9L}};
+  for (double h : {1e-6, 1e-4, 1e-2}) check(set, h, 1e-10);
+}
+
+TEST(PhiChain, ZeroMatrixGivesTheIntegralsOfOneAndOfS) {
+  const double a[9] = {};
+  PhiChain chain(3);
+  chain.compute(a, 3, 0.5, 3);
+  for (int level = 0; level < 3; ++level) {
+    const double t = std::ldexp(0.5, -level);
+    for (int i = 0; i < 3; ++i) {
+      EXPECT_EQ(chain.exponential(level)[i * 3 + i], 1.0);
+      EXPECT_DOUBLE_EQ(chain.integral(level)[i * 3 + i], t);
+      EXPECT_DOUBLE_EQ(chain.ramp(level)[i * 3 + i], t * t / 2);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace hmp::sim::plant

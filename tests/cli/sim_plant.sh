@@ -1,0 +1,57 @@
+#!/usr/bin/env bash
+# hmp sim's plant options: every bad value of --string-stiffness, --max-step, --integrator and [plant]
+# (≤ 0, NaN, infinite, beyond 1e9, unknown) exits 2 with one line on stderr naming it and writes nothing;
+# --work-precision refuses a passage over 20 s, and on a short one writes a CSV with a row for every
+# integrator and CVODE whose default row (the exponential integrator) is more accurate than ROS2 at its
+# default step.
+set -u
+hmp="$1"
+demo="$2/examples/bach-bwv1050-brandenburg5-mvt3-allegro.mid"
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+fail=0
+
+expect_bad() {  # expect_bad WORD-IN-MESSAGE ARGS...
+  local word="$1"; shift
+  "$hmp" sim "$demo" --track flute --from 10 --to 10.2 "$@" >"$tmp/out" 2>"$tmp/err" </dev/null; local rc=$?
+  local lines; lines=$(wc -l <"$tmp/err")
+  if [ $rc -ne 2 ] || [ "$lines" -ne 1 ] || ! grep -qi -- "$word" "$tmp/err"; then
+    echo "FAIL: sim $* -> rc=$rc, $lines stderr line(s), wanted '$word':"; cat "$tmp/err"; fail=1
+  fi
+}
+
+for v in 0 -1 nan inf 1e10; do
+  expect_bad "string-stiffness" --string-stiffness "$v"
+  expect_bad "max-step" --max-step "$v"
+done
+expect_bad "string-stiffness" --string-stiffness abc
+expect_bad "integrator" --integrator bogus
+printf '[plant]\nstring_stiffness = -5\n' >"$tmp/neg.toml"
+expect_bad "plant.string_stiffness" --config "$tmp/neg.toml"
+printf '[plant]\nstring_stifness = 1e5\n' >"$tmp/typo.toml"
+expect_bad "plant.string_stifness" --config "$tmp/typo.toml"
+printf '[plant]\nintegrator = "rk5"\n' >"$tmp/int.toml"
+expect_bad "plant.integrator" --config "$tmp/int.toml"
+"$hmp" sim "$demo" --track flute --from 10 --to 40 --work-precision >"$tmp/out" 2>"$tmp/err" </dev/null
+rc=$?
+{ [ $rc -eq 2 ] && [ "$(wc -l <"$tmp/err")" -eq 1 ] && grep -q "at most 20 s" "$tmp/err"; } ||
+  { echo "FAIL: a 30 s work-precision passage -> rc=$rc:"; cat "$tmp/err"; fail=1; }
+[ -z "$(ls -A "$tmp" | grep -v '^out$\|^err$\|\.toml$')" ] || { echo "FAIL: something was written:"; ls -A "$tmp"; fail=1; }
+
+# Stiff strings from the config, the integrator from the command line: a normal run.
+printf '[plant]\nstring_stiffness = 1e6\ngrip_mass = 0.05\n' >"$tmp/stiff.toml"
+"$hmp" sim "$demo" --track flute --from 10 --to 10.5 --config "$tmp/stiff.toml" --integrator rosenbrock2 \
+  --max-step 1e-4 --out "$tmp/run.csv" 2>"$tmp/err" || { echo "FAIL: stiff run"; cat "$tmp/err"; fail=1; }
+[ "$(wc -l <"$tmp/run.csv")" -gt 400 ] || { echo "FAIL: stiff run wrote too few rows"; fail=1; }
+
+# Work-precision on a 0.2 s passage at 10⁵ N/m.
+"$hmp" sim "$demo" --track flute --from 10 --to 10.2 --string-stiffness 1e5 --work-precision \
+  --out "$tmp/wp.csv" 2>"$tmp/err" || { echo "FAIL: work-precision"; cat "$tmp/err"; fail=1; }
+head -1 "$tmp/wp.csv" | grep -q '^integrator,steps_per_tick,rtol,default,ok,force_error_rel,finger_force_error_rel' ||
+  { echo "FAIL: work-precision CSV header:"; head -1 "$tmp/wp.csv"; fail=1; }
+for name in explicit_euler semi_implicit_euler rk4 linear_implicit_euler rosenbrock2 exponential cvode; do
+  grep -q "^$name," "$tmp/wp.csv" || { echo "FAIL: no $name rows"; fail=1; }
+done
+awk -F, '$1 == "exponential" && $4 == 1 { e = $7 } $1 == "rosenbrock2" && $2 == 8 { r = $7 }
+         END { if (!(e > 0 && r > 0 && e < r)) { print "FAIL: default " e " not below rosenbrock2 " r; exit 1 } }' \
+  "$tmp/wp.csv" || fail=1
+exit $fail
