@@ -11,31 +11,38 @@ namespace {
 
 constexpr float kPi = 3.14159265358979f;
 
+// configure() computes in double and keeps float coefficients for the tick. With stiff strings the string
+// part is stiff: its stretch follows the tension within c/k (0.2 µs at 10⁷ N/m), A·h reaches thousands,
+// and the motor force holds m τ_e k²/c³ (6·10⁶ at 10⁷ N/m) times the damper's force c ẋ_s, a few parts in
+// 10⁶ of the tension. Computed in float, the rounding of those rows and of the exponential's sums left the
+// motor force at rest 0.32 × the target at 10⁷ N/m (0.88 × at 3·10⁶).
+using Real = double;
+
 // The model's continuous quantities. configure() derives the output rows by evaluating these formulas on
 // unit states (they stay readable; the tick runs only the resulting dot products).
 struct Constants {
-  float wc, zeta, m, tau_e, k, c, grip_mass, kh, ch;
+  Real wc, zeta, m, tau_e, k, c, grip_mass, kh, ch;
 };
 
 // Motor force without the back-EMF term, and the winding speed, for the string part at state s
-// (T_r, Ṫ_r/ω_c, k·x_s) with R's input at `target`.
-void string_outputs(const Constants& q, const float (&s)[3], float target, float& force, float& speed) {
-  const float t_dot = q.wc * s[1];
-  const float t_ddot = q.wc * q.wc * (target - s[0]) - 2.0f * q.zeta * q.wc * q.wc * s[1];
-  const float x_dot = (s[0] - s[2]) / q.c;  // c ẋ_s = T_r − k x_s
-  const float x_ddot = (t_dot - q.k * x_dot) / q.c;
-  const float x_dddot = (t_ddot - q.k * x_ddot) / q.c;
+// (T_r, Ṫ_r/ω_c, c ẋ_s) with R's input at `target`.
+void string_outputs(const Constants& q, const Real (&s)[3], Real target, Real& force, Real& speed) {
+  const Real t_dot = q.wc * s[1];
+  const Real t_ddot = q.wc * q.wc * (target - s[0]) - 2 * q.zeta * q.wc * q.wc * s[1];
+  const Real x_dot = s[2] / q.c;
+  const Real x_ddot = (t_dot - q.k * x_dot) / q.c;
+  const Real x_dddot = (t_ddot - q.k * x_ddot) / q.c;
   force = s[0] + q.tau_e * t_dot + q.m * (x_ddot + q.tau_e * x_dddot);
   speed = x_dot;
 }
 
 // The same for the grip part at state g (F_r, Ḟ_r/ω_c, M ω_c² y, M ω_c ẏ), per unit of u_i·d.
-void grip_outputs(const Constants& q, const float (&g)[4], float& force, float& speed) {
-  const float y = g[2] / (q.grip_mass * q.wc * q.wc);
-  const float y_dot = g[3] / (q.grip_mass * q.wc);
-  const float f_dot = q.wc * g[1];
-  const float y_ddot = (g[0] - q.ch * y_dot - q.kh * y) / q.grip_mass;
-  const float y_dddot = (f_dot - q.ch * y_ddot - q.kh * y_dot) / q.grip_mass;
+void grip_outputs(const Constants& q, const Real (&g)[4], Real& force, Real& speed) {
+  const Real y = g[2] / (q.grip_mass * q.wc * q.wc);
+  const Real y_dot = g[3] / (q.grip_mass * q.wc);
+  const Real f_dot = q.wc * g[1];
+  const Real y_ddot = (g[0] - q.ch * y_dot - q.kh * y) / q.grip_mass;
+  const Real y_dddot = (f_dot - q.ch * y_ddot - q.kh * y_dot) / q.grip_mass;
   force = q.m * (y_ddot + q.tau_e * y_dddot);
   speed = y_dot;
 }
@@ -43,60 +50,63 @@ void grip_outputs(const Constants& q, const float (&g)[4], float& force, float& 
 // One tick of x' = A x + B w with w running from w(n−1) to w(n), and the integrals of the two outputs
 // o·x + o_in·w, from the exponential of the augmented system (x, w, w's slope, ∫force, ∫speed).
 template <int N>
-LinearStepper<N> make_stepper(const float (&a)[N][N], const float (&b)[N], const float (&force)[N], float force_in,
-                              const float (&speed)[N], float speed_in, float h) {
+LinearStepper<N> make_stepper(const Real (&a)[N][N], const Real (&b)[N], const Real (&force)[N], Real force_in,
+                              const Real (&speed)[N], Real speed_in, Real h) {
   constexpr int W = N, P = N + 1, QF = N + 2, QV = N + 3, M = N + 4;
-  float am[M][M]{};
+  Real am[M][M]{};
   for (int i = 0; i < N; ++i) {
     for (int j = 0; j < N; ++j) am[i][j] = a[i][j];
     am[i][W] = b[i];
     am[QF][i] = force[i];
     am[QV][i] = speed[i];
   }
-  am[W][P] = 1.0f / h;  // w' = (w(n) − w(n−1))/h, the slope state holding w(n) − w(n−1)
+  am[W][P] = 1 / h;  // w' = (w(n) − w(n−1))/h, the slope state holding w(n) − w(n−1)
   am[QF][W] = force_in;
   am[QV][W] = speed_in;
-  float e[M][M];
+  Real e[M][M];
   spidar::expm(am, h, e);
   // Start values: w = w(n−1), slope = w(n) − w(n−1).
+  const auto f = [](Real v) { return static_cast<float>(v); };
   LinearStepper<N> out;
-  const float inv_h = 1.0f / h;
+  const Real inv_h = 1 / h;
   for (int i = 0; i < N; ++i) {
-    for (int j = 0; j < N; ++j) out.phi[i][j] = e[i][j];
-    out.gamma_prev[i] = e[i][W] - e[i][P];
-    out.gamma_now[i] = e[i][P];
-    out.force[i] = e[QF][i] * inv_h;
-    out.speed[i] = e[QV][i] * inv_h;
+    for (int j = 0; j < N; ++j) out.phi[i][j] = f(e[i][j]);
+    out.gamma_prev[i] = f(e[i][W] - e[i][P]);
+    out.gamma_now[i] = f(e[i][P]);
+    out.force[i] = f(e[QF][i] * inv_h);
+    out.speed[i] = f(e[QV][i] * inv_h);
   }
-  out.force_prev = (e[QF][W] - e[QF][P]) * inv_h;
-  out.force_now = e[QF][P] * inv_h;
-  out.speed_prev = (e[QV][W] - e[QV][P]) * inv_h;
-  out.speed_now = e[QV][P] * inv_h;
+  out.force_prev = f((e[QF][W] - e[QF][P]) * inv_h);
+  out.force_now = f(e[QF][P] * inv_h);
+  out.speed_prev = f((e[QV][W] - e[QV][P]) * inv_h);
+  out.speed_now = f(e[QV][P] * inv_h);
   return out;
 }
 
 // Just enough complex arithmetic for the design-frequency check (no <complex>: it drags in streams).
 struct Cx {
-  float re = 0.0f, im = 0.0f;
+  Real re = 0, im = 0;
 };
 Cx operator+(Cx a, Cx b) { return {a.re + b.re, a.im + b.im}; }
 Cx operator-(Cx a, Cx b) { return {a.re - b.re, a.im - b.im}; }
 Cx operator*(Cx a, Cx b) { return {a.re * b.re - a.im * b.im, a.re * b.im + a.im * b.re}; }
-Cx operator*(float s, Cx a) { return {s * a.re, s * a.im}; }
+Cx operator*(Real s, Cx a) { return {s * a.re, s * a.im}; }
 Cx operator/(Cx a, Cx b) {
-  const float d = b.re * b.re + b.im * b.im;
+  const Real d = b.re * b.re + b.im * b.im;
   return {(a.re * b.re + a.im * b.im) / d, (a.im * b.re - a.re * b.im) / d};
 }
-float abs(Cx a) { return std::sqrt(a.re * a.re + a.im * a.im); }
+Real abs(Cx a) { return std::sqrt(a.re * a.re + a.im * a.im); }
 
 // The discrete response of a stepper's two outputs to u(n) = e^{jθn}: x = (e^{jθ} − Φ)⁻¹(Γp e^{−jθ} + Γn),
-// out = o·x + o_p e^{−jθ} + o_n (Gaussian elimination with partial pivoting on the complex 3×3).
-void stepper_response(const LinearStepper<3>& s, float theta, Cx& force, Cx& speed) {
+// out = o·x + o_p e^{−jθ} + o_n (Gaussian elimination with partial pivoting on the complex 3×3). It reads
+// the float coefficients the tick runs, in double like the rest of configure().
+void stepper_response(const LinearStepper<3>& s, Real theta, Cx& force, Cx& speed) {
+  const auto d = [](float v) { return static_cast<Real>(v); };
   const Cx z{std::cos(theta), std::sin(theta)}, zinv{z.re, -z.im};
   Cx m[3][4];
   for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) m[i][j] = Cx{(i == j ? z.re : 0.0f) - s.phi[i][j], i == j ? z.im : 0.0f};
-    m[i][3] = s.gamma_prev[i] * zinv + Cx{s.gamma_now[i], 0.0f};
+    for (int j = 0; j < 3; ++j) m[i][j] = Cx{(i == j ? z.re : 0) - d(s.phi[i][j]), i == j ? z.im : 0};
+    m[i][3] = d(s.gamma_prev[i]) * zinv + Cx{d(s.gamma_now[i]), 0};
   }
   for (int k = 0; k < 3; ++k) {
     int p = k;
@@ -118,11 +128,11 @@ void stepper_response(const LinearStepper<3>& s, float theta, Cx& force, Cx& spe
     for (int j = i + 1; j < 3; ++j) acc = acc - m[i][j] * x[j];
     x[i] = acc / m[i][i];
   }
-  force = s.force_prev * zinv + Cx{s.force_now, 0.0f};
-  speed = s.speed_prev * zinv + Cx{s.speed_now, 0.0f};
+  force = d(s.force_prev) * zinv + Cx{d(s.force_now), 0};
+  speed = d(s.speed_prev) * zinv + Cx{d(s.speed_now), 0};
   for (int i = 0; i < 3; ++i) {
-    force = force + s.force[i] * x[i];
-    speed = speed + s.speed[i] * x[i];
+    force = force + d(s.force[i]) * x[i];
+    speed = speed + d(s.speed[i]) * x[i];
   }
 }
 
@@ -139,63 +149,68 @@ void DriveCompensator::configure(const PlantModel& plant, const spidar::MotorPar
   blend_hz_ = config.speed_blend_hz;
   tick_hz_ = hz;
 
+  const auto d = [](float v) { return static_cast<Real>(v); };
+  const Real hd = 1 / d(hz), rd = d(r);
   Constants q{};
-  q.wc = kReferenceCorner * hz;
-  q.zeta = kReferenceDamping;
-  q.m = plant.rotor_inertia / (r * r);
-  q.tau_e = plant.inductance / motor.resistance;
-  q.k = plant.string_stiffness;
-  q.c = plant.string_damping > 1e-3f ? plant.string_damping : 1e-3f;
-  q.grip_mass = plant.grip_mass;
-  q.kh = plant.hand_stiffness;
-  q.ch = plant.hand_damping;
+  q.wc = d(kReferenceCorner) * d(hz);
+  q.zeta = d(kReferenceDamping);
+  q.m = d(plant.rotor_inertia) / (rd * rd);
+  q.tau_e = d(plant.inductance) / d(motor.resistance);
+  q.k = d(plant.string_stiffness);
+  q.c = d(plant.string_damping > 1e-3f ? plant.string_damping : 1e-3f);
+  q.grip_mass = d(plant.grip_mass);
+  q.kh = d(plant.hand_stiffness);
+  q.ch = d(plant.hand_damping);
 
-  // Strings: s1' = ω_c s2, s2' = ω_c (T − s1) − 2ζ ω_c s2, s3' = (k/c)(s1 − s3).
-  const float a3[3][3] = {{0.0f, q.wc, 0.0f}, {-q.wc, -2.0f * q.zeta * q.wc, 0.0f}, {q.k / q.c, 0.0f, -q.k / q.c}};
-  const float b3[3] = {0.0f, q.wc, 0.0f};
-  float force3[3], speed3[3], force3_in = 0.0f, speed3_in = 0.0f;
+  // Strings: s1' = ω_c s2, s2' = ω_c (T − s1) − 2ζ ω_c s2, s3' = ω_c s2 − (k/c) s3 (c ẋ_s = T_r − k x_s).
+  const Real a3[3][3] = {{0, q.wc, 0}, {-q.wc, -2 * q.zeta * q.wc, 0}, {0, q.wc, -q.k / q.c}};
+  const Real b3[3] = {0, q.wc, 0};
+  Real force3[3], speed3[3], force3_in = 0, speed3_in = 0;
   for (int j = 0; j < 3; ++j) {
-    float unit[3] = {};
-    unit[j] = 1.0f;
-    string_outputs(q, unit, 0.0f, force3[j], speed3[j]);
+    Real unit[3] = {};
+    unit[j] = 1;
+    string_outputs(q, unit, 0, force3[j], speed3[j]);
   }
-  const float zero3[3] = {};
-  string_outputs(q, zero3, 1.0f, force3_in, speed3_in);
-  string_ = make_stepper(a3, b3, force3, force3_in, speed3, speed3_in, h);
+  const Real zero3[3] = {};
+  string_outputs(q, zero3, 1, force3_in, speed3_in);
+  string_ = make_stepper(a3, b3, force3, force3_in, speed3, speed3_in, hd);
 
   // Grip: g1' = ω_c g2, g2' = ω_c (F − g1) − 2ζ ω_c g2, g3' = ω_c g4, g4' = ω_c g1 − (c_h/M) g4 − k_h/(M ω_c) g3.
-  const float a4[4][4] = {{0.0f, q.wc, 0.0f, 0.0f},
-                          {-q.wc, -2.0f * q.zeta * q.wc, 0.0f, 0.0f},
-                          {0.0f, 0.0f, 0.0f, q.wc},
-                          {q.wc, 0.0f, -q.kh / (q.grip_mass * q.wc), -q.ch / q.grip_mass}};
-  const float b4[4] = {0.0f, q.wc, 0.0f, 0.0f};
-  float force4[4], speed4[4];
+  const Real a4[4][4] = {{0, q.wc, 0, 0},
+                         {-q.wc, -2 * q.zeta * q.wc, 0, 0},
+                         {0, 0, 0, q.wc},
+                         {q.wc, 0, -q.kh / (q.grip_mass * q.wc), -q.ch / q.grip_mass}};
+  const Real b4[4] = {0, q.wc, 0, 0};
+  Real force4[4], speed4[4];
   for (int j = 0; j < 4; ++j) {
-    float unit[4] = {};
-    unit[j] = 1.0f;
+    Real unit[4] = {};
+    unit[j] = 1;
     grip_outputs(q, unit, force4[j], speed4[j]);
   }
-  grip_model_ = make_stepper(a4, b4, force4, 0.0f, speed4, 0.0f, h);
+  grip_model_ = make_stepper(a4, b4, force4, 0, speed4, 0, hd);
 
   // The string chain at the design frequency: targets → held commands (force, and speed for the back-EMF)
   // → a motor and string with the grip held still. The plant's response to a held command is the hold's
   // (1 − e^{−jθ})/(jθ) over the model's K(s) = (1 + τ_e s) + (m s²(1 + τ_e s) + b s)/(k + c s).
-  float design_hz = 0.25f * hz;
-  if (design_hz > 250.0f) design_hz = 250.0f;
-  const float theta = 2.0f * kPi * design_hz * h;
+  Real design_hz = d(0.25f * hz);
+  if (design_hz > 250) design_hz = 250;
+  const Real pi = d(kPi);
+  const Real theta = 2 * pi * design_hz * hd;
   Cx d_force, d_speed;
   stepper_response(string_, theta, d_force, d_speed);
-  const float b_damp = motor.torque_constant * motor.torque_constant / (motor.resistance * r * r);
+  const Real kt = d(motor.torque_constant);
+  const Real b_damp = kt * kt / (d(motor.resistance) * rd * rd);
   const Cx command = d_force + b_damp * d_speed;  // the stepper's speed is ẋ (m/s), b's unit
-  const Cx jw{0.0f, 2.0f * kPi * design_hz};
-  const Cx lag = Cx{1.0f, 0.0f} + q.tau_e * jw;
-  const Cx k_of_s = lag + (q.m * (jw * jw * lag) + b_damp * jw) / (Cx{q.k, 0.0f} + q.c * jw);
-  const Cx hold = (Cx{1.0f - std::cos(theta), std::sin(theta)}) / Cx{0.0f, theta};
-  chain_gain_ = abs(command * hold / k_of_s);
+  const Cx jw{0, 2 * pi * design_hz};
+  const Cx lag = Cx{1, 0} + q.tau_e * jw;
+  const Cx k_of_s = lag + (q.m * (jw * jw * lag) + b_damp * jw) / (Cx{q.k, 0} + q.c * jw);
+  const Cx hold = (Cx{1 - std::cos(theta), std::sin(theta)}) / Cx{0, theta};
+  const Real gain = abs(command * hold / k_of_s);
+  chain_gain_ = static_cast<float>(gain);
   // |(1 + α) − α e^{−jθ}|² = 1 + 2α(1 + α)(1 − cos θ) = 1/gain²; α may be negative (a chain that gains).
-  const float want = chain_gain_ > 0.0f ? 1.0f / chain_gain_ : 1.0f;
-  const float cq = (want * want - 1.0f) / (2.0f * (1.0f - std::cos(theta)));
-  alpha_ = cq > -0.25f ? 0.5f * (std::sqrt(1.0f + 4.0f * cq) - 1.0f) : -0.5f;
+  const Real want = gain > 0 ? 1 / gain : 1;
+  const Real cq = (want * want - 1) / (2 * (1 - std::cos(theta)));
+  alpha_ = static_cast<float>(cq > -0.25 ? 0.5 * (std::sqrt(1 + 4 * cq) - 1) : -0.5);
   reset(0.0f);
 }
 
@@ -209,7 +224,7 @@ void DriveCompensator::reset(float tension) {
   for (StringState& st : strings_) {
     st.s[0] = tension;
     st.s[1] = 0.0f;
-    st.s[2] = tension;
+    st.s[2] = 0.0f;
     st.last_tension = tension;
     st.model_speed = 0.0f;
     st.correction = 0.0f;

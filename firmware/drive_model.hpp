@@ -101,8 +101,10 @@ class DriveCompensator {
   float chain_gain() const { return chain_gain_; }
 
  private:
-  // Per string: s = (T_r, Ṫ_r/ω_c, k·x_s) at the start of the tick, all in newtons so that A·h is of
-  // order one.
+  // Per string: s = (T_r, Ṫ_r/ω_c, c ẋ_s) at the start of the tick, all in newtons. The third is the
+  // string's damper force T_r − k x_s, kept as a state of its own: on stiff strings it is a few parts in
+  // 10⁶ of the tension, and the motor force weighs it by m τ_e k²/c³ (6·10⁶ at 10⁷ N/m): T_r − k x_s from
+  // two states in float would leave it to rounding.
   struct StringState {
     float s[3]{};
     float last_tension = 0.0f;
