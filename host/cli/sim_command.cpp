@@ -124,23 +124,10 @@ int run_sim(const SimCliOptions& o) {
   if (!(o.peak_force_n > 0 && o.peak_force_n <= 20)) throw BadInput("--peak-force: must be in (0, 20] N");
   sim::SimOptions so;
   so.plant = sim::PlantOptions{};
-  config::PlantConfig plant_config;
-  for (const std::string& path : o.haptic.config_paths) {
-    const config::PlantConfig c = config::load(path).plant;  // later files override earlier ones
-    const auto keep = [](auto& to, const auto& from) {
-      if (from) to = from;
-    };
-    keep(plant_config.string_stiffness, c.string_stiffness);
-    keep(plant_config.string_damping, c.string_damping);
-    keep(plant_config.grip_mass, c.grip_mass);
-    keep(plant_config.motor_inertia, c.motor_inertia);
-    keep(plant_config.motor_inductance, c.motor_inductance);
-    keep(plant_config.finger_stiffness, c.finger_stiffness);
-    keep(plant_config.finger_damping, c.finger_damping);
-    keep(plant_config.max_step, c.max_step);
-    keep(plant_config.integrator, c.integrator);
-  }
-  simulate::apply_plant_settings(plant_config, o.plant, so.plant->params);
+  // Each config's [plant] in turn (later files override earlier ones), then the command line's options.
+  for (const std::string& path : o.haptic.config_paths)
+    simulate::apply_plant_settings(config::load(path).plant, {}, so.plant->params);
+  simulate::apply_plant_settings({}, o.plant, so.plant->params);
   const haptics::HapticOptions opts = resolve(o.haptic);
   output::check_writable(o.out, o.force);
 

@@ -36,7 +36,7 @@ PlantDynamics::PlantDynamics(const PlantParams& params)
       inv_inertia_(1.0 / params.motor.inertia),
       inv_mass_(1.0 / params.grip.mass),
       inv_grip_inertia_(1.0 / params.grip.inertia()),
-      drift_scale_(std::sqrt(params.string.stiffness / kLinearDrift.stiff)) {}
+      drift_scale_(std::sqrt(std::fmax(1.0, params.string.stiffness / kLinearDrift.stiff))) {}
 
 void PlantDynamics::evaluate(const double* y, PlantForces& out, bool bilateral) const {
   compute(y, out, bilateral ? TensionRule::near_bilateral : TensionRule::unilateral, 0);

@@ -42,8 +42,8 @@ inline constexpr double kJacobianSlackMargin = 5e-3;
 // How far the grip may move from where the exponential integrator linearised the equations before it
 // linearises again (see PlantDynamics::linearisation_drift). The strings' ringing is lightly damped and
 // fast, and its coupling to the grip turns with the strings' directions, so stiffer strings need a
-// closer linearisation: the reach scales as √(stiff / k), `distance` and `angle` at k = `stiff`
-// (chosen by the sim-work-precision benchmark: docs/performance.md).
+// closer linearisation: the reach shrinks as √(stiff / k) above `stiff` (chosen by the sim-work-precision
+// benchmark: docs/performance.md).
 struct LinearDrift {
   double distance = 0.5e-3;  // m
   double angle = 0.01;       // rad
