@@ -73,7 +73,7 @@ std::string draw_loglog_png(const std::string& path, const std::vector<LogLogPan
   cairo_set_font_size(cr, 12);
   text(cr, left + (width - left - legend) / 2, spec.height - 15, spec.x_label, 0.5);
   cairo_save(cr);
-  cairo_move_to(cr, 18, top + ph / 2);
+  cairo_translate(cr, 18, top + ph / 2);
   cairo_rotate(cr, -M_PI / 2);
   text(cr, 0, 0, spec.y_label, 0.5);
   cairo_restore(cr);
@@ -116,7 +116,7 @@ std::string draw_loglog_png(const std::string& path, const std::vector<LogLogPan
     }
     cairo_set_dash(cr, nullptr, 0, 0);
     for (const auto& g : spec.y_guides) text(cr, pl + 4, py(g.first) - 4, g.second);
-    for (const auto& g : spec.x_guides) text(cr, px(g.first) + 4, top + 14, g.second);
+    for (const auto& g : spec.x_guides) text(cr, px(g.first) - 4, top + 14, g.second, 1.0);  // left of its line
     const LogLogPanel& panel = panels[static_cast<std::size_t>(c)];
     cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
     cairo_set_font_size(cr, 13);

@@ -7,7 +7,8 @@
 //                          tension solver (shared/spidar) at the finger's pose turns the force into
 //                          tensions, the motor model into stall duties (strings stay taut)
 //   frame_edge             the 250 Hz, 1 N vibration while the finger carries the grip over 0.3 s to 90 %
-//                          of the workspace box (x and y of its axes)
+//                          of the workspace box (x and y of its axes), the duties making up for the
+//                          motors' back-EMF as the moving grip winds and pays out the strings
 //   slack                  the 250 Hz, 1 N vibration; every 100 ms the drive stops for 40 ms (the strings go
 //                          slack, the grip drops onto the finger) and then snaps them taut again
 //   saturation             the 250 Hz, 1 N vibration's duty swing ×10, clamped at ±1 (saturated motors,

@@ -47,18 +47,29 @@ std::vector<std::string> split(const std::string& s) {
   return out;
 }
 
+// A number for JSON: null where it is not finite (an unstable run has no error).
+std::string number(double v, const char* format = "%.4g") {
+  if (!std::isfinite(v)) return "null";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, format, v);
+  return buf;
+}
+
 void print_point(const std::string& scene, double k, const simulate::WorkPrecisionPoint& p,
                  const simulate::WorkPrecision& wp) {
   const simulate::TraceError& c = wp.reference_convergence;
   const bool claimed = p.ok && wp.claimed(p.error.force, c.force) && wp.claimed(p.error.finger_force, c.finger_force);
-  std::printf("{\"bench\":\"sim-work-precision\",\"metric\":\"force_error_rel\",\"value\":%.4g,\"unit\":\"ratio\","
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const std::string force = number(p.ok ? p.error.force : nan), finger = number(p.ok ? p.error.finger_force : nan);
+  std::printf("{\"bench\":\"sim-work-precision\",\"metric\":\"force_error_rel\",\"value\":%s,\"unit\":\"ratio\","
               "\"params\":{\"scene\":\"%s\",\"stiffness_n_per_m\":%g,\"integrator\":\"%s\",\"steps_per_tick\":%d,"
-              "\"rtol\":%g,\"default\":%s,\"ok\":%s,\"force_error_rel\":%.4g,\"finger_force_error_rel\":%.4g,"
-              "\"realtime_factor\":%.4g,\"reference_convergence_force\":%.3g,\"reference_convergence\":%.3g,"
+              "\"rtol\":%g,\"default\":%s,\"ok\":%s,\"force_error_rel\":%s,\"finger_force_error_rel\":%s,"
+              "\"realtime_factor\":%s,\"reference_convergence_force\":%s,\"reference_convergence\":%s,"
               "\"claimed\":%s,\"clock\":\"thread_cpu\"}}\n",
-              p.ok ? p.error.force : std::numeric_limits<double>::quiet_NaN(), scene.c_str(), k, p.integrator.c_str(), p.steps_per_tick, p.rtol,
-              p.is_default ? "true" : "false", p.ok ? "true" : "false", p.error.force, p.error.finger_force,
-              p.realtime_factor, c.force, c.finger_force, claimed ? "true" : "false");
+              force.c_str(), scene.c_str(), k, p.integrator.c_str(), p.steps_per_tick, p.rtol,
+              p.is_default ? "true" : "false", p.ok ? "true" : "false", force.c_str(), finger.c_str(),
+              number(p.ok ? p.realtime_factor : nan).c_str(), number(c.force, "%.3g").c_str(),
+              number(c.finger_force, "%.3g").c_str(), claimed ? "true" : "false");
   std::fflush(stdout);
 }
 

@@ -120,25 +120,23 @@ std::uint32_t PlantDynamics::piece_of(const double* g) const {
   return piece;
 }
 
-double PlantDynamics::linearisation_drift(const double* origin, const double* y) const {
-  double d2 = 0;
-  for (int i = 0; i < 3; ++i) {
-    const double d = y[state::position + i] - origin[state::position + i];
-    d2 += d * d;
-  }
-  double drift = std::sqrt(d2) / kLinearDrift.distance;
-  if (!params_.scene.translation_only) {
-    // The angle between two unit quaternions: 2·acos|⟨a, b⟩| ≈ 2·|a − b| for small ones (sign-free).
-    double dot = 0, na = 0, nb = 0;
-    for (int i = 0; i < 4; ++i) {
-      dot += origin[state::orientation + i] * y[state::orientation + i];
-      na += origin[state::orientation + i] * origin[state::orientation + i];
-      nb += y[state::orientation + i] * y[state::orientation + i];
-    }
-    const double c = std::fmin(1.0, std::fabs(dot) / std::sqrt(na * nb));
-    drift = std::fmax(drift, 2.0 * std::acos(c) / kLinearDrift.angle);
-  }
-  return drift * drift_scale_;
+int PlantDynamics::linearisation_drift(const double* origin, const double* y, double* drift) const {
+  const double reach = kLinearDrift.distance / drift_scale_;
+  for (int i = 0; i < 3; ++i) drift[i] = (y[state::position + i] - origin[state::position + i]) / reach;
+  if (params_.scene.translation_only) return 3;
+  // The rotation from origin to y, 2·vec(conj(q_o) ⊗ q) (small angles; the sign chosen so that the scalar
+  // part is positive: q and −q are one orientation).
+  const spidar::Quat<double> a = unit_quaternion(origin + state::orientation);
+  const spidar::Quat<double> b = unit_quaternion(y + state::orientation);
+  const double w = a.w * b.w + a.x * b.x + a.y * b.y + a.z * b.z;
+  const double vx = a.w * b.x - a.x * b.w - a.y * b.z + a.z * b.y;
+  const double vy = a.w * b.y + a.x * b.z - a.y * b.w - a.z * b.x;
+  const double vz = a.w * b.z - a.x * b.y + a.y * b.x - a.z * b.w;
+  const double scale = (w < 0 ? -2.0 : 2.0) * drift_scale_ / kLinearDrift.angle;
+  drift[3] = scale * vx;
+  drift[4] = scale * vy;
+  drift[5] = scale * vz;
+  return 6;
 }
 
 void PlantDynamics::rates(const double* y, double* dydt, TensionRule rule, std::uint32_t piece,

@@ -103,9 +103,9 @@ class PlantDynamics final : public OdeSystem {
   std::uint32_t piece_of(const double* g) const override;
   void piece_derivative(const double* y, std::uint32_t piece, double* dydt) override;
   // The equations are nonlinear in the grip's pose only (string directions and lever arms): the drift
-  // is the larger of the grip's displacement over kLinearDrift.distance and its rotation over
-  // kLinearDrift.angle, both shrunk for stiff strings.
-  double linearisation_drift(const double* origin, const double* y) const override;
+  // is the grip's displacement over kLinearDrift.distance and its rotation vector over kLinearDrift.angle
+  // (both shrunk for stiff strings), 3 or 6 components.
+  int linearisation_drift(const double* origin, const double* y, double* drift) const override;
 
  private:
   // How each string's tension follows from its spring force k·s + c·ṡ.

@@ -23,8 +23,8 @@ constexpr int kLevels = kFineLevel + 1;
 // Linearisations kept: a slack/taut transient visits a handful of pieces, and a vibrating grip a few
 // poses of each.
 constexpr int kCacheSize = 24;
-// A linearisation used this long with the state more than kSettledDrift of its reach away is taken again.
-constexpr double kSettledDrift = 0.1;  // of the reach (linearisation_drift() = 1)
+// A linearisation whose state's drift, averaged over kSettleTime, exceeds kSettledDrift is taken again.
+constexpr double kSettledDrift = 0.1;  // of the reach (a drift of length 1)
 constexpr double kSettleTime = 20e-3;  // s
 
 // The matrix functions of one piece, linearised at `origin`.
@@ -34,7 +34,9 @@ struct Linearisation {
   double h = 0;
   int n = 0, switches = 0;
   std::uint64_t last_use = 0;
-  double offset_for = 0;  // s it has been used with the state more than kSettledDrift away
+  // The drift of the state it has been used at, averaged over the last kSettleTime of simulated time.
+  std::array<double, kMaxDrift> mean_drift{};
+  double settled_for = 0;  // s of whole steps in a row on it
   Vector origin{};
   PhiChain chain{kLevels};
   // rows[j]: the switch functions' gradient times P(t_j), t_j = (j + 1)·h / kCheckpoints: g(t_j) ≈ g(0) +
@@ -50,13 +52,14 @@ class Exponential final : public Integrator {
   Method method() const override { return Method::exponential; }
   void invalidate() override {
     for (Linearisation& l : cache_) l.valid = false;
+    stepping_ = nullptr;
   }
 
   void step(OdeSystem& system, double* y, double h) override {
     double g[kMaxSwitches];
     const int ng = system.switch_functions(y, g);
     const std::uint32_t piece = system.piece_of(g);
-    const Linearisation& lin = linearisation(system, y, piece, h, h);
+    const Linearisation& lin = linearisation(system, y, piece, h, true);
     system.derivative(y, f_.data());
     ++evaluations_;
     if (ng > 0 && switch_within(system, lin, g, piece, ng)) {
@@ -130,7 +133,7 @@ class Exponential final : public Integrator {
       }
       const int ng = system.switch_functions(y, g);
       const std::uint32_t piece = system.piece_of(g);
-      const Linearisation* lin = &linearisation(system, y, piece, h, std::ldexp(h, -kCheckpointLevel));
+      const Linearisation* lin = &linearisation(system, y, piece, h, false);
       if (!switch_within(system, *lin, g, piece, ng, 0, 0)) {
         for (int i = 0; i < n; ++i) saved_[i] = y[i];
         const Vector f_saved = f_;
@@ -146,41 +149,57 @@ class Exponential final : public Integrator {
           ++evaluations_;
         }
         system.switch_functions(y, g);
-        etd2(system, linearisation(system, y, system.piece_of(g), h, std::ldexp(h, -kFineLevel)), kFineLevel, h, y);
+        etd2(system, linearisation(system, y, system.piece_of(g), h, false), kFineLevel, h, y);
       }
     }
   }
 
-  // The cached linearisation of `piece` at step h taken nearest to y, if y is within its reach.
-  Linearisation* find(const OdeSystem& system, const double* y, std::uint32_t piece, double h, double* drift) {
+  // The cached linearisation of `piece` at step h taken nearest to y, if y is within its reach; `drift`
+  // receives y's drift from it.
+  Linearisation* find(const OdeSystem& system, const double* y, std::uint32_t piece, double h,
+                      std::array<double, kMaxDrift>& drift) {
     Linearisation* nearest = nullptr;
     double best = 1.0;
+    std::array<double, kMaxDrift> d{};
     for (Linearisation& l : cache_) {
       if (!l.valid || l.piece != piece || l.h != h || l.n != system.size()) continue;
-      const double d = system.linearisation_drift(l.origin.data(), y);
-      if (d <= best) {
-        best = d;
+      const int m = system.linearisation_drift(l.origin.data(), y, d.data());
+      double d2 = 0;
+      for (int i = 0; i < m; ++i) d2 += d[i] * d[i];
+      if (d2 <= best) {
+        best = d2;
         nearest = &l;
+        drift = d;
       }
     }
     if (nearest != nullptr) nearest->last_use = ++clock_;
-    if (drift != nullptr) *drift = best;
     return nearest;
   }
 
-  // The linearisation for the next `span` of simulated time: the cached one, else a new one in place of
-  // the least recently used. A grip that has settled away from where its linearisation was taken
-  // (gravity sagging it onto the finger, a vibration's mean shifting) is linearised again where it now
-  // is, once it has stayed more than kSettledDrift of the reach away for kSettleTime: a stale
-  // linearisation's error grows with the offset (0.07 mm of sag cost 0.9 % of finger force at 10⁵ N/m),
-  // and an offset that persists is worth one recompute.
+  // The linearisation for a step (`step`: a whole one, else part of a split one): the cached one, else a
+  // new one in place of the least recently used. A grip that has settled away from where its
+  // linearisation was taken (gravity sagging it onto the finger, a vibration's mean shifting) is
+  // linearised again where it now is, once its drift averaged over kSettleTime of whole steps on that
+  // linearisation is more than kSettledDrift of the reach: a stale linearisation's error grows with the
+  // offset (0.07 mm of sag cost 0.9 % of finger force at 10⁵ N/m). A grip swinging across several cached
+  // linearisations uses each only briefly, and its average starts again each time.
   const Linearisation& linearisation(OdeSystem& system, const double* y, std::uint32_t piece, double h,
-                                     double span) {
-    double drift = 0;
-    Linearisation* lin = find(system, y, piece, h, &drift);
-    if (lin != nullptr) {
-      lin->offset_for = drift > kSettledDrift ? lin->offset_for + span : 0.0;
-      if (lin->offset_for > kSettleTime) recompute(system, y, piece, h, *lin);
+                                     bool step) {
+    std::array<double, kMaxDrift> drift{};
+    Linearisation* lin = find(system, y, piece, h, drift);
+    if (lin != nullptr && step) {
+      if (lin != stepping_) {
+        lin->mean_drift = drift;
+        lin->settled_for = 0;
+      }
+      const double alpha = std::fmin(1.0, h / kSettleTime);
+      double m2 = 0;
+      for (int i = 0; i < kMaxDrift; ++i) {
+        lin->mean_drift[i] += alpha * (drift[i] - lin->mean_drift[i]);
+        m2 += lin->mean_drift[i] * lin->mean_drift[i];
+      }
+      lin->settled_for += h;
+      if (lin->settled_for >= kSettleTime && m2 > kSettledDrift * kSettledDrift) recompute(system, y, piece, h, *lin);
     }
     if (lin == nullptr) {
       lin = &cache_[0];
@@ -189,13 +208,15 @@ class Exponential final : public Integrator {
       recompute(system, y, piece, h, *lin);
       lin->last_use = ++clock_;
     }
+    if (step) stepping_ = lin;
     return *lin;
   }
 
   void recompute(OdeSystem& system, const double* y, std::uint32_t piece, double h, Linearisation& l) {
     const int n = system.size();
     l.valid = true;
-    l.offset_for = 0;
+    l.mean_drift.fill(0);
+    l.settled_for = 0;
     l.piece = piece;
     l.h = h;
     l.n = n;
@@ -238,6 +259,7 @@ class Exponential final : public Integrator {
 
   std::vector<Linearisation> cache_;
   std::uint64_t clock_ = 0;
+  const Linearisation* stepping_ = nullptr;  // the one the last whole step started on
   std::vector<double> jacobian_, gradient_, q_, tmp_;
   Vector f_{}, f1_{}, a_{}, f0_{}, col_{}, tmp_y_{}, saved_{};
 };

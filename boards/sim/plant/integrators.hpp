@@ -26,6 +26,8 @@ namespace hmp::sim::plant {
 inline constexpr int kMaxState = 37;
 // Switch functions of a piecewise-smooth system (two per string: stretch and spring force).
 inline constexpr int kMaxSwitches = 16;
+// Components of a linearisation's drift (the grip's displacement and rotation).
+inline constexpr int kMaxDrift = 6;
 
 enum class Method : std::uint8_t {
   explicit_euler,
@@ -83,10 +85,11 @@ class OdeSystem {
     (void)piece;
     derivative(y, dydt);
   }
-  // How far state y has moved from `origin` as the model's nonlinearity sees it, in units where 1 is as
-  // far as a linearisation taken at `origin` may be used (0: the model is linear on each piece).
-  virtual double linearisation_drift(const double* origin, const double* y) const {
-    (void)origin, (void)y;
+  // How far state y has moved from `origin` as the model's nonlinearity sees it: up to kMaxDrift
+  // components (returned: how many) in units where a vector of length 1 is as far as a linearisation taken
+  // at `origin` may be used. 0 components: the model is linear on each piece.
+  virtual int linearisation_drift(const double* origin, const double* y, double* drift) const {
+    (void)origin, (void)y, (void)drift;
     return 0;
   }
 };

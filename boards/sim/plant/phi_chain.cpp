@@ -10,9 +10,20 @@ static_assert(kMaxState * kMaxState <= 37 * 37, "PhiChain's stride holds the lar
 
 namespace {
 
-// Taylor terms of φ₂ at ‖X‖₁ ≤ ½: the first term left out is below ½¹⁴/16! ≈ 3·10⁻¹⁸.
-constexpr int kTaylorTerms = 13;
-constexpr double kTaylorNorm = 0.5;
+// The Taylor series of φ₂ is summed at ‖X‖₁ ≤ 4 (terms of up to 4²/4! ≈ 0.7 of I: no cancellation to
+// speak of), with terms until the first left out is below 10⁻¹⁷: each term is a product by the sparse X,
+// a tenth of a doubling's dense products, so a larger norm and more terms cost less than more levels.
+constexpr double kTaylorNorm = 4.0;
+constexpr int kMaxTaylorTerms = 40;
+
+int taylor_terms(double norm) {
+  double term = 1.0;  // ‖X‖^k / (k + 2)!, the bound of the first term left out after k − 1
+  for (int k = 1; k <= kMaxTaylorTerms; ++k) {
+    term *= norm / (k + 2);
+    if (term < 1e-17) return k;
+  }
+  return kMaxTaylorTerms;
+}
 
 // Parlett–Reinsch balancing by powers of two: on return b = D⁻¹·a·D with D = diag(scale).
 void balance(const double* a, double* b, double* scale, int n) {
@@ -102,7 +113,7 @@ void PhiChain::compute(const double* a, int n, double h, int levels) {
   double* tmp = tmp_.data();
   for (int i = 0; i < nn; ++i) phi[i] = 0;
   for (int i = 0; i < n; ++i) phi[i * n + i] = 1;
-  for (int k = kTaylorTerms; k >= 1; --k) {
+  for (int k = taylor_terms(std::ldexp(norm, -s)); k >= 1; --k) {
     multiply(x, phi, tmp, n);
     const double inv = 1.0 / (k + 2);
     for (int i = 0; i < nn; ++i) phi[i] = tmp[i] * inv;
