@@ -13,7 +13,9 @@
 // Usage: bench_sim_work_precision [--plot-dir DIR] [--seconds S] [--scenes a,b] [--stiffness k1,k2]
 //   [--integrators a,b (method names or cvode)] [--steps default (the default step only)]
 //   [--quick] (0.2 s, steps 1–32, the default method, rosenbrock2 and cvode only)
+//   [--replot FILE.jsonl] (the figures of an earlier run's output, into --plot-dir, without simulating)
 #include <cmath>
+#include <map>
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
@@ -37,6 +39,7 @@ struct Options {
   std::vector<double> stiffness{1e3, 1e4, 1e5, 1e6, 1e7};
   std::vector<std::string> integrators;  // empty: all
   std::string steps;                      // "default": only each integrator's default step
+  std::string replot;                     // a run's JSON lines: draw its figures only
 };
 
 std::vector<std::string> split(const std::string& s) {
@@ -73,22 +76,96 @@ void print_point(const std::string& scene, double k, const simulate::WorkPrecisi
   std::fflush(stdout);
 }
 
-output::LogLogPanel panel_of(double k, const simulate::WorkPrecision& wp) {
+// One point of a figure: who, its cost and its finger-force error (NaN where it has none).
+struct FigurePoint {
+  std::string integrator;
+  bool is_default = false;
+  double cpu_per_second = 0, error = 0;
+};
+
+output::LogLogPanel panel_of(double k, const std::vector<FigurePoint>& points) {
   char title[64];
   std::snprintf(title, sizeof title, "k = %.0e N/m", k);
   output::LogLogPanel panel;
   panel.title = title;
-  for (const simulate::WorkPrecisionPoint& p : wp.points) {
-    if (panel.series.empty() || panel.series.back().label != p.integrator) {
+  std::string current;
+  for (const FigurePoint& p : points) {
+    if (panel.series.empty() || current != p.integrator) {
+      current = p.integrator;
       panel.series.push_back({p.integrator, {}, -1});
       if (p.integrator == std::string(plant::method_name(simulate::default_method())))
         panel.series.back().label += " (default)";
     }
     output::LogLogSeries& s = panel.series.back();
     if (p.is_default) s.ringed = static_cast<int>(s.points.size());
-    s.points.emplace_back(p.ok ? 1.0 / p.realtime_factor : std::numeric_limits<double>::quiet_NaN(), p.ok ? p.error.finger_force : std::numeric_limits<double>::quiet_NaN());
+    s.points.emplace_back(p.cpu_per_second, p.error);
   }
   return panel;
+}
+
+std::vector<FigurePoint> figure_points(const simulate::WorkPrecision& wp) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::vector<FigurePoint> out;
+  for (const simulate::WorkPrecisionPoint& p : wp.points)
+    out.push_back({p.integrator, p.is_default, p.ok ? 1.0 / p.realtime_factor : nan, p.ok ? p.error.finger_force : nan});
+  return out;
+}
+
+void draw(const std::string& dir, const std::string& scene, const std::vector<output::LogLogPanel>& panels) {
+  output::LogLogPlotSpec spec;
+  spec.title = "Plant simulator work-precision, scene " + scene + ": finger force against CVODE (rtol 1e-10)";
+  spec.x_label = "CPU seconds per simulated second";
+  spec.y_label = "relative error of the finger force (RMS)";
+  spec.x_guides = {{1.0 / 50, "50x real time"}};
+  spec.y_guides = {{0.005, "0.5%"}};
+  const std::string path = dir + "/sim-work-precision-" + scene + ".png";
+  output::write_loglog_png(path, panels, spec, true);
+  std::fprintf(stderr, "wrote %s\n", path.c_str());
+}
+
+// The text of "key": in a JSON line of ours (flat values: a number, true/false/null or a plain string).
+std::string field(const std::string& line, const std::string& key) {
+  const std::string tag = "\"" + key + "\":";
+  const std::size_t at = line.find(tag);
+  if (at == std::string::npos) return {};
+  std::size_t begin = at + tag.size(), end = begin;
+  if (line[begin] == '"') {
+    end = line.find('"', ++begin);
+  } else {
+    while (end < line.size() && line[end] != ',' && line[end] != '}') ++end;
+  }
+  return line.substr(begin, end - begin);
+}
+
+// --replot FILE: the figures again from a run's JSON lines (no simulation).
+int replot(const std::string& jsonl, const std::string& dir) {
+  std::FILE* in = std::fopen(jsonl.c_str(), "r");
+  if (in == nullptr) {
+    std::fprintf(stderr, "error: %s: cannot open\n", jsonl.c_str());
+    return 2;
+  }
+  std::vector<std::string> scenes;
+  std::map<std::string, std::map<double, std::vector<FigurePoint>>> points;
+  char buf[4096];
+  while (std::fgets(buf, sizeof buf, in) != nullptr) {
+    const std::string line = buf;
+    const std::string scene = field(line, "scene");
+    if (scene.empty()) continue;
+    if (points.find(scene) == points.end()) scenes.push_back(scene);
+    const double k = std::atof(field(line, "stiffness_n_per_m").c_str());
+    const bool ok = field(line, "ok") == "true";
+    const double rt = std::atof(field(line, "realtime_factor").c_str());
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    points[scene][k].push_back({field(line, "integrator"), field(line, "default") == "true", ok ? 1.0 / rt : nan,
+                                ok ? std::atof(field(line, "finger_force_error_rel").c_str()) : nan});
+  }
+  std::fclose(in);
+  for (const std::string& scene : scenes) {
+    std::vector<output::LogLogPanel> panels;
+    for (const auto& [k, p] : points[scene]) panels.push_back(panel_of(k, p));
+    draw(dir, scene, panels);
+  }
+  return 0;
 }
 
 }  // namespace
@@ -104,12 +181,22 @@ int main(int argc, char** argv) {
       o.stiffness.clear();
       for (const std::string& k : split(argv[++i])) o.stiffness.push_back(std::atof(k.c_str()));
     } else if (a == "--integrators" && i + 1 < argc) o.integrators = split(argv[++i]);
+    else if (a == "--replot" && i + 1 < argc) o.replot = argv[++i];
     else if (a == "--steps" && i + 1 < argc) o.steps = argv[++i];
     else if (a == "--quick") o.quick = true;
     else {
-      std::fprintf(stderr, "usage: %s [--plot-dir DIR] [--seconds S] [--scenes a,b] [--stiffness k1,k2] [--quick]\n",
+      std::fprintf(stderr, "usage: %s [--plot-dir DIR] [--seconds S] [--scenes a,b] [--stiffness k1,k2] "
+                   "[--integrators a,b] [--steps default] [--quick] [--replot FILE.jsonl]\n",
                    argv[0]);
       return 2;
+    }
+  }
+  if (!o.replot.empty()) {
+    try {
+      return replot(o.replot, o.plot_dir.empty() ? "." : o.plot_dir);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "error: %s\n", e.what());
+      return 1;
     }
   }
   if (o.scenes.empty())
@@ -144,18 +231,9 @@ int main(int argc, char** argv) {
         const simulate::PlantScene scene = simulate::make_plant_scene(name, k, o.seconds);
         const simulate::WorkPrecision wp = simulate::work_precision(scene, wo);
         for (const simulate::WorkPrecisionPoint& p : wp.points) print_point(name, k, p, wp);
-        panels.push_back(panel_of(k, wp));
+        panels.push_back(panel_of(k, figure_points(wp)));
       }
-      if (o.plot_dir.empty()) continue;
-      output::LogLogPlotSpec spec;
-      spec.title = "Plant simulator work-precision, scene " + name + ": finger force against CVODE (rtol 1e-10)";
-      spec.x_label = "CPU seconds per simulated second";
-      spec.y_label = "relative error of the finger force (RMS)";
-      spec.x_guides = {{1.0 / 50, "50x real time"}};
-      spec.y_guides = {{0.005, "0.5%"}};
-      const std::string path = o.plot_dir + "/sim-work-precision-" + name + ".png";
-      output::write_loglog_png(path, panels, spec, true);
-      std::fprintf(stderr, "wrote %s\n", path.c_str());
+      if (!o.plot_dir.empty()) draw(o.plot_dir, name, panels);
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
