@@ -223,10 +223,12 @@ int run_sim(const SimCliOptions& o) {
     ProgressBar wp_bar("work-precision");
     simulate::WorkPrecisionOptions wo;
     std::size_t runs = 0;
-    const std::size_t total = 2 + wo.methods.size() * (wo.steps_per_tick.size() + 1) + wo.cvode_rtols.size();
-    wo.progress = [&](std::string_view) { wp_bar.update(runs++, total); };
+    wo.progress = [&](std::string_view, std::size_t done, std::size_t total) {
+      wp_bar.update(done, total);
+      runs = total;
+    };
     const simulate::WorkPrecision wp = simulate::work_precision(replay, wo);
-    wp_bar.update(total, total);
+    wp_bar.update(runs, runs);
     if (o.out == "-") print_work_precision(wp);
     else if (fmt_out == "csv") write_work_precision_csv(o, wp);
     else {

@@ -10,11 +10,11 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <ctime>
 #include <exception>
 
 #include "boards/sim/plant/dynamics.hpp"
 #include "boards/sim/plant/plant.hpp"
+#include "host/common/cpu_time.hpp"
 
 namespace hmp::simulate {
 
@@ -34,12 +34,6 @@ constexpr double kStepPast = 1e-9;  // s
 // More roots than this in one tick is a switch that never settles: give up rather than crawl.
 constexpr long kMaxRootsPerTick = 10000;
 constexpr long kMaxStepsPerCall = 200000;
-
-double thread_cpu_seconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
 
 std::string flag_name(long flag) {
   char* name = CVodeGetReturnFlagName(flag);  // malloc'ed by SUNDIALS

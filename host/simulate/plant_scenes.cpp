@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "host/common/error.hpp"
 #include "shared/spidar/motor.hpp"
@@ -22,8 +23,7 @@ struct Vibration {
 
 spidar::StringGeometry<double> strings_at(const PlantScene& s, std::size_t tick) {
   spidar::StringGeometry<double> g;
-  const std::size_t k = std::min(tick, s.drive.anchor.size() - 1);
-  spidar::compute_strings(s.params.frame, s.drive.anchor[k], spidar::Mat3<double>::identity(), g);
+  spidar::compute_strings(s.params.frame, s.drive.anchor[tick], spidar::Mat3<double>::identity(), g);
   return g;
 }
 
@@ -39,9 +39,13 @@ void vibration_duties(PlantScene& s, Vibration v, double gain) {
   spidar::Flags ignored = 0;
   const double bias = motor.duty(tp.t_min, 0.0, ignored);
   const double r_pulley = s.params.motor.drive.pulley_radius;
-  for (std::size_t k = 0; k < s.drive.duty.size(); ++k) {
-    const spidar::StringGeometry<double> g = strings_at(s, k);
-    const spidar::StringGeometry<double> before = strings_at(s, k > 0 ? k - 1 : 0), after = strings_at(s, k + 1);
+  const std::size_t ticks = s.drive.duty.size();
+  std::vector<spidar::StringGeometry<double>> geometry(ticks);
+  for (std::size_t k = 0; k < ticks; ++k) geometry[k] = strings_at(s, k);
+  for (std::size_t k = 0; k < ticks; ++k) {
+    const spidar::StringGeometry<double>& g = geometry[k];
+    const spidar::StringGeometry<double>& before = geometry[k > 0 ? k - 1 : 0];
+    const spidar::StringGeometry<double>& after = geometry[std::min(k + 1, ticks - 1)];
     const double span = static_cast<double>(std::min(k + 1, s.drive.duty.size() - 1) - (k > 0 ? k - 1 : 0)) * kTick;
     const double t = static_cast<double>(k) * kTick;
     const spidar::Vec3<double> force{0.0, v.amplitude_n * std::sin(2 * kPi * v.freq_hz * t), 0.0};

@@ -2,23 +2,18 @@
 
 #include <algorithm>
 #include <cmath>
-#include <ctime>
 #include <limits>
 #include <stdexcept>
+#include <utility>
 
 #include "boards/sim/plant/plant.hpp"
+#include "host/common/cpu_time.hpp"
 
 namespace hmp::simulate {
 
 namespace plant = sim::plant;
 
 namespace {
-
-double thread_cpu_seconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
 
 double relative_error(const std::vector<plant::Vec3d>& x, const std::vector<plant::Vec3d>& ref) {
   if (ref.empty() || x.size() != ref.size()) return std::numeric_limits<double>::quiet_NaN();
@@ -84,8 +79,22 @@ PlantTrace run_plant(const PlantScene& scene, plant::Method method, double max_s
 }
 
 WorkPrecision work_precision(const PlantScene& scene, const WorkPrecisionOptions& o) {
+  // The runs of our integrators: every step asked for, and the default method's own step too.
+  const double tick = scene.drive.tick_s;
+  const int default_steps = default_steps_per_tick(tick);
+  std::vector<std::pair<plant::Method, int>> runs;
+  for (plant::Method m : o.methods) {
+    std::vector<int> steps = o.steps_per_tick;
+    if (m == default_method() && std::find(steps.begin(), steps.end(), default_steps) == steps.end())
+      steps.push_back(default_steps);
+    std::sort(steps.begin(), steps.end());
+    for (int n : steps) runs.emplace_back(m, n);
+  }
+  const std::size_t total = 2 + runs.size() + o.cvode_rtols.size();
+  std::size_t done = 0;
   const auto say = [&](const std::string& what) {
-    if (o.progress) o.progress(what);
+    if (o.progress) o.progress(what, done, total);
+    ++done;
   };
   WorkPrecision wp;
   const double seconds = seconds_of(scene);
@@ -100,30 +109,22 @@ WorkPrecision work_precision(const PlantScene& scene, const WorkPrecisionOptions
   if (!wp.reference.ok) throw std::runtime_error("reference: " + wp.reference.error);
   wp.reference_convergence = trace_error(coarse, wp.reference);
 
-  const double tick = scene.drive.tick_s;
-  const int default_steps = default_steps_per_tick(tick);
-  for (plant::Method m : o.methods) {
-    std::vector<int> steps = o.steps_per_tick;
-    if (m == default_method() && std::find(steps.begin(), steps.end(), default_steps) == steps.end())
-      steps.push_back(default_steps);
-    std::sort(steps.begin(), steps.end());
-    for (int n : steps) {
-      say(std::string(plant::method_name(m)) + ", " + std::to_string(n) + " steps per tick");
-      WorkPrecisionPoint p;
-      p.integrator = std::string(plant::method_name(m));
-      p.steps_per_tick = n;
-      p.is_default = m == default_method() && n == default_steps;
-      PlantTrace t = run_plant(scene, m, tick / n);
-      p.ok = t.ok;
-      if (p.ok) {
-        p.error = trace_error(t, wp.reference);
-        double cpu = t.cpu_s;
-        for (int r = 1; r < o.repeats; ++r) cpu = std::min(cpu, run_plant(scene, m, tick / n).cpu_s);
-        p.cpu_s = cpu;
-        p.realtime_factor = cpu > 0 ? seconds / cpu : std::numeric_limits<double>::infinity();
-      }
-      wp.points.push_back(p);
+  for (const auto& [m, n] : runs) {
+    say(std::string(plant::method_name(m)) + ", " + std::to_string(n) + " steps per tick");
+    WorkPrecisionPoint p;
+    p.integrator = std::string(plant::method_name(m));
+    p.steps_per_tick = n;
+    p.is_default = m == default_method() && n == default_steps;
+    PlantTrace t = run_plant(scene, m, tick / n);
+    p.ok = t.ok;
+    if (p.ok) {
+      p.error = trace_error(t, wp.reference);
+      double cpu = t.cpu_s;
+      for (int r = 1; r < o.repeats; ++r) cpu = std::min(cpu, run_plant(scene, m, tick / n).cpu_s);
+      p.cpu_s = cpu;
+      p.realtime_factor = cpu > 0 ? seconds / cpu : std::numeric_limits<double>::infinity();
     }
+    wp.points.push_back(p);
   }
   for (double rtol : o.cvode_rtols) {
     say("cvode, rtol " + std::to_string(rtol));

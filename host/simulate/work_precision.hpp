@@ -12,6 +12,7 @@
 //
 // The reference is run at rtol and at rtol / 2; their difference is reference_convergence. An error is
 // claimed only where it is at least 10 times that (claimed()).
+#include <cstddef>
 #include <functional>
 #include <string>
 #include <string_view>
@@ -38,7 +39,8 @@ struct WorkPrecisionOptions {
   std::vector<double> cvode_rtols{1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8};
   double reference_rtol = 1e-10;
   int repeats = 3;
-  std::function<void(std::string_view what)> progress;  // called before each run
+  // Called before each run with what it is, how many runs are done and how many there are in all.
+  std::function<void(std::string_view what, std::size_t done, std::size_t total)> progress;
 };
 
 struct WorkPrecisionPoint {

@@ -36,7 +36,8 @@ PlantDynamics::PlantDynamics(const PlantParams& params)
       inv_inertia_(1.0 / params.motor.inertia),
       inv_mass_(1.0 / params.grip.mass),
       inv_grip_inertia_(1.0 / params.grip.inertia()),
-      drift_scale_(std::sqrt(std::fmax(1.0, params.string.stiffness / kLinearDrift.stiff))) {}
+      drift_scale_(std::sqrt(std::fmin(1.0, params.string.stiffness / kLinearDrift.soft) *
+                            std::fmax(1.0, params.string.stiffness / kLinearDrift.stiff))) {}
 
 void PlantDynamics::evaluate(const double* y, PlantForces& out, bool bilateral) const {
   compute(y, out, bilateral ? TensionRule::near_bilateral : TensionRule::unilateral, 0);
@@ -127,15 +128,12 @@ int PlantDynamics::linearisation_drift(const double* origin, const double* y, do
   // The rotation from origin to y, 2·vec(conj(q_o) ⊗ q) (small angles; the sign chosen so that the scalar
   // part is positive: q and −q are one orientation).
   const spidar::Quat<double> a = unit_quaternion(origin + state::orientation);
-  const spidar::Quat<double> b = unit_quaternion(y + state::orientation);
-  const double w = a.w * b.w + a.x * b.x + a.y * b.y + a.z * b.z;
-  const double vx = a.w * b.x - a.x * b.w - a.y * b.z + a.z * b.y;
-  const double vy = a.w * b.y + a.x * b.z - a.y * b.w - a.z * b.x;
-  const double vz = a.w * b.z - a.x * b.y + a.y * b.x - a.z * b.w;
-  const double scale = (w < 0 ? -2.0 : 2.0) * drift_scale_ / kLinearDrift.angle;
-  drift[3] = scale * vx;
-  drift[4] = scale * vy;
-  drift[5] = scale * vz;
+  const spidar::Quat<double> a_conj{a.w, -a.x, -a.y, -a.z};
+  const spidar::Quat<double> r = a_conj * unit_quaternion(y + state::orientation);
+  const double scale = (r.w < 0 ? -2.0 : 2.0) * drift_scale_ / kLinearDrift.angle;
+  drift[3] = scale * r.x;
+  drift[4] = scale * r.y;
+  drift[5] = scale * r.z;
   return 6;
 }
 

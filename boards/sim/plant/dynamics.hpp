@@ -42,12 +42,16 @@ inline constexpr double kJacobianSlackMargin = 5e-3;
 // How far the grip may move from where the exponential integrator linearised the equations before it
 // linearises again (see PlantDynamics::linearisation_drift). The strings' ringing is lightly damped and
 // fast, and its coupling to the grip turns with the strings' directions, so stiffer strings need a
-// closer linearisation: the reach shrinks as √(stiff / k) above `stiff` (chosen by the sim-work-precision
-// benchmark: docs/performance.md).
+// closer linearisation: the reach shrinks as √(stiff / k) above `stiff`, and softer ones allow a longer
+// one, growing as √(soft / k) below `soft` (a grip carried across the frame then needs a tenth of the
+// linearisations at 10³ N/m). Between the two it stays put: there the strings' slack/taut switching under
+// saturated drive is what needs it (at 10⁴ N/m a reach 1.8× longer costs 1.3% of finger force instead of
+// 0.4%). Chosen by the sim-work-precision benchmark (docs/performance.md).
 struct LinearDrift {
   double distance = 0.5e-3;  // m
   double angle = 0.01;       // rad
   double stiff = 1e5;        // N/m
+  double soft = 1e4;         // N/m
 };
 inline constexpr LinearDrift kLinearDrift{};
 
@@ -121,7 +125,7 @@ class PlantDynamics final : public OdeSystem {
   std::uint32_t near_taut_ = 0;
   // Constants of the motor equations, divided once.
   double inv_inductance_, inv_inertia_, inv_mass_, inv_grip_inertia_;
-  double drift_scale_;  // √(k / kLinearDrift.stiff): the reach's scale for the strings' stiffness
+  double drift_scale_;  // the reach's scale for the strings' stiffness (1 between soft and stiff)
 };
 
 }  // namespace hmp::sim::plant

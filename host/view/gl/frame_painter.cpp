@@ -2,12 +2,11 @@
 
 #include <epoxy/gl.h>
 
-#include <time.h>
-
 #include <algorithm>
 #include <climits>
 #include <cstdint>
 
+#include "host/common/cpu_time.hpp"
 #include "host/view/gl/text_layer.hpp"
 
 namespace hmp::view::gl {
@@ -22,12 +21,6 @@ constexpr Rgb kTextDim{0.55f, 0.55f, 0.58f};
 constexpr Rgb kCursor{1.0f, 1.0f, 1.0f};
 
 }  // namespace
-
-double thread_cpu_ms() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) * 1e3 + static_cast<double>(ts.tv_nsec) * 1e-6;
-}
 
 FramePainter::FramePainter(const midi::Song& song, bool draw_everything)
     : draw_everything_(draw_everything), index_(song) {
@@ -48,7 +41,7 @@ std::string FramePainter::error() const {
 }
 
 void FramePainter::paint(const FrameState& state, int width_px, int height_px, float scale, FrameCost& cost) {
-  const double cpu0 = thread_cpu_ms();
+  const double cpu0 = 1e3 * thread_cpu_seconds();
   const LayoutParams p = for_drawable(layout_params_, width_px, height_px, scale, state.seconds_across);
   const auto tracks = static_cast<std::uint32_t>(index_.tracks());
   RollLayout layout(p, tracks, std::min(state.haptic_track, tracks == 0 ? 0u : tracks - 1));
@@ -127,7 +120,7 @@ void FramePainter::paint(const FrameState& state, int width_px, int height_px, f
     }
   }
   text_->prepare(p.width_px, p.height_px, text);
-  cost.prepare_cpu_ms = thread_cpu_ms() - cpu0;
+  cost.prepare_cpu_ms = 1e3 * thread_cpu_seconds() - cpu0;
   cost.instances = instances_.size();
   renderer_->draw(p.width_px, p.height_px, instances_);
   text_->draw();

@@ -40,7 +40,4 @@ class FramePainter {
   std::vector<std::uint32_t> order_;
 };
 
-// Milliseconds of CPU time this thread has used (the frame cost's clock).
-double thread_cpu_ms();
-
 }  // namespace hmp::view::gl

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cmath>
 
+#include "host/common/cpu_time.hpp"
 
 namespace hmp::view::gl {
 namespace {
@@ -149,7 +150,7 @@ bool SdlGlWindow::poll(std::vector<ViewEvent>& events) {
 
 bool SdlGlWindow::frame(const FrameState& state, std::vector<ViewEvent>& events) {
   if (!poll(events)) return false;
-  const double cpu0 = thread_cpu_ms();
+  const double cpu0 = 1e3 * thread_cpu_seconds();
   const auto wall0 = std::chrono::steady_clock::now();
   SDL_GL_MakeCurrent(window_, context_);
   int w = 0, h = 0;
@@ -170,7 +171,7 @@ bool SdlGlWindow::frame(const FrameState& state, std::vector<ViewEvent>& events)
     }
   }
   SDL_GL_SwapWindow(window_);
-  cost_.frame_cpu_ms = thread_cpu_ms() - cpu0;
+  cost_.frame_cpu_ms = 1e3 * thread_cpu_seconds() - cpu0;
   cost_.wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - wall0).count();
   return true;
 }

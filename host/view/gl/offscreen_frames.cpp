@@ -7,6 +7,8 @@
 #include <cstdio>
 #include <cstring>
 
+#include "host/common/cpu_time.hpp"
+
 namespace hmp::view::gl {
 namespace {
 
@@ -131,14 +133,14 @@ void EglOffscreenFrames::make_current() const {
 }
 
 const std::uint8_t* EglOffscreenFrames::draw(const FrameState& state) {
-  const double cpu0 = thread_cpu_ms();
+  const double cpu0 = 1e3 * thread_cpu_seconds();
   const auto wall0 = std::chrono::steady_clock::now();
   make_current();
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
   painter_->paint(state, setup_.width, setup_.height, 1.0f, cost_);
   glPixelStorei(GL_PACK_ALIGNMENT, 4);
   glReadPixels(0, 0, setup_.width, setup_.height, GL_RGBA, GL_UNSIGNED_BYTE, pixels_.data());
-  cost_.frame_cpu_ms = thread_cpu_ms() - cpu0;
+  cost_.frame_cpu_ms = 1e3 * thread_cpu_seconds() - cpu0;
   cost_.wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - wall0).count();
   return pixels_.data();
 }
