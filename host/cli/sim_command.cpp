@@ -65,13 +65,16 @@ void write_csv(const SimCliOptions& o, const std::vector<simulate::ForceSample>&
 
 void write_work_precision_csv(const SimCliOptions& o, const simulate::WorkPrecision& wp) {
   output::FilePtr f = output::open_for_writing(o.out, o.force);
-  std::fputs("integrator,steps_per_tick,rtol,default,ok,force_error_rel,finger_force_error_rel,realtime_factor,"
-             "reference_convergence_force,reference_convergence_finger\n",
+  std::fputs("integrator,steps_per_tick,rtol,default,ok,force_error_rel,finger_force_error_rel,band_force_error_rel,"
+             "realtime_factor,reference_convergence_force,reference_convergence_finger,reference_convergence_band\n",
              f.get());
+  // A value not measured (the band of a method other than the default) is an empty field.
+  const auto value = [](double v, const char* format) { return std::isfinite(v) ? fmt::format(fmt::runtime(format), v) : ""; };
   for (const simulate::WorkPrecisionPoint& p : wp.points) {
-    std::fprintf(f.get(), "%s,%d,%g,%d,%d,%.4g,%.4g,%.4g,%.3g,%.3g\n", p.integrator.c_str(), p.steps_per_tick, p.rtol,
-                 p.is_default ? 1 : 0, p.ok ? 1 : 0, p.error.force, p.error.finger_force, p.realtime_factor,
-                 wp.reference_convergence.force, wp.reference_convergence.finger_force);
+    std::fprintf(f.get(), "%s,%d,%g,%d,%d,%.4g,%.4g,%s,%.4g,%.3g,%.3g,%s\n", p.integrator.c_str(), p.steps_per_tick,
+                 p.rtol, p.is_default ? 1 : 0, p.ok ? 1 : 0, p.error.force, p.error.finger_force,
+                 value(p.error.band_force, "{:.4g}").c_str(), p.realtime_factor, wp.reference_convergence.force,
+                 wp.reference_convergence.finger_force, value(wp.reference_convergence.band_force, "{:.3g}").c_str());
   }
   output::close_output(f);
 }
@@ -79,7 +82,8 @@ void write_work_precision_csv(const SimCliOptions& o, const simulate::WorkPrecis
 void print_work_precision(const simulate::WorkPrecision& wp) {
   std::printf("reference: cvode, its change on halving the tolerance %.2g (string force), %.2g (finger force)\n",
               wp.reference_convergence.force, wp.reference_convergence.finger_force);
-  std::printf("%-22s %9s %14s %14s %10s\n", "integrator", "steps/tick", "string force", "finger force", "x realtime");
+  std::printf("%-22s %9s %14s %14s %14s %10s\n", "integrator", "steps/tick", "string force", "finger force",
+              "< 1 kHz", "x realtime");
   for (const simulate::WorkPrecisionPoint& p : wp.points) {
     const std::string name = p.integrator + (p.is_default ? " (default)" : "");
     const std::string steps = p.integrator == "cvode" ? fmt::format("rtol {:g}", p.rtol) : std::to_string(p.steps_per_tick);
@@ -91,9 +95,12 @@ void print_work_precision(const simulate::WorkPrecision& wp) {
     const auto cell = [&](double e, double c) {
       return wp.claimed(e, c) ? fmt::format("{:.3g}%", 100 * e) : fmt::format("< {:.2g}%", 1000 * c);
     };
-    std::printf("%-22s %9s %14s %14s %10.1f\n", name.c_str(), steps.c_str(),
+    const std::string band =
+        std::isfinite(p.error.band_force) ? cell(p.error.band_force, wp.reference_convergence.band_force) : "";
+    std::printf("%-22s %9s %14s %14s %14s %10.1f\n", name.c_str(), steps.c_str(),
                 cell(p.error.force, wp.reference_convergence.force).c_str(),
-                cell(p.error.finger_force, wp.reference_convergence.finger_force).c_str(), p.realtime_factor);
+                cell(p.error.finger_force, wp.reference_convergence.finger_force).c_str(), band.c_str(),
+                p.realtime_factor);
   }
 }
 

@@ -319,6 +319,7 @@ PlantTrace cvode_reference(const plant::PlantParams& params, double bias_tension
       dynamics.evaluate(state, f);
       trace.string_force.push_back(f.string_force);
       trace.finger_force.push_back(f.finger_force);
+      if (params.scene.band_force) trace.band_string_force.push_back(dynamics.band_force(state));
       std::array<double, 8> t{};
       std::copy(f.tension, f.tension + kStrings, t.begin());
       trace.tension.push_back(t);

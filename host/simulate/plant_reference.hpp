@@ -40,6 +40,7 @@ struct SolverStats {
 // ticks completed before it.
 struct PlantTrace : SolverStats {
   std::vector<sim::plant::Vec3d> string_force, finger_force;
+  std::vector<sim::plant::Vec3d> band_string_force;  // with Scene::band_force only
   std::vector<std::array<double, 8>> tension;
 };
 

@@ -36,7 +36,8 @@ double seconds_of(const PlantScene& scene) {
 
 TraceError trace_error(const PlantTrace& run, const PlantTrace& reference) {
   return {relative_error(run.string_force, reference.string_force),
-          relative_error(run.finger_force, reference.finger_force)};
+          relative_error(run.finger_force, reference.finger_force),
+          relative_error(run.band_string_force, reference.band_string_force)};
 }
 
 plant::Method default_method() { return plant::StepperParams{}.method; }
@@ -46,10 +47,11 @@ int default_steps_per_tick(double tick_s) {
   return std::max(1, static_cast<int>(std::ceil(tick_s / step - 1e-9)));
 }
 
-PlantTrace run_plant(const PlantScene& scene, plant::Method method, double max_step) {
+PlantTrace run_plant(const PlantScene& scene, plant::Method method, double max_step, bool band) {
   plant::PlantParams p = scene.params;
   p.stepper.method = method;
   p.stepper.max_step = max_step;
+  p.scene.band_force = band;
   plant::Plant sim(p);
   sim.reset(scene.bias_tension);
   const std::size_t ticks = scene.drive.duty.size();
@@ -65,6 +67,7 @@ PlantTrace run_plant(const PlantScene& scene, plant::Method method, double max_s
     const plant::PlantOutput& out = sim.step(d, scene.drive.tick_s);
     t.string_force.push_back(out.string_force);
     t.finger_force.push_back(out.finger_force);
+    if (band) t.band_string_force.push_back(out.band_string_force);
     std::array<double, 8> tension{};
     std::copy(std::begin(out.tension), std::end(out.tension), tension.begin());
     t.tension.push_back(tension);
@@ -100,12 +103,14 @@ WorkPrecision work_precision(const PlantScene& scene, const WorkPrecisionOptions
   const double seconds = seconds_of(scene);
   ReferenceOptions ro;
   ro.rtol = o.reference_rtol;
+  plant::PlantParams with_band = scene.params;  // the reference carries the band states for every point
+  with_band.scene.band_force = true;
   say("reference (cvode, rtol " + std::to_string(o.reference_rtol) + ")");
-  const PlantTrace coarse = cvode_reference(scene.params, scene.bias_tension, scene.drive, ro);
+  const PlantTrace coarse = cvode_reference(with_band, scene.bias_tension, scene.drive, ro);
   if (!coarse.ok) throw std::runtime_error("reference: " + coarse.error);
   ro.rtol = o.reference_rtol / 2;
   say("reference (cvode, rtol / 2)");
-  wp.reference = cvode_reference(scene.params, scene.bias_tension, scene.drive, ro);
+  wp.reference = cvode_reference(with_band, scene.bias_tension, scene.drive, ro);
   if (!wp.reference.ok) throw std::runtime_error("reference: " + wp.reference.error);
   wp.reference_convergence = trace_error(coarse, wp.reference);
 
@@ -119,6 +124,10 @@ WorkPrecision work_precision(const PlantScene& scene, const WorkPrecisionOptions
     p.ok = t.ok;
     if (p.ok) {
       p.error = trace_error(t, wp.reference);
+      if (p.is_default) {
+        const PlantTrace banded = run_plant(scene, m, tick / n, true);
+        if (banded.ok) p.error.band_force = trace_error(banded, wp.reference).band_force;
+      }
       double cpu = t.cpu_s;
       for (int r = 1; r < o.repeats; ++r) cpu = std::min(cpu, run_plant(scene, m, tick / n).cpu_s);
       p.cpu_s = cpu;

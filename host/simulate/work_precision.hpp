@@ -10,10 +10,15 @@
 // user feels). Speed (realtime_factor): simulated seconds per second of this thread's CPU time, best of
 // `repeats` runs, because wall time on a shared machine would measure the neighbours.
 //
+// Also the error of the string force's part below 1 kHz (band_force: the band a finger feels, without the
+// strings' kilohertz ringing), from the plant's band_force states, for the default integrator only: the
+// filter's 1 kHz pole would limit the explicit methods' stable step where the plant itself does not.
+//
 // The reference is run at rtol and at rtol / 2; their difference is reference_convergence. An error is
 // claimed only where it is at least 10 times that (claimed()).
 #include <cstddef>
 #include <functional>
+#include <limits>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -26,12 +31,13 @@ namespace hmp::simulate {
 
 struct TraceError {
   double force = 0, finger_force = 0;
+  double band_force = std::numeric_limits<double>::quiet_NaN();  // NaN where either trace has no band
 };
 TraceError trace_error(const PlantTrace& run, const PlantTrace& reference);
 
-// The scene on our Plant with `method` at internal steps of at most `max_step` seconds; cpu_s is the
-// thread's CPU time and ok false if the plant went unstable.
-PlantTrace run_plant(const PlantScene& scene, sim::plant::Method method, double max_step);
+// The scene on our Plant with `method` at internal steps of at most `max_step` seconds (`band`: with the
+// band_force states too); cpu_s is the thread's CPU time and ok false if the plant went unstable.
+PlantTrace run_plant(const PlantScene& scene, sim::plant::Method method, double max_step, bool band = false);
 
 struct WorkPrecisionOptions {
   std::vector<sim::plant::Method> methods{std::begin(sim::plant::kAllMethods), std::end(sim::plant::kAllMethods)};

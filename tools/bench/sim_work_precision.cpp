@@ -5,7 +5,8 @@
 //
 // Prints one JSON line per point (see scripts/bench): metric force_error_rel, with params scene,
 // stiffness_n_per_m, integrator, steps_per_tick (0 for cvode, then rtol), default, ok,
-// force_error_rel, finger_force_error_rel, realtime_factor, reference_convergence_force,
+// force_error_rel, finger_force_error_rel, band_force_error_rel (the string force below 1 kHz; the default
+// integrator only, else null), realtime_factor, reference_convergence_force, reference_convergence_band,
 // reference_convergence (the finger force's), claimed (the errors are ≥ 10 × the reference's convergence).
 // Draws one figure per scene (finger-force error against CPU seconds per simulated second, one panel per
 // stiffness) into DIR/sim-work-precision-SCENE.png.
@@ -67,12 +68,14 @@ void print_point(const std::string& scene, double k, const simulate::WorkPrecisi
   std::printf("{\"bench\":\"sim-work-precision\",\"metric\":\"force_error_rel\",\"value\":%s,\"unit\":\"ratio\","
               "\"params\":{\"scene\":\"%s\",\"stiffness_n_per_m\":%g,\"integrator\":\"%s\",\"steps_per_tick\":%d,"
               "\"rtol\":%g,\"default\":%s,\"ok\":%s,\"force_error_rel\":%s,\"finger_force_error_rel\":%s,"
-              "\"realtime_factor\":%s,\"reference_convergence_force\":%s,\"reference_convergence\":%s,"
-              "\"claimed\":%s,\"clock\":\"thread_cpu\"}}\n",
+              "\"band_force_error_rel\":%s,\"realtime_factor\":%s,\"reference_convergence_force\":%s,"
+              "\"reference_convergence\":%s,\"reference_convergence_band\":%s,\"claimed\":%s,"
+              "\"clock\":\"thread_cpu\"}}\n",
               force.c_str(), scene.c_str(), k, p.integrator.c_str(), p.steps_per_tick, p.rtol,
               p.is_default ? "true" : "false", p.ok ? "true" : "false", force.c_str(), finger.c_str(),
-              number(p.ok ? p.realtime_factor : nan).c_str(), number(c.force, "%.3g").c_str(),
-              number(c.finger_force, "%.3g").c_str(), claimed ? "true" : "false");
+              number(p.ok ? p.error.band_force : nan).c_str(), number(p.ok ? p.realtime_factor : nan).c_str(),
+              number(c.force, "%.3g").c_str(), number(c.finger_force, "%.3g").c_str(),
+              number(c.band_force, "%.3g").c_str(), claimed ? "true" : "false");
   std::fflush(stdout);
 }
 

@@ -30,7 +30,9 @@ void quaternion_rate(const double* q, const double* w, double* dq) {
 
 PlantDynamics::PlantDynamics(const PlantParams& params)
     : params_(params),
-      size_(params.scene.translation_only ? state::translation_size : state::full_size),
+      size_((params.scene.translation_only ? state::translation_size : state::full_size) +
+            (params.scene.band_force ? state::band_size : 0)),
+      band_(params.scene.band_force ? size_ - state::band_size : size_),
       anchor_(params.finger.anchor),
       inv_inductance_(1.0 / params.motor.inductance),
       inv_inertia_(1.0 / params.motor.inertia),
@@ -158,9 +160,33 @@ void PlantDynamics::rates(const double* y, double* dydt, TensionRule rule, std::
     quaternion_rate(y + state::orientation, y + state::angular_velocity, dydt + state::orientation);
     store3(dydt + state::angular_velocity, inv_grip_inertia_ * (f.string_torque - f.finger_torque));
   }
+  if (band_ < size_) {
+    const double w = kBandOmega;
+    const double force[3] = {f.string_force.x, f.string_force.y, f.string_force.z};
+    for (int a = 0; a < 3; ++a) {
+      const double band = y[band_ + 2 * a], rate = y[band_ + 2 * a + 1];
+      dydt[band_ + 2 * a] = rate;
+      dydt[band_ + 2 * a + 1] = w * w * (force[a] - band) - std::sqrt(2.0) * w * rate;
+    }
+  }
+}
+
+Vec3d PlantDynamics::band_force(const double* y) const {
+  if (band_ == size_) return {};
+  return {y[band_], y[band_ + 2], y[band_ + 4]};
+}
+
+void PlantDynamics::set_band_at_rest(double* y, const Vec3d& f) const {
+  if (band_ == size_) return;
+  const double force[3] = {f.x, f.y, f.z};
+  for (int a = 0; a < 3; ++a) {
+    y[band_ + 2 * a] = force[a];
+    y[band_ + 2 * a + 1] = 0;
+  }
 }
 
 void PlantDynamics::position_rates(const double* y, double* dydt) const {
+  for (int i = band_; i < size_; i += 2) dydt[i] = y[i + 1];
   for (int i = 0; i < kStrings; ++i) dydt[state::angle + i] = y[state::speed + i];
   store3(dydt + state::position, load3(y + state::velocity));
   if (!params_.scene.translation_only)
@@ -168,11 +194,13 @@ void PlantDynamics::position_rates(const double* y, double* dydt) const {
 }
 
 bool PlantDynamics::is_position(int index) const {
+  if (index >= band_) return (index - band_) % 2 == 0;  // b is the position of its pair (b, b')
   return index < state::speed || (index >= state::position && index < state::velocity) ||
          (index >= state::orientation && index < state::angular_velocity);
 }
 
 double PlantDynamics::scale(int index) const {
+  if (index >= band_) return (index - band_) % 2 == 0 ? 1.0 : kBandOmega;  // N, N/s
   if (index < state::speed) return 1.0;        // rad
   if (index < state::current) return 1.0;      // rad/s
   if (index < state::position) return 0.01;    // A

@@ -10,6 +10,8 @@
 //   grip:      x' = v,   M v' = Σ T_i u_i + F_finger + M g
 //              q' = ½ (0, w) ⊗ q,   I w' = Σ T_i m_i + N_finger     (a ball: isotropic, no gyroscopic term)
 //   finger:    F_finger = −k_f (x − anchor) − c_f v,   N_finger = −k_r φ − c_r w   (φ: rotation vector of q)
+//   band:      b'' = ω_b² (F − b) − √2 ω_b b'   per axis of F = Σ T_i u_i (Scene::band_force only): b is the
+//              string force through a 2nd-order Butterworth low-pass at kBandHz, the part a finger feels
 //
 // u_i, m_i and lengths come from shared/spidar's compute_strings(), the same code the firmware uses.
 // A translation-only scene drops q and w (the grip keeps its rest orientation; torques are still reported).
@@ -31,7 +33,12 @@ inline constexpr int orientation = 30;  // q (w, x, y, z), 4 — full 6-DOF only
 inline constexpr int angular_velocity = 34;  // w, 3 — full 6-DOF only
 inline constexpr int translation_size = 30;
 inline constexpr int full_size = 37;
+inline constexpr int band_size = 6;  // (b, b') per axis, after the rest when Scene::band_force
 }  // namespace state
+
+// The band the finger feels (design §12): the cut-off of the string force's low-pass above.
+inline constexpr double kBandHz = 1000.0;
+inline constexpr double kBandOmega = 2 * 3.14159265358979323846 * kBandHz;  // rad/s
 
 // A slack string this close to taut (m) keeps its spring in the implicit methods' Jacobian: ~ the string
 // a motor can reel in within a 1 ms step at full speed (2.8 m/s), so a string never snaps taut under a
@@ -82,6 +89,10 @@ class PlantDynamics final : public OdeSystem {
   void set_finger_anchor(const Vec3d& anchor) { anchor_ = anchor; }
   const Vec3d& finger_anchor() const { return anchor_; }
   const PlantParams& params() const { return params_; }
+  // The string force's part below kBandHz at state y (zero without Scene::band_force); at_rest: the
+  // filter's state for a grip at rest with string force f.
+  Vec3d band_force(const double* y) const;
+  void set_band_at_rest(double* y, const Vec3d& f) const;
 
   // Forces at state y (any state of size(); a quaternion need not be unit, it is normalised here).
   // `bilateral`: near-taut strings push as well as pull (see smooth_derivative()).
@@ -119,6 +130,7 @@ class PlantDynamics final : public OdeSystem {
 
   PlantParams params_;
   int size_;
+  int band_;  // index of the band states (size_ without them)
   double free_length_[spidar::kStrings]{};
   double voltage_[spidar::kStrings]{};
   Vec3d anchor_{};

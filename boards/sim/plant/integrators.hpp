@@ -23,7 +23,7 @@
 namespace hmp::sim::plant {
 
 // 8 motors × (angle, speed, current) + grip position, orientation quaternion, velocity, angular velocity.
-inline constexpr int kMaxState = 37;
+inline constexpr int kMaxState = 43;
 // Switch functions of a piecewise-smooth system (two per string: stretch and spring force).
 inline constexpr int kMaxSwitches = 16;
 // Components of a linearisation's drift (the grip's displacement and rotation).

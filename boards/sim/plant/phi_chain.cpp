@@ -6,7 +6,6 @@
 
 namespace hmp::sim::plant {
 
-static_assert(kMaxState * kMaxState <= 37 * 37, "PhiChain's stride holds the largest state");
 
 namespace {
 
@@ -101,7 +100,7 @@ void multiply(const double* a, const double* b, double* c, int n) { product(a, n
 PhiChain::PhiChain(int max_levels)
     : max_levels_(max_levels < 1 ? 1 : (max_levels > kMaxLevels ? kMaxLevels : max_levels)),
       e_(max_levels_ * kStride), p_(max_levels_ * kStride), q_(max_levels_ * kStride), x_(kStride), phi_(kStride),
-      tmp_(kStride), w_(3 * kStride), t_(3 * kStride), scale_(37) {}
+      tmp_(kStride), w_(3 * kStride), t_(3 * kStride), scale_(kMaxState) {}
 
 void PhiChain::compute(const double* a, int n, double h, int levels) {
   n_ = n;

@@ -10,6 +10,8 @@
 #include <cstddef>
 #include <vector>
 
+#include "boards/sim/plant/integrators.hpp"
+
 namespace hmp::sim::plant {
 
 class PhiChain {
@@ -32,7 +34,7 @@ class PhiChain {
   static constexpr int kMaxLevels = 12;
 
  private:
-  static constexpr std::size_t kStride = 37 * 37;
+  static constexpr std::size_t kStride = static_cast<std::size_t>(kMaxState) * kMaxState;
   int max_levels_, n_ = 0, levels_ = 0, squarings_ = 0;
   std::vector<double> e_, p_, q_;             // max_levels × kStride each
   std::vector<double> x_, phi_, tmp_;  // kStride each

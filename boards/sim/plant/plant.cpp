@@ -49,6 +49,8 @@ void Plant::reset(double bias_tension) {
   time_ = 0;
   out_ = {};
   refresh_output();
+  dynamics_.set_band_at_rest(y_, out_.string_force);
+  out_.band_string_force = dynamics_.band_force(y_);
 }
 
 void Plant::set_state(const double* y) {
@@ -136,6 +138,7 @@ void Plant::refresh_output() {
   out_.string_torque = f.string_torque;
   out_.finger_force = f.finger_force;
   out_.finger_torque = f.finger_torque;
+  out_.band_string_force = dynamics_.band_force(y_);
   out_.taut = f.taut;
   out_.flags = f.geometry_flags;
 }

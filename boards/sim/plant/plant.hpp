@@ -28,6 +28,7 @@ struct PlantOutput {
   Vec3d string_torque{};               // Σ T_i m_i, N·m
   Vec3d finger_force{};                // the grip pushing on the finger, N (zero without a finger model)
   Vec3d finger_torque{};               // N·m
+  Vec3d band_string_force{};           // string_force's part below kBandHz (Scene::band_force only), N
   std::int32_t counts[spidar::kStrings]{};  // encoders: 2048 per pulley turn, growing as string pays out
   std::uint32_t taut = 0;              // bit i: string i taut
   spidar::Flags flags = 0;             // this step: saturated (a duty clamped to ±1), invalid_input (NaN duty,

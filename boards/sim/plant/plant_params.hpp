@@ -51,6 +51,9 @@ struct Scene {
   bool translation_only = false;  // grip keeps its rest orientation: 30 states instead of 37
   bool finger = true;             // without it the grip floats on its strings alone
   Vec3d gravity{0.0, -9.81, 0.0};  // device frame is Y up
+  // The string force's part below kBandHz, the band a finger feels, carried as 6 more states (see
+  // dynamics.hpp): a measurement's option (the work-precision error of that band), off for simulation.
+  bool band_force = false;
 };
 
 struct StepperParams {
