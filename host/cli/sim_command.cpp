@@ -69,7 +69,9 @@ void write_work_precision_csv(const SimCliOptions& o, const simulate::WorkPrecis
              "realtime_factor,reference_convergence_force,reference_convergence_finger,reference_convergence_band\n",
              f.get());
   // A value not measured (the band of a method other than the default) is an empty field.
-  const auto value = [](double v, const char* format) { return std::isfinite(v) ? fmt::format(fmt::runtime(format), v) : ""; };
+  const auto value = [](double v, const char* format) {
+    return std::isfinite(v) ? fmt::format(fmt::runtime(format), v) : std::string();
+  };
   for (const simulate::WorkPrecisionPoint& p : wp.points) {
     std::fprintf(f.get(), "%s,%d,%g,%d,%d,%.4g,%.4g,%s,%.4g,%.3g,%.3g,%s\n", p.integrator.c_str(), p.steps_per_tick,
                  p.rtol, p.is_default ? 1 : 0, p.ok ? 1 : 0, p.error.force, p.error.finger_force,

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # sim-work-precision (design §12): error against run time of every plant integrator and step size, and of
 # CVODE, in every plant scene at string stiffnesses 10³–10⁷ N/m, against CVODE at rtol 1e-10 (about
-# 40 minutes on 2 cores). Draws one figure per scene into the build tree ($1/bench/, paths on stderr): a
+# 35 minutes on one core). Draws one figure per scene into the build tree ($1/bench/, paths on stderr): a
 # benchmark never rewrites the docs — scripts/doc-plots --bench copies the figures into docs/img/. Run by
 # scripts/bench with the build directory as $1; extra arguments in HMP_SIM_WP_ARGS (e.g. "--quick").
 set -euo pipefail

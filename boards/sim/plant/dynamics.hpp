@@ -99,6 +99,7 @@ class PlantDynamics final : public OdeSystem {
   void evaluate(const double* y, PlantForces& out, bool bilateral = false) const;
 
   int size() const override { return size_; }
+  int coupled_size() const override { return band_; }  // the band states only observe
   void derivative(const double* y, double* dydt) override;
   void position_rates(const double* y, double* dydt) const override;
   bool is_position(int index) const override;

@@ -85,6 +85,9 @@ class OdeSystem {
     (void)piece;
     derivative(y, dydt);
   }
+  // The leading states that make up the system; the rest, if any, only observe it (filters of its outputs
+  // that feed nothing back), and no step-size decision should follow them.
+  virtual int coupled_size() const { return size(); }
   // How far state y has moved from `origin` as the model's nonlinearity sees it: up to kMaxDrift
   // components (returned: how many) in units where a vector of length 1 is as far as a linearisation taken
   // at `origin` may be used. 0 components: the model is linear on each piece.

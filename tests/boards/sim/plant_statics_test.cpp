@@ -66,7 +66,8 @@ TEST(PlantBand, FollowsAnIndependentButterworthFilterOfTheStringForce) {
   }
   const double m = n - n / 4;
   const double rms_band = std::sqrt(var2 / m - (mean / m) * (mean / m));
-  std::printf("  band RMS %.4g N, filters differ by %.3g N, square wave %.3g N\n", rms_band, std::sqrt(err2 / m), std::sqrt(raw2 / m));
+  std::printf("  band RMS %.4g N, filters differ by %.3g N, square wave %.3g N\n", rms_band, std::sqrt(err2 / m),
+              std::sqrt(raw2 / m));
   EXPECT_LT(std::sqrt(err2 / m), 1e-4 * rms_band);  // the two discretisations agree (measured: 5e-7)
   EXPECT_GT(std::sqrt(raw2 / m), 0.05 * rms_band);  // and the square wave was there to remove
 }
