@@ -231,13 +231,13 @@ int run_sim(const SimCliOptions& o) {
                  seconds);
     ProgressBar wp_bar("work-precision");
     simulate::WorkPrecisionOptions wo;
-    std::size_t runs = 0;
+    std::size_t total_runs = 0;
     wo.progress = [&](std::string_view, std::size_t done, std::size_t total) {
       wp_bar.update(done, total);
-      runs = total;
+      total_runs = total;
     };
     const simulate::WorkPrecision wp = simulate::work_precision(replay, wo);
-    wp_bar.update(runs, runs);
+    wp_bar.update(total_runs, total_runs);
     if (o.out == "-") print_work_precision(wp);
     else if (fmt_out == "csv") write_work_precision_csv(o, wp);
     else {

@@ -44,15 +44,15 @@ void vibration_duties(PlantScene& s, Vibration v, double gain) {
   for (std::size_t k = 0; k < ticks; ++k) geometry[k] = strings_at(s, k);
   for (std::size_t k = 0; k < ticks; ++k) {
     const spidar::StringGeometry<double>& g = geometry[k];
-    const spidar::StringGeometry<double>& before = geometry[k > 0 ? k - 1 : 0];
-    const spidar::StringGeometry<double>& after = geometry[std::min(k + 1, ticks - 1)];
-    const double span = static_cast<double>(std::min(k + 1, s.drive.duty.size() - 1) - (k > 0 ? k - 1 : 0)) * kTick;
+    const std::size_t before = k > 0 ? k - 1 : 0, after = std::min(k + 1, ticks - 1);
+    const double span = static_cast<double>(after - before) * kTick;
     const double t = static_cast<double>(k) * kTick;
     const spidar::Vec3<double> force{0.0, v.amplitude_n * std::sin(2 * kPi * v.freq_hz * t), 0.0};
     const auto r = spidar::solve_tensions(g, force, spidar::Vec3<double>{}, tp, warm);
     for (int i = 0; i < spidar::kStrings; ++i) {
       // θ' winds the string in: a string the grip shortens is wound in at −L'/r.
-      const double omega = span > 0 ? -(after.length[i] - before.length[i]) / span / r_pulley : 0.0;
+      const double omega =
+          span > 0 ? -(geometry[after].length[i] - geometry[before].length[i]) / span / r_pulley : 0.0;
       spidar::Flags f = 0;
       const double still = motor.duty(r.tension[i], 0.0, f);
       const double d = motor.duty(r.tension[i], omega, f);

@@ -15,6 +15,8 @@ spidar::Quat<double> unit_quaternion(const double* q) {
   return {q[0] * inv, q[1] * inv, q[2] * inv, q[3] * inv};
 }
 
+constexpr double kSqrt2 = 1.41421356237309504880;
+
 Vec3d load3(const double* p) { return {p[0], p[1], p[2]}; }
 void store3(double* p, const Vec3d& v) { p[0] = v.x; p[1] = v.y; p[2] = v.z; }
 
@@ -166,7 +168,7 @@ void PlantDynamics::rates(const double* y, double* dydt, TensionRule rule, std::
     for (int a = 0; a < 3; ++a) {
       const double band = y[band_ + 2 * a], rate = y[band_ + 2 * a + 1];
       dydt[band_ + 2 * a] = rate;
-      dydt[band_ + 2 * a + 1] = w * w * (force[a] - band) - std::sqrt(2.0) * w * rate;
+      dydt[band_ + 2 * a + 1] = w * w * (force[a] - band) - kSqrt2 * w * rate;  // Butterworth: ζ = 1/√2
     }
   }
 }

@@ -72,8 +72,7 @@ class Exponential final : public Integrator {
       return;
     }
     const int n = system.size();
-    for (int i = 0; i < n; ++i) saved_[i] = y[i];
-    const Vector f_saved = f_;
+    save_start(y, n);
     bool carried = false;
     etd2(system, lin, 0, h, y);
     // A step that carried the state far (a grip the finger moves) is taken again on a linearisation at its
@@ -83,8 +82,7 @@ class Exponential final : public Integrator {
     if (drift_squared(system, saved_.data(), y, d) > kFarStep * kFarStep) {
       for (int i = 0; i < n; ++i) mid_[i] = 0.5 * (saved_[i] + y[i]);
       system.project(mid_.data());
-      for (int i = 0; i < n; ++i) y[i] = saved_[i];
-      f_ = f_saved;
+      restore_start(y, n);
       Linearisation* at_mid = find(system, mid_.data(), piece, h, d);
       if (at_mid == nullptr) at_mid = &new_linearisation(system, mid_.data(), piece, h);
       carried = true;
@@ -96,8 +94,7 @@ class Exponential final : public Integrator {
     // it is taken again as two halves. Not after the midpoint rule: a carried grip's stiff strings ring
     // at kilohertz, where half steps are no better than whole ones (27 % against 9 % of string force).
     if (!carried && correction(system, y) > kCorrectionLimit) {
-      for (int i = 0; i < n; ++i) y[i] = saved_[i];
-      f_ = f_saved;
+      restore_start(y, n);
       etd2(system, lin, 1, h, y);
       system.derivative(y, f_.data());
       ++evaluations_;
@@ -121,6 +118,16 @@ class Exponential final : public Integrator {
     for (int i = 0; i < n; ++i) y[i] = a_[i];
     multiply_add(lin.chain.ramp(level), f1_.data(), 1.0 / tau, n, y);
     system.project(y);
+  }
+
+  // A (sub-)step's start, state and derivative, kept so that the step can be taken again.
+  void save_start(const double* y, int n) {
+    for (int i = 0; i < n; ++i) saved_[i] = y[i];
+    f_saved_ = f_;
+  }
+  void restore_start(double* y, int n) {
+    for (int i = 0; i < n; ++i) y[i] = saved_[i];
+    f_ = f_saved_;
   }
 
   // The largest |y − a| over each coupled state's scale, y the end of the last etd2() and a its first stage.
@@ -179,13 +186,11 @@ class Exponential final : public Integrator {
       const std::uint32_t piece = system.piece_of(g);
       const Linearisation* lin = &linearisation(system, y, piece, h, false);
       if (!switch_within(system, *lin, g, piece, ng, 0, 0)) {
-        for (int i = 0; i < n; ++i) saved_[i] = y[i];
-        const Vector f_saved = f_;
+        save_start(y, n);
         etd2(system, *lin, kCheckpointLevel, h, y);
         system.switch_functions(y, g);
         if (system.piece_of(g) == piece) continue;
-        for (int i = 0; i < n; ++i) y[i] = saved_[i];
-        f_ = f_saved;
+        restore_start(y, n);
       }
       for (int m = 0; m < (1 << (kFineLevel - kCheckpointLevel)); ++m) {
         if (m > 0) {
@@ -316,7 +321,7 @@ class Exponential final : public Integrator {
   std::uint64_t clock_ = 0;
   const Linearisation* stepping_ = nullptr;  // the one the last whole step started on
   std::vector<double> jacobian_, gradient_, q_, tmp_;
-  Vector f_{}, f1_{}, a_{}, f0_{}, col_{}, tmp_y_{}, saved_{}, mid_{};
+  Vector f_{}, f1_{}, a_{}, f0_{}, col_{}, tmp_y_{}, saved_{}, f_saved_{}, mid_{};
 };
 
 }  // namespace

@@ -22,7 +22,8 @@
 
 namespace hmp::sim::plant {
 
-// 8 motors × (angle, speed, current) + grip position, orientation quaternion, velocity, angular velocity.
+// 8 motors × (angle, speed, current) + grip position, orientation quaternion, velocity, angular velocity,
+// + 6 states that observe the string force (the plant's Scene::band_force).
 inline constexpr int kMaxState = 43;
 // Switch functions of a piecewise-smooth system (two per string: stretch and spring force).
 inline constexpr int kMaxSwitches = 16;

@@ -6,7 +6,6 @@
 
 namespace hmp::sim::plant {
 
-
 namespace {
 
 // The Taylor series of φ₂ is summed at ‖X‖₁ ≤ 4 (terms of up to 4²/4! ≈ 0.7 of I: no cancellation to

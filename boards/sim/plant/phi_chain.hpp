@@ -5,8 +5,8 @@
 //
 // Method: balancing (a diagonal similarity by powers of two, so rows and columns of states in different
 // units, radians, amperes and metres, have comparable norms), scaling and squaring with a Taylor series of
-// φ₁ at ‖τA‖₁ ≤ ½, and the doubling formulas E(2τ) = E(τ)², P(2τ) = P(τ) + E(τ)·P(τ), which give every
-// coarser level on the way up. Dense, double precision, n ≤ kMaxState; memory allocated at construction.
+// φ₂ at ‖τA‖₁ ≤ 4 (as many terms as that norm needs), and the doubling formulas E(2τ) = E(τ)²,
+// P(2τ) = P(τ) + E(τ)·P(τ), Q(2τ) = Q(τ) + E(τ)·Q(τ) + τ·P(τ), which give every coarser level on the way up. Dense, double precision, n ≤ kMaxState; memory allocated at construction.
 #include <cstddef>
 #include <vector>
 
