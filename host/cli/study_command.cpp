@@ -1,4 +1,5 @@
-// hmp study --participant ID [--experiment 1|2|both] [--seed N] [--song FILE] [--out DIR] [--device …]
+// hmp study --participant ID [--age N] [--sex …] [--handedness …] [--experiment 1|2|both] [--seed N] [--song FILE]
+//           [--out DIR] [--device …]
 // hmp study analyze FILES... [--json] [--out fig.png]
 // — the paper's user study (design §15). The session logic is host/study/ (no I/O); this file is the
 // command line, the files and the terminal front-end: keys in, prompts out, the player driven.
@@ -7,6 +8,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <array>
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
@@ -41,6 +43,7 @@ struct StudyOptions {
   std::optional<std::string> participant;
   std::string experiment = "both";
   std::optional<std::uint64_t> seed;
+  study::ParticipantTexts participant_data;  // --age, --sex, --handedness as typed ("" = not given)
   std::string song = HMP_DEMO_SONG;
   std::string out = ".";
   std::string device = "sim";
@@ -148,6 +151,18 @@ std::vector<int> experiments_of(const std::string& text) {
   throw BadInput(fmt::format("--experiment {}: 1, 2 or both", text));
 }
 
+// The options of the participant's data, in study::ParticipantTexts order (the messages name them).
+const study::ParticipantTexts kParticipantOptions{"--age", "--sex", "--handedness"};
+
+// A results file from before the participant's columns gets rows in its own layout, which has no room
+// for the participant's data: refused rather than dropped.
+void check_room_for(const study::ParticipantData& given, study::Columns columns, const std::string& results_path) {
+  if (columns == study::Columns::with_participant || given == study::ParticipantData{}) return;
+  throw BadInput(fmt::format("{}: written before the age, sex and handedness columns; record {}, {} and {} in a new --out "
+                             "directory", printable(results_path), kParticipantOptions[0], kParticipantOptions[1],
+                             kParticipantOptions[2]));
+}
+
 std::string round_title(const study::Round& r, std::size_t index, std::size_t total) {
   if (r.practice) {
     return fmt::format("Practice {} of 2: {} alone (mapping {}). Feel keys 0, 1, 2; rank them A (best), B, C; Enter.",
@@ -163,14 +178,24 @@ int run_study(const StudyOptions& o) {
   }
   const std::string& participant = *o.participant;
   std::vector<int> experiments = experiments_of(o.experiment);
+  const study::ParticipantData given = study::parse_participant(o.participant_data, kParticipantOptions, "");
   const audio::AudioOptions audio_opts = audio_options(o.audio);  // checks --soundfont, before any work
   struct stat st {};
   if (::stat(o.out.c_str(), &st) != 0 || !S_ISDIR(st.st_mode)) throw BadInput(fmt::format("--out {}: not a directory", o.out));
   const std::string results_path = o.out + "/study-results.csv";
   const std::string journal_path = o.out + "/study-" + participant + ".journal";
 
+  // The results file first: a bad one, or this participant recorded with another seed, age, sex or
+  // handedness, is refused before anything is written.
+  std::vector<study::ResultRow> existing;
+  const auto results_text = read_text(results_path);
+  if (results_text) existing = study::parse_results(*results_text, results_path);
+  const study::Columns columns = results_text ? study::results_columns(*results_text) : study::Columns::with_participant;
+  check_room_for(given, columns, results_path);
+
   std::uint64_t seed = 0;
-  if (const auto journal = read_journal(journal_path)) {
+  const auto journal = read_journal(journal_path);
+  if (journal) {
     if (o.seed && *o.seed != journal->seed) {
       throw BadInput(fmt::format("{}: participant {} began with seed {}, not {} (another id starts afresh)", journal_path,
                                  participant, journal->seed, *o.seed));
@@ -179,16 +204,16 @@ int run_study(const StudyOptions& o) {
       throw BadInput(fmt::format("{}: participant {} began with --experiment {}", journal_path, participant, journal->experiments));
     }
     seed = journal->seed;
-    std::fprintf(stderr, "resuming participant %s (seed %llu)\n", participant.c_str(), static_cast<unsigned long long>(seed));
   } else {
     seed = o.seed ? *o.seed : (std::uint64_t{std::random_device{}()} << 32 | std::random_device{}());
+  }
+  study::Session session({participant, seed, experiments, version_string(), given}, existing);
+  // Said once the session is accepted: a refused one gets its error as the only line.
+  if (journal) {
+    std::fprintf(stderr, "resuming participant %s (seed %llu)\n", participant.c_str(), static_cast<unsigned long long>(seed));
+  } else {
     append_text(journal_path, fmt::format("seed={}\nexperiments={}\n", seed, o.experiment));
   }
-
-  std::vector<study::ResultRow> existing;
-  const auto results_text = read_text(results_path);
-  if (results_text) existing = study::parse_results(*results_text, results_path);
-  study::Session session({participant, seed, experiments, version_string()}, existing);
   if (session.done()) {
     std::printf("participant %s: all %zu rounds are done (%s)\n", participant.c_str(), session.plan().size(), results_path.c_str());
     return kExitOk;
@@ -256,7 +281,7 @@ int run_study(const StudyOptions& o) {
           const study::Reply reply = session.act(*action, unix_now());
           if (reply.finished) {
             std::string rows;
-            for (const study::ResultRow& r : session.take_rows()) rows += study::format_row(r) + "\n";
+            for (const study::ResultRow& r : session.take_rows()) rows += study::format_row(r, columns) + "\n";
             append_text(results_path, rows);
             std::printf("%s\n", reply.message.c_str());
             round_over = true;
@@ -308,8 +333,12 @@ int run_analyze(const AnalyzeOptions& o) {
   }
   const std::vector<study::GroupAnalysis> groups = study::analyze(rows);
   if (groups.empty()) throw BadInput("no main-round rows to analyse (practice rows are not analysed)");
-  if (o.json) std::printf("%s\n", study::to_json(groups).dump(2).c_str());
-  else std::printf("%s", study::format_report(groups).c_str());
+  const study::ParticipantSummary participants = study::summarize(study::analysed_participants(rows));
+  if (o.json) {
+    std::printf("%s\n", study::to_json(groups).dump(2).c_str());
+  } else {
+    std::printf("%s\n%s", study::format_summary(participants).c_str(), study::format_report(groups).c_str());
+  }
   if (o.figure) {
     study::write_figure(groups, *o.figure, true);  // checked above (absent, --force, or a "yes")
     std::fprintf(stderr, "figure: %s\n", o.figure->c_str());
@@ -328,6 +357,12 @@ void register_study(CLI::App& app, Registry& registry) {
   cmd->add_option("--experiment", o->experiment, "1 (mapping paper), 2 (mapping constant) or both")
       ->check(CLI::IsMember({"1", "2", "both"}))
       ->capture_default_str();
+  const std::array<const char*, study::kParticipantFields> what{"The participant's age", "The participant's sex",
+                                                                 "The participant's handedness"};
+  for (std::size_t i = 0; i < study::kParticipantFields; ++i) {
+    cmd->add_option(kParticipantOptions[i], o->participant_data[i],
+                    fmt::format("{}: {} (optional; kept in every row of the results)", what[i], study::participant_allowed(i)));
+  }
   cmd->add_option("--seed", o->seed, "Seed of the random orders (default: random; stored with the results)");
   cmd->add_option("--song", o->song, "The song (default: the demo)")->capture_default_str();
   cmd->add_option("--out", o->out, "Directory of study-results.csv and the session journals")->capture_default_str();

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "host/common/error.hpp"
+#include "host/common/printable.hpp"
 
 namespace hmp::study {
 
@@ -61,6 +62,22 @@ std::vector<GroupAnalysis> analyze(const std::vector<ResultRow>& rows) {
     g.friedman = friedman(table);
     out.push_back(g);
   }
+  return out;
+}
+
+std::vector<ParticipantData> analysed_participants(const std::vector<ResultRow>& rows) {
+  std::map<std::string, const ResultRow*> first;
+  for (const ResultRow& r : rows) {
+    if (r.practice) continue;
+    const auto [it, is_first] = first.emplace(r.participant, &r);
+    if (is_first) continue;
+    const ResultRow& o = *it->second;
+    const std::string difference =
+        participant_difference(r.participant_data, o.participant_data, fmt::format("{}:{}", printable(o.file), o.line), participant_columns());
+    if (!difference.empty()) throw BadInput(fmt::format("{}:{}: participant {}: {}", printable(r.file), r.line, r.participant, difference));
+  }
+  std::vector<ParticipantData> out;
+  for (const auto& [id, row] : first) out.push_back(row->participant_data);
   return out;
 }
 

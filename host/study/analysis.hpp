@@ -25,6 +25,9 @@ struct GroupAnalysis {
 // Groups in experiment order, then the paper's instrument order. Throws BadInput when one participant
 // has two rounds of the same experiment and instrument (e.g. the same file given twice).
 std::vector<GroupAnalysis> analyze(const std::vector<ResultRow>& rows);
+// The analysed participants' data (those with main rows), each once in id order. Throws BadInput
+// "FILE:LINE: participant P: age 30, but 25 on OTHER:LINE" when their rows in two files disagree.
+std::vector<ParticipantData> analysed_participants(const std::vector<ResultRow>& rows);
 std::string format_report(const std::vector<GroupAnalysis>& groups);
 nlohmann::json to_json(const std::vector<GroupAnalysis>& groups);
 

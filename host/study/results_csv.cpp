@@ -15,13 +15,18 @@
 
 namespace hmp::study {
 
-const char* const kResultsHeader =
-    "participant,experiment,phase,position,instrument,mapping,envelope,key,rank,seconds_felt,times_selected,"
-    "round_started_utc,ranked_utc,round_ended_utc,seed,version";
+// The round's columns, which both headers begin with.
+#define HMP_STUDY_ROUND_COLUMNS                                                                          \
+  "participant,experiment,phase,position,instrument,mapping,envelope,key,rank,seconds_felt,times_selected," \
+  "round_started_utc,ranked_utc,round_ended_utc,seed,version"
+const char* const kResultsHeader = HMP_STUDY_ROUND_COLUMNS ",age,sex,handedness";
+const char* const kResultsHeaderWithoutParticipant = HMP_STUDY_ROUND_COLUMNS;
+#undef HMP_STUDY_ROUND_COLUMNS
 
 namespace {
 
-constexpr std::size_t kFields = 16;
+constexpr std::size_t kVersionField = 15;  // the free-text field: last of the round's columns
+constexpr std::string_view kBom = "\xEF\xBB\xBF";  // a spreadsheet saving "CSV UTF-8" starts with it
 
 std::vector<std::string> split(const std::string& line) {
   std::vector<std::string> out(1);
@@ -39,10 +44,15 @@ std::vector<std::string> split(const std::string& line) {
 // A field as messages quote it: in double quotes, its bytes made visible (a NUL would end the message).
 std::string quoted(const std::string& field) { return "\"" + printable(field) + "\""; }
 
-// The header's column names, for messages about a field.
+// The header's column names, for messages about a field (a file without the participant's columns
+// has the first ones).
 const std::vector<std::string>& column_names() {
   static const std::vector<std::string> names = split(kResultsHeader);
   return names;
+}
+
+std::size_t field_count(Columns columns) {
+  return split(columns == Columns::with_participant ? kResultsHeader : kResultsHeaderWithoutParticipant).size();
 }
 
 // Every field is UTF-8 text; the free-text one (version) also without control characters, which the
@@ -51,9 +61,9 @@ void check_text(const std::vector<std::string>& f, const std::string& file, int 
   for (std::size_t i = 0; i < f.size(); ++i) {
     if (!valid_utf8(f[i])) fail(file, line, fmt::format("{} {} is not valid UTF-8", column_names()[i], quoted(f[i])));
   }
-  for (const char c : f.back()) {
+  for (const char c : f[kVersionField]) {
     if (static_cast<unsigned char>(c) < 0x20 || c == 0x7F) {
-      fail(file, line, fmt::format("version {} holds a control character", quoted(f.back())));
+      fail(file, line, fmt::format("version {} holds a control character", quoted(f[kVersionField])));
     }
   }
 }
@@ -89,9 +99,10 @@ Envelope envelope_of(const std::string& s, const std::string& file, int line) {
   fail(file, line, fmt::format("unknown envelope {} (square, triangle or analogue)", quoted(s)));
 }
 
-ResultRow parse_row(const std::string& text, const std::string& file, int line) {
+ResultRow parse_row(const std::string& text, Columns columns, const std::string& file, int line) {
   const std::vector<std::string> f = split(text);
-  if (f.size() != kFields) fail(file, line, fmt::format("{} fields, expected {}", f.size(), kFields));
+  const std::size_t fields = field_count(columns);
+  if (f.size() != fields) fail(file, line, fmt::format("{} fields, expected {}", f.size(), fields));
   check_text(f, file, line);
   ResultRow r;
   r.file = file;
@@ -124,8 +135,32 @@ ResultRow parse_row(const std::string& text, const std::string& file, int line) 
   r.ranked_at = utc(f[12], "ranked_utc", file, line);
   r.round_ended = utc(f[13], "round_ended_utc", file, line);
   r.seed = number<std::uint64_t>(f[14], "seed", file, line);
-  r.version = f[15];
+  r.version = f[kVersionField];
+  if (columns == Columns::with_participant) {
+    r.participant_data = parse_participant({f[kVersionField + 1], f[kVersionField + 2], f[kVersionField + 3]},
+                                           participant_columns(), fmt::format("{}:{}: ", printable(file), line));
+  }
   return r;
+}
+
+// All rows of a participant give the same age, sex and handedness (they describe one person).
+void check_participants(const std::vector<ResultRow>& rows, const std::string& file) {
+  std::map<std::string, const ResultRow*> first;
+  for (const ResultRow& r : rows) {
+    const auto [it, is_first] = first.emplace(r.participant, &r);
+    if (is_first) continue;
+    const std::string difference = participant_difference(r.participant_data, it->second->participant_data,
+                                                          fmt::format("line {}", it->second->line), participant_columns());
+    if (!difference.empty()) fail(file, r.line, fmt::format("participant {}: {}", r.participant, difference));
+  }
+}
+
+// The text's first line: the header, without a byte order mark or a CR.
+std::string header_of(const std::string& text) {
+  const std::string_view rest = std::string_view(text).starts_with(kBom) ? std::string_view(text).substr(kBom.size()) : text;
+  std::string_view line = rest.substr(0, rest.find('\n'));
+  if (line.ends_with('\r')) line.remove_suffix(1);
+  return std::string(line);
 }
 
 // Rows of one round must be three, with each envelope, key and rank once.
@@ -198,31 +233,46 @@ double parse_utc(const std::string& text) {
   return static_cast<double>(timegm(&tm)) + millis / 1000.0;
 }
 
-std::string format_row(const ResultRow& r) {
-  return fmt::format("{},{},{},{},{},{},{},{},{},{:.3f},{},{},{},{},{},{}", r.participant, r.experiment,
-                     r.practice ? "practice" : "main", r.position, r.instrument, r.mapping, envelope_name(r.envelope),
-                     r.key, r.rank, r.seconds_felt, r.times_selected, format_utc(r.round_started),
-                     format_utc(r.ranked_at), format_utc(r.round_ended), r.seed, r.version);
+const ParticipantTexts& participant_columns() {
+  static const ParticipantTexts names{column_names()[kVersionField + 1], column_names()[kVersionField + 2],
+                                      column_names()[kVersionField + 3]};
+  return names;
+}
+
+Columns results_columns(const std::string& text) {
+  return header_of(text) == kResultsHeaderWithoutParticipant ? Columns::without_participant : Columns::with_participant;
+}
+
+std::string format_row(const ResultRow& r, Columns columns) {
+  std::string row = fmt::format("{},{},{},{},{},{},{},{},{},{:.3f},{},{},{},{},{},{}", r.participant, r.experiment,
+                                r.practice ? "practice" : "main", r.position, r.instrument, r.mapping,
+                                envelope_name(r.envelope), r.key, r.rank, r.seconds_felt, r.times_selected,
+                                format_utc(r.round_started), format_utc(r.ranked_at), format_utc(r.round_ended), r.seed,
+                                r.version);
+  if (columns == Columns::with_participant) {
+    for (const std::string& field : participant_texts(r.participant_data)) row += "," + field;
+  }
+  return row;
 }
 
 std::vector<ResultRow> parse_results(const std::string& text, const std::string& file_name) {
   std::vector<ResultRow> rows;
-  // A spreadsheet saving as "CSV UTF-8" starts the file with a byte order mark: not part of the header.
-  constexpr std::string_view kBom = "\xEF\xBB\xBF";
-  std::istringstream in(std::string_view(text).starts_with(kBom) ? text.substr(kBom.size()) : text);
+  const std::string header = header_of(text);
+  if (!text.empty() && header != kResultsHeader && header != kResultsHeaderWithoutParticipant) {
+    fail(file_name, 1, "not a study results file (the header differs)");
+  }
+  const Columns columns = results_columns(text);
+  std::istringstream in(text);
   std::string line;
   int number_of_line = 0;
   while (std::getline(in, line)) {
     ++number_of_line;
     if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (number_of_line == 1) {
-      if (line != kResultsHeader) fail(file_name, 1, "not a study results file (the header differs)");
-      continue;
-    }
-    if (line.empty()) continue;
-    rows.push_back(parse_row(line, file_name, number_of_line));
+    if (number_of_line == 1 || line.empty()) continue;  // the header, checked above
+    rows.push_back(parse_row(line, columns, file_name, number_of_line));
   }
   check_rounds(rows, file_name);
+  check_participants(rows, file_name);
   return rows;
 }
 

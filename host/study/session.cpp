@@ -5,11 +5,13 @@
 #include <fmt/format.h>
 
 #include "host/common/error.hpp"
+#include "host/common/printable.hpp"
 
 namespace hmp::study {
 
 Session::Session(SessionSpec spec, const std::vector<ResultRow>& existing)
     : spec_(std::move(spec)), plan_(make_plan(spec_.participant, spec_.seed, spec_.experiments)), done_(plan_.size(), false) {
+  bool adopted = false;
   for (const ResultRow& r : existing) {
     if (r.participant != spec_.participant) continue;
     if (r.seed != spec_.seed) {
@@ -17,12 +19,30 @@ Session::Session(SessionSpec spec, const std::vector<ResultRow>& existing)
                                  "use another participant id",
                                  spec_.participant, r.seed, r.line, r.seed));
     }
+    if (!adopted) adopt_participant_data(r);  // the file's rows agree with each other (parse_results)
+    adopted = true;
     for (std::size_t i = 0; i < plan_.size(); ++i) {
       const Round& p = plan_[i];
       if (p.experiment == r.experiment && p.practice == r.practice && p.instrument == r.instrument) done_[i] = true;
     }
   }
   skip_done();
+}
+
+// The recorded data goes on in the new rows: a field given again must be the recorded one, a field left
+// out is taken from the row.
+void Session::adopt_participant_data(const ResultRow& recorded) {
+  ParticipantData& given = spec_.participant_data;
+  const ParticipantData& before = recorded.participant_data;
+  const ParticipantData merged{given.age ? given.age : before.age, given.sex ? given.sex : before.sex,
+                               given.handedness ? given.handedness : before.handedness};
+  const std::string difference =
+      participant_difference(merged, before, fmt::format("{}:{}", printable(recorded.file), recorded.line), participant_columns());
+  if (!difference.empty()) {
+    throw BadInput(fmt::format("participant {}: {} (a participant's rows must agree; leave the option out to keep it)",
+                               spec_.participant, difference));
+  }
+  given = merged;
 }
 
 void Session::skip_done() {
@@ -63,6 +83,7 @@ Reply Session::act(const Action& a, double now_s) {
     row.round_ended = current_->ended_s();
     row.seed = spec_.seed;
     row.version = spec_.version;
+    row.participant_data = spec_.participant_data;
     ready_.push_back(row);
   }
   if (round.practice) {

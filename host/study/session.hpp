@@ -18,16 +18,19 @@ struct SessionSpec {
   std::uint64_t seed = 0;
   std::vector<int> experiments{1, 2};
   std::string version;
+  ParticipantData participant_data;  // as given for this session; a field not given keeps the file's
 };
 
 class Session {
  public:
   // `existing`: every row already in the results file. Throws BadInput when this participant's rows
-  // there came from another seed (the plan would not be the same).
+  // there came from another seed (the plan would not be the same), or give another age, sex or
+  // handedness than the spec (a field the spec leaves out is taken from them).
   Session(SessionSpec spec, const std::vector<ResultRow>& existing);
 
   const std::vector<Round>& plan() const { return plan_; }
   std::size_t rounds_done() const;
+  const ParticipantData& participant_data() const { return spec_.participant_data; }  // what the rows get
   bool done() const { return next_ >= plan_.size(); }
 
   // Starts the next round not done yet (call when !done()); the round's state until it finishes.
@@ -39,6 +42,7 @@ class Session {
   std::vector<ResultRow> take_rows();
 
  private:
+  void adopt_participant_data(const ResultRow& recorded);
   void skip_done();
   SessionSpec spec_;
   std::vector<Round> plan_;

@@ -165,7 +165,7 @@ std::string csv(const std::vector<ResultRow>& rows) {
 }
 
 TEST(StudySession, WholeSessionGivesTwoByFourByThreeRowsPlusPractice) {
-  Session s({"p1", 5, {1, 2}, "test"}, {});
+  Session s({"p1", 5, {1, 2}, "test", {}}, {});
   const auto rows = play(s, 1.8e9, 0);
   ASSERT_EQ(rows.size(), 2u * 4u * 3u + 6u);
   EXPECT_EQ(std::count_if(rows.begin(), rows.end(), [](const ResultRow& r) { return r.practice; }), 6);
@@ -184,7 +184,7 @@ TEST(StudySession, WholeSessionGivesTwoByFourByThreeRowsPlusPractice) {
 }
 
 TEST(StudySession, PracticeRevealsTheAnalogueKey) {
-  Session s({"p1", 5, {1}, "test"}, {});
+  Session s({"p1", 5, {1}, "test", {}}, {});
   const Round first = s.plan()[0];
   s.begin_round(0);
   for (int k = 0; k < 3; ++k) s.act(sel(k), 1), s.act(rank(k), 1);
@@ -193,15 +193,15 @@ TEST(StudySession, PracticeRevealsTheAnalogueKey) {
 }
 
 TEST(StudySession, ResumesAfterTheRoundsAlreadyWritten) {
-  Session first({"p1", 5, {1, 2}, "test"}, {});
+  Session first({"p1", 5, {1, 2}, "test", {}}, {});
   const auto part = play(first, 1.8e9, 1, 4);  // practice + 2 rounds
   ASSERT_EQ(part.size(), 12u);
-  Session other({"p2", 5, {1, 2}, "test"}, {});
+  Session other({"p2", 5, {1, 2}, "test", {}}, {});
   const auto someone_else = play(other, 1.8e9, 2);
   std::vector<ResultRow> file = part;
   file.insert(file.end(), someone_else.begin(), someone_else.end());
 
-  Session resumed({"p1", 5, {1, 2}, "test"}, parse_results(csv(file), "r.csv"));
+  Session resumed({"p1", 5, {1, 2}, "test", {}}, parse_results(csv(file), "r.csv"));
   EXPECT_EQ(resumed.rounds_done(), 4u);
   const auto rest = play(resumed, 1.9e9, 1);
   EXPECT_EQ(rest.size(), 18u);
@@ -211,12 +211,12 @@ TEST(StudySession, ResumesAfterTheRoundsAlreadyWritten) {
   for (const ResultRow& r : all) rounds.insert({r.experiment, r.practice, r.instrument});
   EXPECT_EQ(rounds.size(), 10u);  // each round once
   // The plan after resuming is the same as without the interruption.
-  Session straight({"p1", 5, {1, 2}, "test"}, {});
+  Session straight({"p1", 5, {1, 2}, "test", {}}, {});
   EXPECT_EQ(plan_text(straight.plan()), plan_text(resumed.plan()));
 
   // Rows of the same participant with another seed: refused, saying which seed to use.
   try {
-    Session wrong({"p1", 6, {1, 2}, "test"}, parse_results(csv(file), "r.csv"));
+    Session wrong({"p1", 6, {1, 2}, "test", {}}, parse_results(csv(file), "r.csv"));
     FAIL() << "no error";
   } catch (const hmp::BadInput& e) {
     EXPECT_NE(std::string(e.what()).find("--seed 5"), std::string::npos) << e.what();
@@ -224,7 +224,7 @@ TEST(StudySession, ResumesAfterTheRoundsAlreadyWritten) {
 }
 
 TEST(StudyResultsFile, BadRowsNameFileAndLine) {
-  Session s({"p1", 5, {1}, "v"}, {});
+  Session s({"p1", 5, {1}, "v", {}}, {});
   const auto rows = play(s, 1.8e9, 0);
   const std::string good = csv(rows);
   ASSERT_EQ(error_of(good), "");
@@ -260,7 +260,7 @@ TEST(StudyResultsFile, BadRowsNameFileAndLine) {
     EXPECT_NE(e.find("res.csv:"), std::string::npos) << e;
     EXPECT_NE(e.find("rank " + std::to_string(other_rank) + " used twice"), std::string::npos) << e;
   }
-  EXPECT_NE(error_of(with_line(5, "p1,1,main")).find("res.csv:5: 3 fields, expected 16"), std::string::npos);
+  EXPECT_NE(error_of(with_line(5, "p1,1,main")).find("res.csv:5: 3 fields, expected 19"), std::string::npos);
   EXPECT_NE(error_of(replace(6, ",paper,", ",constant,")).find("res.csv:6: mapping"), std::string::npos);
   EXPECT_NE(error_of(replace(6, "p1,", "p 1,")).find("res.csv:6: bad participant id"), std::string::npos);
   EXPECT_NE(error_of(replace(6, ",5,v", ",-5,v")).find("res.csv:6: seed"), std::string::npos);
@@ -283,7 +283,7 @@ TEST(StudyResultsFile, BadRowsNameFileAndLine) {
 TEST(StudyAnalysis, GroupsAndDuplicateFiles) {
   std::vector<ResultRow> all;
   for (const char* p : {"a", "b", "c"}) {
-    Session s({p, 3, {1, 2}, "v"}, {});
+    Session s({p, 3, {1, 2}, "v", {}}, {});
     for (const ResultRow& r : play(s, 1.8e9, 0)) all.push_back(r);
   }
   const auto groups = analyze(all);
