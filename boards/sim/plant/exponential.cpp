@@ -53,52 +53,74 @@ class Exponential final : public Integrator {
  public:
   Exponential()
       : cache_(kCacheSize), jacobian_(kMaxState * kMaxState), gradient_(kMaxSwitches * kMaxState),
-        q_(kMaxSwitches * kMaxState), tmp_(kMaxSwitches * kMaxState) {}
+        tmp_(kMaxSwitches * kMaxState) {}
   Method method() const override { return Method::exponential; }
   void invalidate() override {
     for (Linearisation& l : cache_) l.valid = false;
     stepping_ = nullptr;
+    carrying_ = false;
   }
 
   void step(OdeSystem& system, double* y, double h) override {
     double g[kMaxSwitches];
     const int ng = system.switch_functions(y, g);
     const std::uint32_t piece = system.piece_of(g);
-    const Linearisation& lin = linearisation(system, y, piece, h, true);
+    const int n = system.size();
+    std::array<double, kMaxDrift> d{};
+    // A grip being carried (the last whole step went far): this step's midpoint is predicted from the
+    // last step's motion and linearised directly, without a linearisation at the start that the
+    // midpoint rule below would replace.
+    Linearisation* lin = nullptr;
+    const bool predicted = carrying_;
+    if (predicted) {
+      for (int i = 0; i < n; ++i) mid_[i] = y[i] + 0.5 * (y[i] - last_start_[i]);
+      system.project(mid_.data());
+      lin = find(system, mid_.data(), piece, h, d);
+      if (lin == nullptr) lin = &new_linearisation(system, mid_.data(), piece, h);
+      stepping_ = nullptr;
+    } else {
+      lin = &linearisation(system, y, piece, h, true);
+    }
     system.derivative(y, f_.data());
     ++evaluations_;
-    if (ng > 0 && switch_within(system, lin, g, piece, ng)) {
+    carrying_ = false;
+    if (ng > 0 && switch_within(system, *lin, g, piece, ng)) {
       split_step(system, y, h);
       return;
     }
-    const int n = system.size();
     save_start(y, n);
-    bool carried = false;
-    etd2(system, lin, 0, h, y);
+    for (int i = 0; i < n; ++i) last_start_[i] = y[i];
+    etd2(system, *lin, 0, h, y);
     // A step that carried the state far (a grip the finger moves) is taken again on a linearisation at its
     // midpoint: the remainder's change is then symmetric about the step's middle, and its linear part is
-    // what ETD2 takes exactly.
-    std::array<double, kMaxDrift> d{};
-    if (drift_squared(system, saved_.data(), y, d) > kFarStep * kFarStep) {
+    // what ETD2 takes exactly. A step on a predicted midpoint is taken again only if the prediction missed
+    // by more than the reach.
+    const bool far = drift_squared(system, saved_.data(), y, d) > kFarStep * kFarStep;
+    if (far || predicted) {
       for (int i = 0; i < n; ++i) mid_[i] = 0.5 * (saved_[i] + y[i]);
       system.project(mid_.data());
-      restore_start(y, n);
-      Linearisation* at_mid = find(system, mid_.data(), piece, h, d);
-      if (at_mid == nullptr) at_mid = &new_linearisation(system, mid_.data(), piece, h);
-      carried = true;
-      etd2(system, *at_mid, 0, h, y);
+      if (!predicted || drift_squared(system, lin->origin.data(), mid_.data(), d) > 1.0) {
+        restore_start(y, n);
+        lin = find(system, mid_.data(), piece, h, d);
+        if (lin == nullptr) lin = &new_linearisation(system, mid_.data(), piece, h);
+        etd2(system, *lin, 0, h, y);
+      }
+    }
+    if (far) {
+      carrying_ = true;
+      return;
     }
     // The second stage's correction y − a is the remainder's change over the step: where it is more than
     // kCorrectionLimit of a state's scale the step crossed something its start did not see (a string going
     // slack between the switch checkpoints, the 10⁵ N/m strings ringing at 710 Hz through the step), and
     // it is taken again as two halves. Not after the midpoint rule: a carried grip's stiff strings ring
     // at kilohertz, where half steps are no better than whole ones (27 % against 9 % of string force).
-    if (!carried && correction(system, y) > kCorrectionLimit) {
+    if (correction(system, y) > kCorrectionLimit) {
       restore_start(y, n);
-      etd2(system, lin, 1, h, y);
+      etd2(system, *lin, 1, h, y);
       system.derivative(y, f_.data());
       ++evaluations_;
-      etd2(system, lin, 1, h, y);
+      etd2(system, *lin, 1, h, y);
     }
   }
 
@@ -106,7 +128,7 @@ class Exponential final : public Integrator {
   // One ETD2 step of level `level` (length h / 2^level) from y, with f_ = f(y) on entry (Cox and
   // Matthews' ETDRK2): a = y + P·f(y); y ← a + (Q/τ)·(f(a) − E·f(y)). The second stage takes the
   // change of the nonlinear remainder f − A·y over the step as linear in time.
-  void etd2(OdeSystem& system, const Linearisation& lin, int level, double h, double* y) {
+  void etd2(OdeSystem& system, Linearisation& lin, int level, double h, double* y) {
     const int n = lin.n;
     const double tau = std::ldexp(h, -level);
     for (int i = 0; i < n; ++i) a_[i] = y[i];
@@ -184,7 +206,7 @@ class Exponential final : public Integrator {
       }
       const int ng = system.switch_functions(y, g);
       const std::uint32_t piece = system.piece_of(g);
-      const Linearisation* lin = &linearisation(system, y, piece, h, false);
+      Linearisation* lin = &linearisation(system, y, piece, h, false);
       if (!switch_within(system, *lin, g, piece, ng, 0, 0)) {
         save_start(y, n);
         etd2(system, *lin, kCheckpointLevel, h, y);
@@ -230,8 +252,7 @@ class Exponential final : public Integrator {
   // linearisation is more than kSettledDrift of the reach: a stale linearisation's error grows with the
   // offset (0.07 mm of sag cost 0.9 % of finger force at 10⁵ N/m). A grip swinging across several cached
   // linearisations uses each only briefly, and its average starts again each time.
-  const Linearisation& linearisation(OdeSystem& system, const double* y, std::uint32_t piece, double h,
-                                     bool step) {
+  Linearisation& linearisation(OdeSystem& system, const double* y, std::uint32_t piece, double h, bool step) {
     std::array<double, kMaxDrift> drift{};
     Linearisation* lin = find(system, y, piece, h, drift);
     if (lin != nullptr && step) {
@@ -297,30 +318,29 @@ class Exponential final : public Integrator {
       for (int k = 0; k < ng; ++k) gradient_[static_cast<std::size_t>(k * n + j)] = (g1[k] - g0[k]) / delta;
     }
     evaluations_ += static_cast<std::uint64_t>(n + 1);
-    l.chain.compute(jacobian_.data(), n, h, kLevels);
+    l.chain.compute(jacobian_.data(), n, h, kCheckpointLevel + 1);
     ++factorisations_;
     if (ng == 0) return;
-    // rows[c] = G·P(t_c) by t_{c+1} = t_c + τ: G·P(t + τ) = G·P(t) + (G·E(t))·P(τ), G·E(t + τ) = (G·E(t))·E(τ).
-    const double* e_tau = l.chain.exponential(kCheckpointLevel);
-    const double* p_tau = l.chain.integral(kCheckpointLevel);
-    const int m = ng * n;
-    for (int i = 0; i < m; ++i) q_[static_cast<std::size_t>(i)] = gradient_[static_cast<std::size_t>(i)];
-    for (int c = 0; c < kCheckpoints; ++c) {
-      double* rows = &l.rows[static_cast<std::size_t>(c) * kMaxSwitches * kMaxState];
-      multiply_rows(q_.data(), ng, p_tau, rows, n);
-      if (c > 0) {
-        const double* before = rows - kMaxSwitches * kMaxState;
-        for (int i = 0; i < m; ++i) rows[i] += before[i];
-      }
-      multiply_rows(q_.data(), ng, e_tau, tmp_.data(), n);
-      for (int i = 0; i < m; ++i) q_[static_cast<std::size_t>(i)] = tmp_[static_cast<std::size_t>(i)];
-    }
+    // rows[c] = G·P(t_c), t_c = (c + 1)·h/4: levels 2, 1 and 0 for h/4, h/2 and h, and for 3h/4
+    // G·P(h/2 + h/4) = G·P(h/2) + (G·E(h/2))·P(h/4). G, the switch functions' gradient, is sparse.
+    static_assert(kCheckpointLevel == 2, "the rows below are written for four checkpoints");
+    const auto row = [&](int c) { return &l.rows[static_cast<std::size_t>(c) * kMaxSwitches * kMaxState]; };
+    multiply_rows(gradient_.data(), ng, l.chain.integral(2), row(0), n);
+    multiply_rows(gradient_.data(), ng, l.chain.integral(1), row(1), n);
+    multiply_rows(gradient_.data(), ng, l.chain.integral(0), row(3), n);
+    multiply_rows(gradient_.data(), ng, l.chain.exponential(1), tmp_.data(), n);
+    multiply_rows(tmp_.data(), ng, l.chain.integral(2), row(2), n);
+    const double* half = row(1);
+    double* three_quarters = row(2);
+    for (int i = 0; i < ng * n; ++i) three_quarters[i] += half[i];
   }
 
   std::vector<Linearisation> cache_;
   std::uint64_t clock_ = 0;
   const Linearisation* stepping_ = nullptr;  // the one the last whole step started on
-  std::vector<double> jacobian_, gradient_, q_, tmp_;
+  bool carrying_ = false;  // the last whole step went more than kFarStep
+  Vector last_start_{};    // where it started
+  std::vector<double> jacobian_, gradient_, tmp_;
   Vector f_{}, f1_{}, a_{}, f0_{}, col_{}, tmp_y_{}, saved_{}, f_saved_{}, mid_{};
 };
 

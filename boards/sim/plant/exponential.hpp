@@ -9,7 +9,9 @@
 // and taken again where the state has settled if it stays more than a tenth of that away for 20 ms; the
 // linearisations of several pieces and poses are cached, a vibrating grip revisiting the same ones. A step
 // that carried the state more than twice that far (a grip being moved) is taken again on a linearisation
-// at its midpoint, about which the remainder's change is symmetric. Any other whole step whose second-stage
+// at its midpoint, about which the remainder's change is symmetric; while the grip goes on being carried,
+// each step is linearised at the midpoint its predecessor's motion predicts, and taken again only where
+// the prediction missed by more than the reach. Any other whole step whose second-stage
 // correction (the remainder's change over it) exceeds a hundredth of a state's scale is taken again as two
 // halves.
 //
