@@ -1,5 +1,5 @@
 // hmp study --participant ID [--age N] [--sex …] [--handedness …] [--experiment 1|2|both] [--seed N] [--song FILE]
-//           [--out DIR] [--device …]
+//           [--practice-song FILE] [--out DIR] [--device …]
 // hmp study analyze FILES... [--json] [--out fig.png]
 // — the paper's user study (design §15). The session logic is host/study/ (no I/O); this file is the
 // command line, the files and the terminal front-end: keys in, prompts out, the player driven.
@@ -12,6 +12,7 @@
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
+#include <map>
 #include <random>
 
 #include <fmt/format.h>
@@ -34,6 +35,9 @@
 #ifndef HMP_DEMO_SONG
 #define HMP_DEMO_SONG "examples/bach-bwv1050-brandenburg5-mvt3-allegro.mid"
 #endif
+#ifndef HMP_PRACTICE_SONG
+#define HMP_PRACTICE_SONG "examples/bach-bwv1079-trio-sonata-largo.mid"
+#endif
 
 namespace hmp::cli {
 
@@ -45,6 +49,7 @@ struct StudyOptions {
   std::optional<std::uint64_t> seed;
   study::ParticipantTexts participant_data;  // --age, --sex, --handedness as typed ("" = not given)
   std::string song = HMP_DEMO_SONG;
+  std::string practice_song = HMP_PRACTICE_SONG;
   std::string out = ".";
   std::string device = "sim";
   AudioCliOptions audio;
@@ -114,6 +119,25 @@ std::uint32_t instrument_track(const midi::Song& song, const std::string& instru
   return select_track(song, instrument);
 }
 
+// A song of the study and the tracks of its instruments; a song without one of them is refused naming
+// the option that gave it.
+struct StudySong {
+  midi::Song song;
+  std::map<std::string, std::uint32_t> tracks;
+};
+template <std::size_t N>
+StudySong load_study_song(const std::string& option, const std::string& path, const std::array<const char*, N>& instruments) {
+  StudySong s{midi::load_song(path).song, {}};
+  for (const char* i : instruments) {
+    try {
+      s.tracks[i] = instrument_track(s.song, i);
+    } catch (const BadInput& e) {
+      throw BadInput(fmt::format("{} {}: no {} track ({})", option, printable(path), i, e.what()));
+    }
+  }
+  return s;
+}
+
 // The player's name of a study envelope, and its place in the player's `e` cycle (auto → square →
 // triangle): the study switches by posting that many cycle commands, the same path as the `e` key.
 const char* player_envelope(study::Envelope e) { return e == study::Envelope::analogue ? "auto" : study::envelope_name(e); }
@@ -180,6 +204,10 @@ int run_study(const StudyOptions& o) {
   std::vector<int> experiments = experiments_of(o.experiment);
   const study::ParticipantData given = study::parse_participant(o.participant_data, kParticipantOptions, "");
   const audio::AudioOptions audio_opts = audio_options(o.audio);  // checks --soundfont, before any work
+  // The songs before any file is written: the main rounds' instruments from --song, the practice
+  // rounds' from --practice-song (another piece, as in the paper).
+  const StudySong main_song = load_study_song("--song", o.song, study::kInstruments);
+  const StudySong practice_song = load_study_song("--practice-song", o.practice_song, study::kPracticeInstruments);
   struct stat st {};
   if (::stat(o.out.c_str(), &st) != 0 || !S_ISDIR(st.st_mode)) throw BadInput(fmt::format("--out {}: not a directory", o.out));
   const std::string results_path = o.out + "/study-results.csv";
@@ -220,11 +248,6 @@ int run_study(const StudyOptions& o) {
   }
   if (!results_text || results_text->empty()) append_text(results_path, std::string(study::kResultsHeader) + "\n");
 
-  const midi::ReadResult loaded = midi::load_song(o.song);
-  const midi::Song& song = loaded.song;
-  std::map<std::string, std::uint32_t> tracks;
-  for (const char* i : study::kInstruments) tracks[i] = instrument_track(song, i);
-
   haptics::HapticOptions haptic;
   OpenedLink opened = open_link(o.device, haptic.tick_hz);
   if (!opened.note.empty()) std::fprintf(stderr, "%s\n", opened.note.c_str());
@@ -244,8 +267,13 @@ int run_study(const StudyOptions& o) {
   while (!session.done()) {
     study::RoundState& round = session.begin_round(unix_now());
     const study::Round plan = round.round();
-    const std::uint32_t track = tracks.at(plan.instrument);
-    if (scripted) std::fprintf(stderr, "study: round %s %d %s; key 0\n", plan.practice ? "practice" : "main", plan.experiment, plan.instrument.c_str());
+    const StudySong& played = plan.practice ? practice_song : main_song;
+    const midi::Song& song = played.song;
+    const std::uint32_t track = played.tracks.at(plan.instrument);
+    if (scripted) {
+      std::fprintf(stderr, "study: round %s %d %s (track %u of %s); key 0\n", plan.practice ? "practice" : "main",
+                   plan.experiment, plan.instrument.c_str(), track, (plan.practice ? o.practice_song : o.song).c_str());
+    }
     std::printf("\n%s\n%s\n", round_title(plan, round_index, session.plan().size()).c_str(), round.prompt().c_str());
     std::fflush(stdout);
     // Practice rounds: the instrument alone; the others' sound is left out.
@@ -364,7 +392,10 @@ void register_study(CLI::App& app, Registry& registry) {
                     fmt::format("{}: {} (optional; kept in every row of the results)", what[i], study::participant_allowed(i)));
   }
   cmd->add_option("--seed", o->seed, "Seed of the random orders (default: random; stored with the results)");
-  cmd->add_option("--song", o->song, "The song (default: the demo)")->capture_default_str();
+  cmd->add_option("--song", o->song, "The song of the main rounds (default: the demo)")->capture_default_str();
+  cmd->add_option("--practice-song", o->practice_song,
+                  "The song of the practice rounds, with a violin and a contrabass track (default: BWV 1079's Largo)")
+      ->capture_default_str();
   cmd->add_option("--out", o->out, "Directory of study-results.csv and the session journals")->capture_default_str();
   cmd->add_option("--device", o->device, "sim (default), qemu, auto, hid[:VID:PID], serial:PATH")->capture_default_str();
   add_audio_options(cmd, o->audio);

@@ -153,6 +153,22 @@ TEST_F(StudyE2e, TwoParticipantPilotAndItsAnalysis) {
   const auto a = study("anna", 11, session_keys("anna", 11, 0, 10, kAnalogueFirst, kAnalogueFirst));
   ASSERT_EQ(a.status, 0) << a.err;
   expect_switches_follow_plan(a.err, hmp::study::make_plan("anna", 11, {1, 2}));
+  // Practice comes from another piece (BWV 1079's Largo: violin track 2, contrabass track 3), the main
+  // rounds from the demo, as in the paper.
+  int practice = 0, main = 0;
+  std::istringstream lines(a.err);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.rfind("study: round practice", 0) == 0) {
+      ++practice;
+      EXPECT_NE(line.find("bach-bwv1079-trio-sonata-largo.mid"), std::string::npos) << line;
+      EXPECT_NE(line.find(line.find("violin") != std::string::npos ? "(track 2 of" : "(track 3 of"), std::string::npos) << line;
+    } else if (line.rfind("study: round main", 0) == 0) {
+      ++main;
+      EXPECT_NE(line.find("bach-bwv1050-brandenburg5"), std::string::npos) << line;
+    }
+  }
+  EXPECT_EQ(practice, 2);
+  EXPECT_EQ(main, 8);
   const auto b = study("bert", 11, session_keys("bert", 11, 0, 10, kAnalogueFirst, kTriangleFirst));
   ASSERT_EQ(b.status, 0) << b.err;
   EXPECT_EQ(rows_of("anna"), 2u * 4u * 3u + 6u);
@@ -289,6 +305,22 @@ TEST_F(StudyE2e, BadInputIsOneLineAndExit2) {
   EXPECT_EQ(std::count(bad.err.begin(), bad.err.end(), '\n'), 1);
   const auto missing = test::run_command(test::kHmp + " study analyze '" + (dir_ / "none.csv").string() + "'");
   EXPECT_EQ(missing.status, 2);
+  // A practice song without the practice instruments, or one that cannot be read: one line, exit 2,
+  // no results file and no journal.
+  midi_test::Events piano;
+  piano.name(0, "piano").program(0, 0, 0).on(0, 0, 60).off(480, 0, 60).end();
+  const midi_test::Bytes bytes = midi_test::smf(1, 480, {piano});
+  std::ofstream(dir_ / "piano.mid", std::ios::binary)
+      .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  for (const std::string& song : {(dir_ / "piano.mid").string(), (dir_ / "absent.mid").string()}) {
+    const auto r = test::run_command(test::kHmp + " study --participant q --no-audio --practice-song '" + song + "' --out '" +
+                                     dir_.string() + "' </dev/null");
+    EXPECT_EQ(r.status, 2) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_NE(r.err.find(song), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir_ / "study-results.csv"));
+    EXPECT_FALSE(fs::exists(dir_ / "study-q.journal"));
+  }
 }
 
 }  // namespace
