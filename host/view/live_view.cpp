@@ -282,7 +282,7 @@ void LiveView::update_touch(FrameState& f, const LiveState& state, Clock::time_p
       grip_moved_ = now;
     }
     if (!mouse_seen_ || grip_moved_ > mouse_moved_) {
-      x = static_cast<float>(width_px_) * (0.5f + 0.5f * g[0] / kGripSpanM);
+      x = roll_width(params()) * (0.5f + 0.5f * g[0] / kGripSpanM);  // the grip's span across the roll
       y = static_cast<float>(height_px_) * (0.5f - 0.5f * g[1] / kGripSpanM);
       have = true;
       const bool in = g[2] < -kPushDepthM;

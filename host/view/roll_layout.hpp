@@ -1,9 +1,10 @@
 #pragma once
 // Where the animation puts things (paper Figure 1, docs/view.md): time runs right to left across the
-// window at the song's pace, the present at the centre line, the future on the right; pitch upwards; each
+// roll at the song's pace, the present at its centre line, the future on the right; pitch upwards; each
 // track one depth layer, the haptic track in front, the others behind it in track order, each layer drawn
-// a little up and to the right of the one before (an oblique view of the 3D bars). Pixels, origin at the
-// top left, y down. The drawing and the cursor's pick use these same numbers.
+// a little up and to the right of the one before (an oblique view of the 3D bars), the layers behind
+// thinner and dimmed. The legend is a panel right of the roll, never over it. Pixels, origin at the top
+// left, y down. The drawing and the cursor's pick use these same numbers.
 #include <array>
 #include <cstdint>
 #include <optional>
@@ -11,24 +12,9 @@
 #include <vector>
 
 #include "host/view/note_index.hpp"
+#include "host/view/palette.hpp"
 
 namespace hmp::view {
-
-struct Rgb {
-  float r = 0, g = 0, b = 0;
-  friend bool operator==(const Rgb&, const Rgb&) = default;
-};
-
-// Colour-blind-safe (Okabe–Ito): the haptic track blue, a sounding haptic note yellow, other sounding notes
-// white; the other tracks cycle through the remaining Okabe–Ito hues, which blue and yellow stay clear of.
-inline constexpr Rgb kHapticBlue{0.0f, 114 / 255.0f, 178 / 255.0f};
-inline constexpr Rgb kSoundingYellow{240 / 255.0f, 228 / 255.0f, 66 / 255.0f};
-inline constexpr Rgb kSoundingWhite{1.0f, 1.0f, 1.0f};
-inline constexpr std::array<Rgb, 5> kTrackHues{{{230 / 255.0f, 159 / 255.0f, 0.0f},          // orange
-                                                {86 / 255.0f, 180 / 255.0f, 233 / 255.0f},   // sky blue
-                                                {0.0f, 158 / 255.0f, 115 / 255.0f},          // bluish green
-                                                {213 / 255.0f, 94 / 255.0f, 0.0f},           // vermillion
-                                                {204 / 255.0f, 121 / 255.0f, 167 / 255.0f}}};  // reddish purple
 
 struct Rect {
   float x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // x0 < x1, y0 < y1
@@ -40,8 +26,15 @@ struct LayoutParams {
   double seconds_across = 12.0;        // the window shows this much song time (zoom: + and − keys)
   int key_low = 21, key_high = 108;    // the keys shown (piano range unless the song says otherwise)
   float margin_px = 40.0f;             // above and below the roll (overlay, vibration strip)
-  float depth_step_px = 6.0f;          // each layer behind is this much up and to the right
+  float depth_step_px = 6.0f;          // each layer behind is this much up and to the right,
+  float depth_span_px = 30.0f;         // the deepest at most this much (many tracks: smaller steps)
+  float legend_px = 240.0f;            // the legend's panel right of the roll (at most 30 % of the width)
 };
+
+// The roll's width: the window less the legend's panel.
+float roll_width(const LayoutParams& p);
+// A layer behind the haptic one is drawn this fraction of a row high (the haptic one the whole row).
+inline constexpr float kBehindHeight = 0.6f;
 
 // The parameters for a drawable of width × height pixels at `scale` pixels per logical pixel (HiDPI): the
 // margins and layer offsets grow with the scale, so the window looks the same on every screen.
@@ -65,7 +58,11 @@ class RollLayout {
   // After a switch of the haptic track the layers glide to their new depth: `blend` 0 is the old order
   // (`previous` in front), 1 the new one. Bars are placed at the interpolated depth.
   void set_depth_blend(std::uint32_t previous, float blend);
+  // The haptic track blue (yellow while it sounds); any other track its own colour (kTrackColours by
+  // track number, white while it sounds), dimmed to kBehindStrength behind the haptic one.
   Rgb colour(const Bar& b, std::int64_t now_us) const;
+  // The legend's swatch of a track: its colour as its bars show it, not sounding.
+  Rgb track_colour(std::uint32_t track) const;
 
   // The front-most bar under (x, y) among `visible` (any order, any tracks); null if none.
   std::optional<Bar> pick(std::span<const Bar> visible, std::int64_t now_us, float x, float y) const;
@@ -73,20 +70,23 @@ class RollLayout {
  private:
   LayoutParams p_;
   std::uint32_t haptic_;
+  float depth_step() const;                   // px between neighbouring layers
   float shift_of(std::uint32_t track) const;  // px up and right of the track's layer
+  float front_of(std::uint32_t track) const;  // 1 in front, 0 behind; between while the layers glide
 
   std::vector<std::uint32_t> depth_;  // per track
   std::vector<std::uint32_t> previous_depth_;  // per track, before the switch (empty: no glide)
   float blend_ = 1.0f;
 };
 
-// The parts around the roll (docs/view.md): the overlay line in the top margin, the legend at the top
-// right over the roll, the progress bar and the vibration strip in the bottom margin. `scale` is the
+// The parts around the roll (docs/view.md): the overlay line in the top margin, the legend in its panel
+// right of the roll, the progress bar and the vibration strip in the bottom margin. `scale` is the
 // screen's pixels per logical pixel (HiDPI), so text and rows keep their size.
 struct Chrome {
   Rect overlay;      // the top margin
   Rect progress;     // click or drag: seek
   Rect strip;        // the vibration the device plays now
+  Rect legend;       // the legend's panel, beside the roll
   float legend_x0 = 0, legend_y0 = 0, legend_row = 0, legend_width = 0;
   Rect legend_row_rect(std::size_t i) const {
     const float y = legend_y0 + legend_row * static_cast<float>(i);

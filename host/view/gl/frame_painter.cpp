@@ -10,18 +10,6 @@
 #include "host/view/gl/text_layer.hpp"
 
 namespace hmp::view::gl {
-namespace {
-
-constexpr Rgb kCentreLine{0.85f, 0.85f, 0.85f};
-constexpr Rgb kStrip{0.0f, 114 / 255.0f, 178 / 255.0f};
-constexpr Rgb kPanel{0.13f, 0.13f, 0.15f};
-constexpr Rgb kProgressDone{0.45f, 0.45f, 0.5f};
-constexpr Rgb kText{0.92f, 0.92f, 0.92f};
-constexpr Rgb kTextDim{0.55f, 0.55f, 0.58f};
-constexpr Rgb kCursor{1.0f, 1.0f, 1.0f};
-
-}  // namespace
-
 FramePainter::FramePainter(const midi::Song& song, bool draw_everything)
     : draw_everything_(draw_everything), index_(song) {
   const auto [lo, hi] = key_range(song);
@@ -66,8 +54,8 @@ void FramePainter::paint(const FrameState& state, int width_px, int height_px, f
     }
     for (const Bar& b : visible_) instances_.push_back({layout.bar_rect(b, state.song_us), layout.colour(b, state.song_us)});
   }
-  // The present: a thin line at the centre, over the roll.
-  const float cx = static_cast<float>(p.width_px) * 0.5f;
+  // The present: a thin line at the roll's centre, over it.
+  const float cx = roll_width(p) * 0.5f;
   instances_.push_back({{cx - scale, chrome.overlay.y1, cx + scale, chrome.progress.y0}, kCentreLine});
   // The progress bar: the part played so far lighter.
   instances_.push_back({chrome.progress, kPanel});
@@ -86,7 +74,8 @@ void FramePainter::paint(const FrameState& state, int width_px, int height_px, f
     const float v = std::clamp(state.vibration[i], -1.0f, 1.0f) * strip_h * 0.45f;
     instances_.push_back({{x0, std::min(base, base - v), x1, std::max(base, base - v) + 1.0f}, kStrip});
   }
-  // The legend: a panel per track with its colour swatch (hidden tracks dimmed).
+  // The legend: in its panel beside the roll, a row per track with its colour swatch (hidden tracks dimmed).
+  instances_.push_back({chrome.legend, kPanel});
   std::vector<TextItem> text;
   if (!state.overlay.empty()) text.push_back({6.0f * scale, (chrome.overlay.y1 - chrome.text_px * 1.2f) * 0.5f, chrome.text_px, kText, state.overlay});
   for (std::size_t row = 0; row < state.legend.size(); ++row) {
@@ -94,13 +83,13 @@ void FramePainter::paint(const FrameState& state, int width_px, int height_px, f
     if (entry.track >= tracks) continue;
     const Rect r = chrome.legend_row_rect(row);
     instances_.push_back({r, kPanel});
-    const Bar probe{0, 0, 0, 0, entry.track};
-    const Rgb swatch = layout.colour(probe, 1);  // not sounding at t = 1 µs: the track's own colour
+    const Rgb swatch = layout.track_colour(entry.track);
     const float sw = r.y1 - r.y0 - 6.0f * scale;
     instances_.push_back({{r.x0 + 3.0f * scale, r.y0 + 3.0f * scale, r.x0 + 3.0f * scale + sw, r.y1 - 3.0f * scale},
                           entry.hidden ? kPanel : swatch});
-    text.push_back({r.x0 + 8.0f * scale + sw, r.y0 + 2.0f * scale, chrome.text_px, entry.hidden ? kTextDim : kText,
-                    (entry.haptic ? "\u25B6 " : "") + entry.label});
+    const float text_x = r.x0 + 8.0f * scale + sw;
+    text.push_back({text_x, r.y0 + 2.0f * scale, chrome.text_px, entry.hidden ? kTextDim : kText,
+                    (entry.haptic ? "\u25B6 " : "") + entry.label, r.x1 - text_x});  // cut at the panel's edge
   }
   // The touch cursor: a cross with a box, filled while pushing in.
   if (state.cursor) {

@@ -58,7 +58,7 @@ RollRenderer::~RollRenderer() {
 
 void RollRenderer::draw(int width_px, int height_px, const std::vector<Instance>& instances) {
   glViewport(0, 0, width_px, height_px);
-  glClearColor(0.07f, 0.07f, 0.08f, 1.0f);
+  glClearColor(kBackground.r, kBackground.g, kBackground.b, 1.0f);
   glClear(GL_COLOR_BUFFER_BIT);
   if (!ok() || instances.empty()) return;
   glUseProgram(program_);

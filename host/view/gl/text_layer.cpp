@@ -67,6 +67,7 @@ TextLayer::Line TextLayer::rasterise(const TextItem& item) {
   cairo_surface_destroy(scratch);
   Line line;
   line.width = std::max(1, static_cast<int>(std::ceil(te.x_advance + 2)));
+  if (item.max_width > 0) line.width = std::min(line.width, std::max(1, static_cast<int>(item.max_width)));
   line.height = std::max(1, static_cast<int>(std::ceil(fe.height + 1)));
   cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_ARGB32, line.width, line.height);
   cairo_t* cr = cairo_create(surface);
@@ -102,7 +103,7 @@ void TextLayer::prepare(int width_px, int height_px, const std::vector<TextItem>
   for (auto& [key, line] : lines_) line.used = false;
   for (const TextItem& item : items) {
     if (item.text.empty()) continue;
-    const Key key{item.text, item.size_px, item.colour.r, item.colour.g, item.colour.b};
+    const Key key{item.text, item.size_px, item.colour.r, item.colour.g, item.colour.b, item.max_width};
     auto it = lines_.find(key);
     if (it == lines_.end()) it = lines_.emplace(key, rasterise(item)).first;
     it->second.used = true;

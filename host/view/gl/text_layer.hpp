@@ -18,6 +18,7 @@ struct TextItem {
   float size_px = 13;
   Rgb colour{1, 1, 1};
   std::string text;     // UTF-8, one line
+  float max_width = 0;  // pixels: the line is cut there (0: never)
   friend bool operator==(const TextItem&, const TextItem&) = default;
 };
 
@@ -41,7 +42,7 @@ class TextLayer {
     int width = 0, height = 0;
     bool used = false;
   };
-  using Key = std::tuple<std::string, float, float, float, float>;  // text, size, colour
+  using Key = std::tuple<std::string, float, float, float, float, float>;  // text, size, colour, max width
   Line rasterise(const TextItem& item);
 
   unsigned program_ = 0, vao_ = 0;
