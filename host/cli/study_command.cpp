@@ -22,6 +22,7 @@
 #include "host/cli/commands.hpp"
 #include "host/cli/open_link.hpp"
 #include "host/cli/song_options.hpp"
+#include "host/cli/study_view.hpp"
 #include "host/common/error.hpp"
 #include "host/common/input_file.hpp"
 #include "host/common/printable.hpp"
@@ -52,6 +53,8 @@ struct StudyOptions {
   std::string practice_song = HMP_PRACTICE_SONG;
   std::string out = ".";
   std::string device = "sim";
+  bool no_view = false;  // the terminal only
+  bool window = false;   // the window or nothing (exit 2)
   AudioCliOptions audio;
 };
 
@@ -187,6 +190,12 @@ void check_room_for(const study::ParticipantData& given, study::Columns columns,
                              kParticipantOptions[2]));
 }
 
+// The round in a few words, for the window's top line (the prompt follows it there).
+std::string window_label(const study::Round& r, std::size_t index, std::size_t total) {
+  if (r.practice) return fmt::format("Practice {} of 2: {} alone", r.position, r.instrument);
+  return fmt::format("Round {} of {}: {}, experiment {}", index + 1, total, r.instrument, r.experiment);
+}
+
 std::string round_title(const study::Round& r, std::size_t index, std::size_t total) {
   if (r.practice) {
     return fmt::format("Practice {} of 2: {} alone (mapping {}). Feel keys 0, 1, 2; rank them A (best), B, C; Enter.",
@@ -202,6 +211,7 @@ int run_study(const StudyOptions& o) {
   }
   const std::string& participant = *o.participant;
   std::vector<int> experiments = experiments_of(o.experiment);
+  if (o.window && o.no_view) throw BadInput("--window and --no-view: one or the other");
   const study::ParticipantData given = study::parse_participant(o.participant_data, kParticipantOptions, "");
   const audio::AudioOptions audio_opts = audio_options(o.audio);  // checks --soundfont, before any work
   // The songs before any file is written: the main rounds' instruments from --song, the practice
@@ -239,14 +249,31 @@ int run_study(const StudyOptions& o) {
   // Said once the session is accepted: a refused one gets its error as the only line.
   if (journal) {
     std::fprintf(stderr, "resuming participant %s (seed %llu)\n", participant.c_str(), static_cast<unsigned long long>(seed));
-  } else {
-    append_text(journal_path, fmt::format("seed={}\nexperiments={}\n", seed, o.experiment));
   }
   if (session.done()) {
     std::printf("participant %s: all %zu rounds are done (%s)\n", participant.c_str(), session.plan().size(), results_path.c_str());
     return kExitOk;
   }
-  if (!results_text || results_text->empty()) append_text(results_path, std::string(study::kResultsHeader) + "\n");
+
+  audio::AudioPlayer audio(audio_opts);
+  // The animation window on the first round's song (2015 §6.1: the complete environment); without one,
+  // the terminal alone, with one warning — or, with --window, one line and exit 2, nothing written.
+  std::unique_ptr<StudyWindow> window;
+  bool want_window = !o.no_view;
+  auto open_window = [&](const midi::Song& song, const std::string& path) {
+    window.reset();
+    std::string why;
+    window = StudyWindow::open(song, audio, fmt::format("hmp study — participant {} — {}", participant, path), why);
+    if (window) return;
+    if (o.window) throw BadInput(fmt::format("--window: no animation window: {}", why));
+    std::fprintf(stderr, "warning: no animation window: %s; the study goes on in the terminal (--no-view: do not try)\n",
+                 why.c_str());
+    want_window = false;
+  };
+  if (want_window) {
+    const bool practice = session.plan()[session.rounds_done()].practice;
+    open_window(practice ? practice_song.song : main_song.song, practice ? o.practice_song : o.song);
+  }
 
   haptics::HapticOptions haptic;
   OpenedLink opened = open_link(o.device, haptic.tick_hz);
@@ -254,7 +281,8 @@ int run_study(const StudyOptions& o) {
   player::DeviceLink link(*opened.transport, link_options_for(opened));
   connect_and_describe(link, opened);
 
-  audio::AudioPlayer audio(audio_opts);
+  if (!journal) append_text(journal_path, fmt::format("seed={}\nexperiments={}\n", seed, o.experiment));
+  if (!results_text || results_text->empty()) append_text(results_path, std::string(study::kResultsHeader) + "\n");
 
   KeySource keys;
   const bool scripted = !isatty(STDIN_FILENO);
@@ -276,6 +304,9 @@ int run_study(const StudyOptions& o) {
     }
     std::printf("\n%s\n%s\n", round_title(plan, round_index, session.plan().size()).c_str(), round.prompt().c_str());
     std::fflush(stdout);
+    if (want_window && (!window || &window->song() != &song)) open_window(song, plan.practice ? o.practice_song : o.song);
+    const std::string label = window_label(plan, round_index, session.plan().size());
+    if (window) window->show(track, label + "     " + round.prompt());
     // Practice rounds: the instrument alone; the others' sound is left out.
     audio.set_events(plan.practice ? audio::audio_events(song.track_notes(track), song.tempo_map) : audio::audio_events(song));
 
@@ -302,7 +333,15 @@ int run_study(const StudyOptions& o) {
           return;
         }
         while (!round_over) {
-          const auto c = keys.next();
+          auto c = keys.next();
+          if (!c && window) {
+            c = window->next_key();
+            if (c == 'q') {  // the window closed, or q/Esc in it: as Ctrl-C
+              interrupted = true;
+              running->post(player::Command::interrupt);
+              return;
+            }
+          }
           if (!c) break;
           const auto action = study::action_for_key(*c);
           if (!action) continue;
@@ -317,6 +356,7 @@ int run_study(const StudyOptions& o) {
             break;
           }
           std::printf("%s\n%s\n", reply.message.c_str(), session.current()->prompt().c_str());
+          if (window) window->show(track, label + "     " + session.current()->prompt() + "     " + reply.message);
           if (reply.envelope_changed) {
             const study::Envelope next = session.current()->selected_envelope();
             if (scripted) std::fprintf(stderr, "study: key %d\n", session.current()->selected_key());
@@ -397,6 +437,8 @@ void register_study(CLI::App& app, Registry& registry) {
                   "The song of the practice rounds, with a violin and a contrabass track (default: BWV 1079's Largo)")
       ->capture_default_str();
   cmd->add_option("--out", o->out, "Directory of study-results.csv and the session journals")->capture_default_str();
+  cmd->add_flag("--no-view", o->no_view, "No animation window: the terminal only");
+  cmd->add_flag("--window", o->window, "The animation window or nothing: without a display, exit 2 before anything is written");
   cmd->add_option("--device", o->device, "sim (default), qemu, auto, hid[:VID:PID], serial:PATH")->capture_default_str();
   add_audio_options(cmd, o->audio);
 

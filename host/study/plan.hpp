@@ -2,9 +2,9 @@
 // host/study/: the paper's user study (design §15, paper §6–§7). This folder owns the study's logic, free
 // of I/O so tests drive it directly: the seeded plan of rounds (plan.*), one round's keys and ranking
 // (round.*), the session across rounds with resume (session.*), the results file's rows (results_csv.*)
-// and the statistics and Figure 3 of `hmp study analyze` (stats.*, figure.*). The terminal front-end
-// (terminal_study.*) is the only part that reads keys or drives the player; a window front-end
-// can drive the same Session.
+// and the statistics and Figure 3 of `hmp study analyze` (stats.*, figure.*). The command
+// (host/cli/study_command.cpp) reads the keys, from the terminal and from the animation window
+// (host/cli/study_view.*), and drives the player; both front-ends drive the same Session.
 //
 // plan.*: which rounds a participant gets, in which order, with which envelope under which key.
 #include <array>

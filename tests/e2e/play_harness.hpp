@@ -2,7 +2,9 @@
 // Shared pieces of the end-to-end tests of `hmp play`: the demo song, running the hmp binary, an
 // independent count of a passage's notes from `hmp info --json --notes`, the --log parser, and a
 // library-level session (Player on any Transport, without audio) run on a thread.
+#include <fcntl.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <array>
 #include <chrono>
@@ -54,6 +56,30 @@ inline CommandResult run_command(const std::string& command) {
   r.err = s.str();
   std::remove(err_path);
   return r;
+}
+
+// Starts `hmp ARGS…` with stdin on a pipe that stays open (a person still at the keyboard), stdout
+// discarded and stderr into `err_path` (or discarded); returns its pid and the pipe's write end.
+inline std::pair<pid_t, int> start_hmp_with_keyboard(std::vector<std::string> args, const std::string& err_path = "") {
+  int in[2];
+  if (::pipe(in) != 0) return {-1, -1};
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    ::dup2(in[0], STDIN_FILENO);
+    ::close(in[1]);
+    const int null = ::open("/dev/null", O_WRONLY);
+    ::dup2(null, STDOUT_FILENO);
+    const int err = err_path.empty() ? null : ::open(err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    ::dup2(err, STDERR_FILENO);
+    args.insert(args.begin(), "hmp");
+    std::vector<char*> argv;
+    for (std::string& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    ::execv(kHmp.c_str(), argv.data());
+    ::_exit(127);
+  }
+  ::close(in[0]);
+  return {pid, in[1]};
 }
 
 // (key, start_s) of every note of `track` starting in [from_s, to_s), from `hmp info --json --notes`:

@@ -25,43 +25,16 @@
 #include "host/study/plan.hpp"
 #include "tests/support/midi_builder.hpp"
 #include "play_harness.hpp"
+#include "study_keys.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 namespace test = hmp::test;
 using hmp::study::Envelope;
-using Preference = std::map<Envelope, char>;  // the letter a scripted participant gives each envelope
-
-const Preference kAnalogueFirst{{Envelope::analogue, 'a'}, {Envelope::triangle, 'b'}, {Envelope::square, 'c'}};
-const Preference kTriangleFirst{{Envelope::triangle, 'a'}, {Envelope::analogue, 'b'}, {Envelope::square, 'c'}};
-
-// The keys of one round, with the detours a person takes: going on too early, a letter already
-// taken, an unknown key, an undo.
-std::string round_keys(const hmp::study::Round& r, const Preference& pref) {
-  std::string k = "\nx";  // Enter before ranking: refused; x: no meaning
-  for (int key = 0; key < 3; ++key) {
-    const char letter = pref.at(r.by_key[static_cast<std::size_t>(key)]);
-    k += static_cast<char>('0' + key);
-    k += letter;
-    if (key == 0) k += "u";          // undo it…
-    if (key == 0) k += letter;       // …and rank again
-    if (key == 1) k += pref.at(r.by_key[0]);  // a letter key 0 holds: refused
-  }
-  return k + "\n";
-}
-
-std::string session_keys(const std::string& participant, std::uint64_t seed, std::size_t from, std::size_t to,
-                         const Preference& exp1, const Preference& exp2) {
-  const auto plan = hmp::study::make_plan(participant, seed, {1, 2});
-  std::string keys;
-  for (std::size_t i = from; i < std::min(to, plan.size()); ++i) {
-    keys += round_keys(plan[i], plan[i].experiment == 1 ? exp1 : exp2);
-  }
-  return keys;
-}
-
-
+using hmp::test::kAnalogueFirst;
+using hmp::test::kTriangleFirst;
+using hmp::test::session_keys;
 // Checks, from a scripted run's stderr, that after every switch the player plays what the plan has under
 // that key: the last player notice before the study's next line names the round's track, envelope and
 // mapping ("auto" is the player's name of the analogue envelope).
@@ -95,29 +68,6 @@ void expect_switches_follow_plan(const std::string& err, const std::vector<hmp::
   EXPECT_EQ(switches, 2 * static_cast<int>(plan.size()));  // keys 1 and 2 of every round
 }
 
-// Starts `hmp ARGS…` with stdin on a pipe that stays open (a person still at the keyboard) and its output
-// discarded; returns its pid and the pipe's write end.
-std::pair<pid_t, int> start_hmp_with_keyboard(std::vector<std::string> args) {
-  int in[2];
-  if (::pipe(in) != 0) return {-1, -1};
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    ::dup2(in[0], STDIN_FILENO);
-    ::close(in[1]);
-    const int null = ::open("/dev/null", O_WRONLY);
-    ::dup2(null, STDOUT_FILENO);
-    ::dup2(null, STDERR_FILENO);
-    args.insert(args.begin(), "hmp");
-    std::vector<char*> argv;
-    for (std::string& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    ::execv(test::kHmp.c_str(), argv.data());
-    ::_exit(127);
-  }
-  ::close(in[0]);
-  return {pid, in[1]};
-}
-
 class StudyE2e : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -144,7 +94,7 @@ class StudyE2e : public ::testing::Test {
     const fs::path keys_file = dir_ / ("keys-" + participant);
     std::ofstream(keys_file) << keys;
     return test::run_command(test::kHmp + " study --participant " + participant + " --seed " + std::to_string(seed) +
-                             " --device sim --no-audio --out '" + dir_.string() + "' < '" + keys_file.string() + "'");
+                             " --device sim --no-audio --no-view --out '" + dir_.string() + "' < '" + keys_file.string() + "'");
   }
   fs::path dir_;
 };
@@ -210,8 +160,8 @@ TEST_F(StudyE2e, ResumesAfterAKillAndAfterInputEnds) {
   const std::string first_part = session_keys("carl", 3, 0, 4, kAnalogueFirst, kTriangleFirst) + "01a";  // + half a round
   // Run with the keys on a pipe that stays open, as a person still at the keyboard; kill once the
   // four rounds' rows are written.
-  const auto [pid, keyboard] = start_hmp_with_keyboard({"study", "--participant", "carl", "--seed", "3", "--device", "sim",
-                                                        "--no-audio", "--out", dir_.string()});
+  const auto [pid, keyboard] = test::start_hmp_with_keyboard({"study", "--participant", "carl", "--seed", "3", "--device", "sim",
+                                                              "--no-audio", "--no-view", "--out", dir_.string()});
   ASSERT_GT(pid, 0);
   ASSERT_EQ(::write(keyboard, first_part.data(), first_part.size()), static_cast<ssize_t>(first_part.size()));
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
@@ -263,9 +213,9 @@ TEST_F(StudyE2e, TheSongLoopsUntilTheRoundIsRanked) {
   const fs::path song = dir_ / "short.mid";
   std::ofstream(song, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
 
-  const auto [pid, keyboard] = start_hmp_with_keyboard({"study", "--participant", "loop", "--seed", "1", "--experiment",
-                                                        "1", "--song", song.string(), "--device", "sim", "--no-audio",
-                                                        "--out", dir_.string()});
+  const auto [pid, keyboard] = test::start_hmp_with_keyboard({"study", "--participant", "loop", "--seed", "1", "--experiment",
+                                                              "1", "--song", song.string(), "--device", "sim", "--no-audio",
+                                                              "--no-view", "--out", dir_.string()});
   ASSERT_GT(pid, 0);
   std::this_thread::sleep_for(std::chrono::milliseconds(3500));  // three times the song on key 0
   const std::string keys = "a1b2c\n";

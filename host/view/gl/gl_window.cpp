@@ -42,6 +42,15 @@ char key_of(SDL_Keycode k, Uint16 mod) {
     case SDLK_MINUS: case SDLK_KP_MINUS: return '-';
     case SDLK_LEFTBRACKET: return '[';
     case SDLK_RIGHTBRACKET: return ']';
+    // The study's keys: 0/1/2 switch, a/b/c rank, u undo, Enter next.
+    case SDLK_0: case SDLK_KP_0: return '0';
+    case SDLK_1: case SDLK_KP_1: return '1';
+    case SDLK_2: case SDLK_KP_2: return '2';
+    case SDLK_a: return 'a';
+    case SDLK_b: return 'b';
+    case SDLK_c: return 'c';
+    case SDLK_u: return 'u';
+    case SDLK_RETURN: case SDLK_KP_ENTER: return '\n';
     default: return 0;
   }
 }
