@@ -3,7 +3,7 @@
 // and experiment-1 rounds end in the same rows as the same participant and seed typed in the terminal,
 // all but the times. A screenshot of the first main round (the flute's) shows the felt track's blue bars
 // and the prompt's line. HMP_STUDY_SHOT=FILE.png keeps it (the picture in docs/study.md). Without a display, --window is
-// one line and exit 2, nothing written.
+// one line and exit 2, nothing written; without --window, one warning and the terminal.
 #include <gtest/gtest.h>
 
 #include <signal.h>
@@ -186,6 +186,18 @@ TEST_F(StudyWindowE2e, WindowWithoutADisplayIsOneLineAndNothingWritten) {
                                                      (dir_ / "window").string() + "' </dev/null");
   EXPECT_EQ(both.status, 2) << both.err;
   EXPECT_TRUE(fs::is_empty(dir_ / "window"));
+  // Without --window: one warning, and the terminal's session (its input ends at once: stopped, resumable).
+  const test::CommandResult plain = test::run_command("env -u DISPLAY -u WAYLAND_DISPLAY " + test::kHmp +
+                                                      " study --participant nod --device sim --no-audio --out '" +
+                                                      (dir_ / "window").string() + "' </dev/null");
+  EXPECT_EQ(plain.status, 130) << plain.err;
+  std::size_t warnings = 0;
+  for (std::size_t at = plain.err.find("warning: no animation window"); at != std::string::npos;
+       at = plain.err.find("warning: no animation window", at + 1)) {
+    ++warnings;
+  }
+  EXPECT_EQ(warnings, 1u) << plain.err;
+  EXPECT_TRUE(fs::exists(dir_ / "window" / "study-nod.journal"));
 }
 
 }  // namespace
