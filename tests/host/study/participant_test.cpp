@@ -12,6 +12,7 @@
 #include "host/study/results_csv.hpp"
 #include "host/study/session.hpp"
 #include "tests/host/study/results_error.hpp"
+#include "tests/host/study/round_row.hpp"
 
 namespace {
 
@@ -28,20 +29,7 @@ ParticipantData data(std::optional<int> age, std::optional<Sex> sex, std::option
 std::vector<ResultRow> main_round(const std::string& p, const std::string& instrument, const ParticipantData& d) {
   std::vector<ResultRow> rows;
   for (int k = 0; k < 3; ++k) {
-    ResultRow r;
-    r.participant = p;
-    r.experiment = 1;
-    r.position = 1;
-    r.instrument = instrument;
-    r.mapping = mapping_of_experiment(1);
-    r.envelope = kEnvelopes[static_cast<std::size_t>(k)];
-    r.key = k;
-    r.rank = k + 1;
-    r.round_started = 1.8e9;
-    r.ranked_at = 1.8e9 + 5;
-    r.round_ended = 1.8e9 + 6;
-    r.seed = 7;
-    r.version = "v";
+    ResultRow r = hmp::study::test::round_row(p, instrument, k, false, 7, "v");
     r.participant_data = d;
     rows.push_back(r);
   }

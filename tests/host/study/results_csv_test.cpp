@@ -8,6 +8,7 @@
 #include "host/common/error.hpp"
 #include "host/study/results_csv.hpp"
 #include "tests/host/study/results_error.hpp"
+#include "tests/host/study/round_row.hpp"
 
 namespace {
 
@@ -19,21 +20,7 @@ using namespace std::string_literals;
 std::string round_text(const std::string& version = "1.0") {
   std::string text = std::string(kResultsHeader) + "\n";
   for (int i = 0; i < 3; ++i) {
-    ResultRow r;
-    r.participant = "p1";
-    r.experiment = 1;
-    r.practice = true;
-    r.position = 1;
-    r.instrument = "violin";
-    r.mapping = mapping_of_experiment(1);
-    r.envelope = kEnvelopes[static_cast<std::size_t>(i)];
-    r.key = i;
-    r.rank = i + 1;
-    r.round_started = 1.8e9;
-    r.ranked_at = 1.8e9 + 10;
-    r.round_ended = 1.8e9 + 11;
-    r.seed = 5;
-    r.version = version;
+    const ResultRow r = hmp::study::test::round_row("p1", "violin", i, true, 5, version);
     text += format_row(r) + "\n";
   }
   return text;

@@ -15,6 +15,7 @@
 
 #include "host/view/roll_layout.hpp"
 #include "host/view/view_backend.hpp"
+#include "tests/host/view/millisecond_song.hpp"
 
 namespace {
 
@@ -28,19 +29,9 @@ constexpr std::int64_t kNow = 20'000'000;
 // own rhythm; tracks 4 and 6 also double the felt track's notes a little earlier and later, so bars of
 // different layers cross; track 3 holds one long note past the roll's right edge.
 hmp::midi::Song sixteen_tracks() {
-  hmp::midi::Song song;
-  song.tempo_map = hmp::midi::TempoMap::metrical(500, {});
-  song.tracks.resize(kTracks);
+  hmp::midi::Song song = hmp::view::test::millisecond_song(kTracks);
   auto add = [&](std::uint32_t track, std::uint64_t start_ms, std::uint64_t ms, int key) {
-    hmp::midi::Note n;
-    n.track = track;
-    n.start_tick = start_ms;
-    n.end_tick = start_ms + ms;
-    n.key = static_cast<std::uint8_t>(key);
-    n.velocity = 90;
-    song.notes.push_back(n);
-    song.tracks[track].note_count++;
-    song.tracks[track].keys.add(n.key);
+    hmp::view::test::add_note(song, track, start_ms, ms, key);
   };
   for (std::uint32_t t = 0; t < kTracks; ++t) {
     const std::uint64_t period = 450 + 37 * t;

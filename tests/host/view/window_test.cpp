@@ -11,6 +11,7 @@
 
 #include "host/view/roll_layout.hpp"
 #include "host/view/view_backend.hpp"
+#include "tests/host/view/millisecond_song.hpp"
 #include "tests/support/xvfb.hpp"
 
 namespace {
@@ -20,19 +21,9 @@ using namespace hmp::view;
 // Two tracks on a 1 ms tick (500 ticks per quarter at 120 bpm): track 0's notes on keys 60–67, track 1's
 // on 55–62, overlapping in time and key so the layers cover each other.
 hmp::midi::Song two_tracks() {
-  hmp::midi::Song song;
-  song.tempo_map = hmp::midi::TempoMap::metrical(500, {});
-  song.tracks.resize(2);
+  hmp::midi::Song song = hmp::view::test::millisecond_song(2);
   auto add = [&](std::uint32_t track, std::uint64_t start_ms, std::uint64_t ms, int key) {
-    hmp::midi::Note n;
-    n.track = track;
-    n.start_tick = start_ms;
-    n.end_tick = start_ms + ms;
-    n.key = static_cast<std::uint8_t>(key);
-    n.velocity = 90;
-    song.notes.push_back(n);
-    song.tracks[track].note_count++;
-    song.tracks[track].keys.add(n.key);
+    hmp::view::test::add_note(song, track, start_ms, ms, key);
   };
   for (int i = 0; i < 40; ++i) {
     add(0, 1000u + 500u * i, 400, 60 + i % 8);
