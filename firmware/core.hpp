@@ -25,14 +25,16 @@
 #include "firmware/spsc_queue.hpp"
 #include "shared/protocol/protocol.hpp"
 #include "shared/synth/engine.hpp"
-
-#ifndef HMP_TICK_HZ
-#define HMP_TICK_HZ 1000
-#endif
+#include "shared/synth/tick_rate.hpp"
 
 namespace hmp::fw {
 
+// The build's tick rate (CMake's HMP_TICK_HZ), else the nominal one.
+#ifdef HMP_TICK_HZ
 inline constexpr std::uint32_t kDefaultTickHz = HMP_TICK_HZ;
+#else
+inline constexpr std::uint32_t kDefaultTickHz = synth::kNominalTickHz;
+#endif
 inline constexpr std::uint8_t kFirmwareMajor = 0, kFirmwareMinor = 1, kFirmwarePatch = 0;
 
 // Counters beyond the ones the Status report carries (all cumulative, wrapping).

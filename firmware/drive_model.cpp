@@ -141,7 +141,7 @@ void stepper_response(const LinearStepper<3>& s, Real theta, Cx& force, Cx& spee
 void DriveCompensator::configure(const PlantModel& plant, const spidar::MotorParams<float>& motor,
                                  const CompensatorConfig& config, std::uint32_t tick_hz) {
   config_ = config;
-  const float hz = static_cast<float>(tick_hz != 0 ? tick_hz : 1000u);
+  const float hz = static_cast<float>(tick_hz != 0 ? tick_hz : synth::kNominalTickHz);
   const float h = 1.0f / hz;
   const float r = motor.pulley_radius;
   speed_per_metre_ = 1.0f / r;

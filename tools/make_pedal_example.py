@@ -2,22 +2,13 @@
 """Writes examples/pedal-demo.mid: a short piano phrase played twice, first with the sustain pedal held
 down through it (pressed at 0 s, lifted at 2 s), then without (from 2.5 s). For `--pedal` (docs/player.md)
 and its plots (scripts/doc-plots). 500 ticks a quarter at 120 bpm: a tick is a millisecond."""
-import struct
 import sys
 
-
-def vlq(v):
-    out = [v & 0x7F]
-    v >>= 7
-    while v:
-        out.append(0x80 | (v & 0x7F))
-        v >>= 7
-    return bytes(reversed(out))
+from smf_bytes import header, meta, track_chunk, vlq
 
 
 def track(events):
-    body = b"".join(vlq(delta) + bytes(data) for delta, data in events) + vlq(0) + b"\xff\x2f\x00"
-    return b"MTrk" + struct.pack(">I", len(body)) + body
+    return track_chunk(b"".join(vlq(delta) + bytes(data) for delta, data in events) + vlq(0) + meta(0x2F, b""))
 
 
 def main(path):
@@ -38,7 +29,7 @@ def main(path):
         piano.append((t - at, data))
         at = t
     with open(path, "wb") as f:
-        f.write(b"MThd" + struct.pack(">IHHH", 6, 1, 2, 500))
+        f.write(header(1, 2, 500))
         f.write(track(conductor) + track(piano))
 
 

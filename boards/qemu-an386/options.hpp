@@ -3,14 +3,16 @@
 // `-append "…"`; the first word QEMU passes is the image path and is skipped). README.md lists them.
 #include <cstdint>
 
-#ifndef HMP_TICK_HZ
-#define HMP_TICK_HZ 1000
-#endif
+#include "shared/synth/tick_rate.hpp"
 
 namespace hmp::board {
 
 struct Options {
+#ifdef HMP_TICK_HZ
   std::uint32_t tick_hz = HMP_TICK_HZ;  // hz=N: tick rate (must divide 25 MHz; see TickTimer)
+#else
+  std::uint32_t tick_hz = synth::kNominalTickHz;
+#endif
   bool trace = false;                   // trace: per-tick outputs and received reports on semihosting
   std::uint32_t exit_idle_ms = 0;       // exit-idle-ms=N: exit 0 after N ms without a received byte (0: never)
   std::uint32_t listen_after_ms = 0;    // listen-after-ms=N: the UART drops what it receives for N ms

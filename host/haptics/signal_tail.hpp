@@ -8,6 +8,7 @@
 
 #include "host/haptics/haptic_track.hpp"
 #include "host/haptics/signal_renderer.hpp"
+#include "shared/synth/tick_rate.hpp"
 
 namespace hmp::haptics {
 
@@ -23,7 +24,7 @@ class SignalTail {
   std::vector<synth::Note> notes_;  // the track's device notes, by start
   std::uint64_t longest_ = 0;       // the longest note's ticks (how far back a sounding note can start)
   RenderSettings settings_;
-  std::uint32_t tick_hz_ = 1000;
+  std::uint32_t tick_hz_ = synth::kNominalTickHz;
 };
 
 }  // namespace hmp::haptics

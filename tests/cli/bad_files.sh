@@ -8,8 +8,7 @@
 set -u
 hmp="$1"; repo="$2"
 demo="$repo/examples/bach-bwv1050-brandenburg5-mvt3-allegro.mid"
-tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
-fail=0
+source "$(dirname "${BASH_SOURCE[0]}")/lib.bash"
 
 expect_bad() {  # expect_bad EXACT-STDERR ARGS...
   local want="$1"; shift

@@ -4,18 +4,10 @@
 # [device] peak_force_n in the config, and replaces an existing file only with --force.
 set -u
 hmp="$1"
-tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
-fail=0
+source "$(dirname "${BASH_SOURCE[0]}")/lib.bash"
 cfg="$tmp/hmp.toml"
 
-expect_bad() {  # expect_bad WORD-IN-MESSAGE ARGS...
-  local word="$1"; shift
-  "$hmp" calibrate "$@" >"$tmp/out" 2>"$tmp/err" </dev/null; local rc=$?
-  local lines; lines=$(wc -l <"$tmp/err")
-  if [ $rc -ne 2 ] || [ "$lines" -ne 1 ] || ! grep -qi -- "$word" "$tmp/err"; then
-    echo "FAIL: calibrate $* -> rc=$rc, $lines stderr line(s), wanted '$word':"; cat "$tmp/err"; fail=1
-  fi
-}
+bad_prefix=(calibrate)
 
 for t in 0 -1 nan inf 1000; do expect_bad "target-mm" --target-mm "$t" --config "$cfg"; done
 for f in 49 251 0 nan inf -100; do expect_bad "frequency" --frequency "$f" --config "$cfg"; done

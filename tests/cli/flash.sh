@@ -8,15 +8,7 @@
 # when it is missing or older than its sources and only then; --dry-run only says it would build.
 set -u
 hmp="$1"; repo="$2"
-tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
-fail=0
-check() {  # check WHAT EXPECTED ACTUAL
-  if [ "$2" != "$3" ]; then echo "FAIL: $1: expected [$2], got [$3]"; fail=1; fi
-}
-run() {  # run ARGS...: stdout, stderr, exit code into $out $err $rc
-  "$hmp" "$@" >"$tmp/out" 2>"$tmp/err"; rc=$?
-  out=$(<"$tmp/out"); err=$(<"$tmp/err")
-}
+source "$(dirname "${BASH_SOURCE[0]}")/lib.bash"
 
 img="$tmp/my fw"  # a space: the printed command must quote it
 : >"$img.elf"; : >"$img.bin"

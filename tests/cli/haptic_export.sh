@@ -4,15 +4,7 @@
 # written; the .haptic names the song by its file name (metadata source and description), not its path.
 set -u
 hmp=$(realpath "$1"); repo="$2"  # absolute: one run below starts in another directory
-tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
-fail=0
-check() {  # check WHAT EXPECTED ACTUAL
-  if [ "$2" != "$3" ]; then echo "FAIL: $1: expected [$2], got [$3]"; fail=1; fi
-}
-run() {
-  "$hmp" "$@" >"$tmp/out" 2>"$tmp/err"; rc=$?
-  err=$(<"$tmp/err")
-}
+source "$(dirname "${BASH_SOURCE[0]}")/lib.bash"
 
 # One track, 480 ticks per quarter at 120 bpm: key 60 from 0 to 1 s, key 62 from 3 to 4 s.
 mkdir -p "$tmp/songs"

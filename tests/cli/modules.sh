@@ -8,8 +8,7 @@ set -u
 hmp="$1"; repo="$2"
 build=$(cd "$(dirname "$hmp")/.." && pwd)
 demo="$repo/examples/bach-bwv1050-brandenburg5-mvt3-allegro.mid"
-tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
-fail=0
+source "$(dirname "${BASH_SOURCE[0]}")/lib.bash"
 say_fail() { echo "FAIL: $*"; fail=1; }
 
 # --- the program's own needs: the C library only (libstdc++ and libgcc are linked in)

@@ -7,17 +7,9 @@
 set -u
 hmp="$1"
 demo="$2/examples/bach-bwv1050-brandenburg5-mvt3-allegro.mid"
-tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
-fail=0
+source "$(dirname "${BASH_SOURCE[0]}")/lib.bash"
 
-expect_bad() {  # expect_bad WORD-IN-MESSAGE ARGS...
-  local word="$1"; shift
-  "$hmp" sim "$demo" --track flute --from 10 --to 10.2 "$@" >"$tmp/out" 2>"$tmp/err" </dev/null; local rc=$?
-  local lines; lines=$(wc -l <"$tmp/err")
-  if [ $rc -ne 2 ] || [ "$lines" -ne 1 ] || ! grep -qi -- "$word" "$tmp/err"; then
-    echo "FAIL: sim $* -> rc=$rc, $lines stderr line(s), wanted '$word':"; cat "$tmp/err"; fail=1
-  fi
-}
+bad_prefix=(sim "$demo" --track flute --from 10 --to 10.2)
 
 for v in 0 -1 nan inf 1e10; do
   expect_bad "string-stiffness" --string-stiffness "$v"

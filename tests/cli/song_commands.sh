@@ -4,17 +4,8 @@
 set -u
 hmp="$1"; repo="$2"
 demo="$repo/examples/bach-bwv1050-brandenburg5-mvt3-allegro.mid"
-tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
-fail=0
+source "$(dirname "${BASH_SOURCE[0]}")/lib.bash"
 
-expect_bad() {  # expect_bad WORD ARGS...
-  local word="$1"; shift
-  "$hmp" "$@" >"$tmp/out" 2>"$tmp/err"; local rc=$?
-  local lines; lines=$(wc -l <"$tmp/err")
-  if [ $rc -ne 2 ] || [ "$lines" -ne 1 ] || ! grep -qi -- "$word" "$tmp/err"; then
-    echo "FAIL: hmp $* -> rc=$rc, $lines stderr line(s), wanted '$word':"; cat "$tmp/err"; fail=1
-  fi
-}
 expect_ok() {
   "$hmp" "$@" >"$tmp/out" 2>"$tmp/err" || { echo "FAIL: hmp $* -> rc=$?"; cat "$tmp/err"; fail=1; }
 }

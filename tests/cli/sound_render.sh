@@ -6,15 +6,7 @@
 set -u
 hmp="$1"; repo="$2"
 demo="$repo/examples/bach-bwv1050-brandenburg5-mvt3-allegro.mid"
-tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
-fail=0
-check() {  # check WHAT EXPECTED ACTUAL
-  if [ "$2" != "$3" ]; then echo "FAIL: $1: expected [$2], got [$3]"; fail=1; fi
-}
-run() {
-  "$hmp" "$@" >"$tmp/out" 2>"$tmp/err"; rc=$?
-  out=$(<"$tmp/out"); err=$(<"$tmp/err")
-}
+source "$(dirname "${BASH_SOURCE[0]}")/lib.bash"
 probe() { ffprobe -v error -show_entries stream="$2" -of default=noprint_wrappers=1:nokey=1 "$1" | tr '\n' ' ' | sed 's/ $//'; }
 
 run render "$demo" --sound --from 30 --to 32.5 --out "$tmp/passage.wav"

@@ -4,8 +4,7 @@
 # participants' summary before the statistics, also for a file written before these columns existed.
 set -u
 hmp="$1"
-tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
-fail=0
+source "$(dirname "${BASH_SOURCE[0]}")/lib.bash"
 
 expect_bad() {  # expect_bad WORD-IN-MESSAGE DIR ARGS...: refused before anything is written in DIR
   local word="$1" dir="$2"; shift 2

@@ -2,17 +2,9 @@
 # hmp tone: every bad input exits 2 with exactly one line on stderr naming the problem; good input exits 0.
 set -u
 hmp="$1"
-tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
-fail=0
+source "$(dirname "${BASH_SOURCE[0]}")/lib.bash"
 
-expect_bad() {  # expect_bad WORD-IN-MESSAGE ARGS...
-  local word="$1"; shift
-  "$hmp" tone "$@" >"$tmp/out" 2>"$tmp/err"; local rc=$?
-  local lines; lines=$(wc -l <"$tmp/err")
-  if [ $rc -ne 2 ] || [ "$lines" -ne 1 ] || ! grep -qi -- "$word" "$tmp/err"; then
-    echo "FAIL: tone $* -> rc=$rc, $lines stderr line(s), wanted '$word':"; cat "$tmp/err"; fail=1
-  fi
-}
+bad_prefix=(tone)
 
 ok=(--amp 0.5 --ms 100 --instrument organ)
 expect_bad "freq" --freq nan "${ok[@]}"

@@ -8,15 +8,8 @@
 set -u
 hmp="$1"; repo="$2"
 demo="$repo/examples/bach-bwv1050-brandenburg5-mvt3-allegro.mid"
-tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
-fail=0
-check() {  # check WHAT EXPECTED ACTUAL
-  if [ "$2" != "$3" ]; then echo "FAIL: $1: expected [$2], got [$3]"; fail=1; fi
-}
-run() {  # run ARGS...: stdout, stderr, exit code into $out $err $rc (no display, as on a server)
-  env -u DISPLAY -u WAYLAND_DISPLAY "$hmp" "$@" >"$tmp/out" 2>"$tmp/err"; rc=$?
-  out=$(<"$tmp/out"); err=$(<"$tmp/err")
-}
+source "$(dirname "${BASH_SOURCE[0]}")/lib.bash"
+run_env=(env -u DISPLAY -u WAYLAND_DISPLAY)  # no display, as on a server
 probe() {  # probe FILE ENTRIES STREAMS: ffprobe's values for the streams selected, on one line
   ffprobe -v error -count_frames -select_streams "$3" -show_entries "$2" -of default=noprint_wrappers=1:nokey=1 "$1" |
     tr '\n' ' ' | sed 's/ $//'

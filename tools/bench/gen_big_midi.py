@@ -11,23 +11,15 @@ note-off (0x8n) in some. The same arguments always give the same bytes (fixed ra
 Usage: gen_big_midi.py OUTPUT [--notes N]   (default 560000 notes, about 5.3 MB)
 """
 import argparse
+import os
 import random
 import struct
+import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from smf_bytes import header, meta, track_chunk, vlq  # noqa: E402 (tools/ is not a package)
 
 TPQ = 480
-
-
-def vlq(value):
-    out = [value & 0x7F]
-    value >>= 7
-    while value:
-        out.append(0x80 | (value & 0x7F))
-        value >>= 7
-    return bytes(reversed(out))
-
-
-def meta(kind, body):
-    return b"\xff" + bytes([kind]) + vlq(len(body)) + body
 
 
 def encode_track(events):
@@ -49,7 +41,7 @@ def encode_track(events):
             out += payload
             running = None  # the writer restates the status after a meta event (readers differ there)
     out += vlq(0) + meta(0x2F, b"")
-    return b"MTrk" + struct.pack(">I", len(out)) + bytes(out)
+    return track_chunk(out)
 
 
 def conductor(rng, end_tick):
@@ -116,9 +108,9 @@ def main():
         tracks.append(encode_track(events))
         end_tick = max(end_tick, end)
     tracks.insert(0, encode_track(conductor(rng, end_tick)))
-    header = b"MThd" + struct.pack(">IHHH", 6, 1, len(tracks), TPQ)
+    head = header(1, len(tracks), TPQ)
     with open(args.output, "wb") as f:
-        f.write(header)
+        f.write(head)
         for t in tracks:
             f.write(t)
 
