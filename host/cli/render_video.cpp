@@ -52,20 +52,20 @@ void run_video_export(const std::string& song_path, const TrackWindow& w, const 
   spec.haptic_options = opts;
   spec.from_us = static_cast<std::int64_t>(static_cast<double>(w.first_tick) * 1e6 / opts.tick_hz + 0.5);
   spec.to_us = static_cast<std::int64_t>(static_cast<double>(w.end_tick) * 1e6 / opts.tick_hz + 0.5);
-  std::tie(spec.width, spec.height) = parse_size(o.size);
-  spec.fps = o.fps;
+  std::tie(spec.encoding.width, spec.encoding.height) = parse_size(o.size);
+  spec.encoding.fps = o.fps;
   spec.seconds_across = o.zoom_s;
   spec.song_audio = !o.no_audio;
   spec.haptic_audio = o.haptic_audio;
   if (o.soundfont) spec.audio.soundfont = *o.soundfont;
-  spec.preset = o.preset;
-  spec.crf = o.crf;
+  spec.encoding.preset = o.preset;
+  spec.encoding.crf = o.crf;
   spec.legend_labels = legend_labels(song);
   const std::string name = std::filesystem::path(song_path).filename().string();
   spec.overlay_prefix = fmt::format("{}   track {} \"{}\"   envelope {}   mapping {}", name, w.track, t.name, opts.envelope,
                                     mapping::name(opts.mapping));
-  spec.title = name;
-  spec.comment = fmt::format("hmp render: track {} \"{}\", mapping {}, envelope {}", w.track, t.name,
+  spec.encoding.title = name;
+  spec.encoding.comment = fmt::format("hmp render: track {} \"{}\", mapping {}, envelope {}", w.track, t.name,
                              mapping::name(opts.mapping), opts.envelope);
   video::check_video_spec(spec);
   output::check_writable(out, force);

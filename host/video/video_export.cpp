@@ -121,21 +121,21 @@ std::uint64_t frame_count(std::int64_t from_us, std::int64_t to_us, int fps) {
 }
 
 void check_video_spec(const VideoExportSpec& spec) {
-  if (spec.fps < 1 || spec.fps > 240) throw BadInput(fmt::format("--fps {}: out of 1..240", spec.fps));
-  if (spec.sample_rate % spec.fps != 0) {
+  if (spec.encoding.fps < 1 || spec.encoding.fps > 240) throw BadInput(fmt::format("--fps {}: out of 1..240", spec.encoding.fps));
+  if (spec.encoding.sample_rate % spec.encoding.fps != 0) {
     throw BadInput(fmt::format("--fps {}: {} Hz audio does not divide into whole samples per frame (try 25, 30, 50 or 60)",
-                               spec.fps, spec.sample_rate));
+                               spec.encoding.fps, spec.encoding.sample_rate));
   }
-  if (spec.width < 16 || spec.height < 16 || spec.width > 7680 || spec.height > 4320 || spec.width % 2 != 0 ||
-      spec.height % 2 != 0) {
+  if (spec.encoding.width < 16 || spec.encoding.height < 16 || spec.encoding.width > 7680 || spec.encoding.height > 4320 || spec.encoding.width % 2 != 0 ||
+      spec.encoding.height % 2 != 0) {
     throw BadInput(fmt::format("--size {}x{}: from 16x16 to 7680x4320, both even",
-                               spec.width, spec.height));
+                               spec.encoding.width, spec.encoding.height));
   }
-  if (spec.crf < 0 || spec.crf > 51) throw BadInput(fmt::format("--crf {}: out of 0..51", spec.crf));
+  if (spec.encoding.crf < 0 || spec.encoding.crf > 51) throw BadInput(fmt::format("--crf {}: out of 0..51", spec.encoding.crf));
   static const char* const kPresets[] = {"ultrafast", "superfast", "veryfast", "faster", "fast",
                                          "medium",    "slow",      "slower",   "veryslow"};
-  if (std::find(std::begin(kPresets), std::end(kPresets), spec.preset) == std::end(kPresets)) {
-    throw BadInput("--video-preset " + spec.preset + ": one of ultrafast, superfast, veryfast, faster, fast, medium, slow, slower, veryslow");
+  if (std::find(std::begin(kPresets), std::end(kPresets), spec.encoding.preset) == std::end(kPresets)) {
+    throw BadInput("--video-preset " + spec.encoding.preset + ": one of ultrafast, superfast, veryfast, faster, fast, medium, slow, slower, veryslow");
   }
   if (spec.song == nullptr || !spec.haptic) throw BadInput("video export: no song");
   if (spec.to_us <= spec.from_us) throw BadInput("video export: empty passage");
@@ -146,11 +146,11 @@ VideoExportResult export_video(const std::string& path, const VideoExportSpec& s
   check_video_spec(spec);
   const auto started = WallClock::now();
   VideoExportResult result;
-  result.frames = frame_count(spec.from_us, spec.to_us, spec.fps);
-  result.samples_per_frame = static_cast<std::uint64_t>(spec.sample_rate / spec.fps);
-  result.seconds = static_cast<double>(result.frames) / spec.fps;
+  result.frames = frame_count(spec.from_us, spec.to_us, spec.encoding.fps);
+  result.samples_per_frame = static_cast<std::uint64_t>(spec.encoding.sample_rate / spec.encoding.fps);
+  result.seconds = static_cast<double>(result.frames) / spec.encoding.fps;
   const std::size_t samples = result.frames * result.samples_per_frame;
-  const std::int64_t audio_end_us = frame_time_us(spec.from_us, result.frames, spec.fps) + 1;
+  const std::int64_t audio_end_us = frame_time_us(spec.from_us, result.frames, spec.encoding.fps) + 1;
 
   // The modules first: a missing one is reported before minutes of audio rendering.
   std::string why;
@@ -158,8 +158,8 @@ VideoExportResult export_video(const std::string& path, const VideoExportSpec& s
   if (backend == nullptr) throw std::runtime_error("cannot write " + path + ": the video module is not available (" + why + ")");
   view::ViewSetup view_setup;
   view_setup.song = spec.song;
-  view_setup.width = spec.width;
-  view_setup.height = spec.height;
+  view_setup.width = spec.encoding.width;
+  view_setup.height = spec.encoding.height;
   std::unique_ptr<view::OffscreenFrames> frames = view::open_offscreen(view_setup, why);
   if (!frames) throw std::runtime_error("cannot draw the video's frames: " + why);
   result.renderer = frames->renderer();
@@ -172,7 +172,7 @@ VideoExportResult export_video(const std::string& path, const VideoExportSpec& s
     audio::RenderedAudio song_audio;
     if (spec.song_audio) {
       audio::AudioOptions options = spec.audio;
-      options.synth.sample_rate = spec.sample_rate;
+      options.synth.sample_rate = spec.encoding.sample_rate;
       song_audio = audio::render_offline(audio::audio_events(*spec.song), spec.from_us, audio_end_us, options, warn);
     }
     fit(song_audio.left, samples);
@@ -188,22 +188,15 @@ VideoExportResult export_video(const std::string& path, const VideoExportSpec& s
     const auto notes = spec.haptic->device_notes();
     std::vector<float> signal =
         haptics::render_signal(notes, spec.haptic->uploads, haptics::render_settings(spec.haptic_options), first, end);
-    std::vector<float> audible = output::resample(signal, static_cast<int>(tick_hz), spec.sample_rate);
+    std::vector<float> audible = output::resample(signal, static_cast<int>(tick_hz), spec.encoding.sample_rate);
     fit(audible, samples);
     streams.push_back(std::move(audible));
     channels.push_back(1);
   }
   result.audio_wall_s = seconds_since(audio_started);
 
-  VideoSetup setup;
-  setup.width = spec.width;
-  setup.height = spec.height;
-  setup.fps = spec.fps;
-  setup.sample_rate = spec.sample_rate;
-  setup.preset = spec.preset;
-  setup.crf = spec.crf;
-  setup.title = spec.title;
-  setup.comment = spec.comment;
+  VideoSetup setup = spec.encoding;
+  setup.audio.clear();
   setup.audio.push_back({2, "song", 192000});
   if (spec.haptic_audio) setup.audio.push_back({1, "haptic signal", 96000});
   output::StagedOutput staged(path);  // the encoder writes PATH.part, renamed to PATH only when complete
@@ -213,7 +206,7 @@ VideoExportResult export_video(const std::string& path, const VideoExportSpec& s
   result.encoder = encoder->summary();
 
   // Drawing here, encoding on a thread of its own (libx264 adds its own threads).
-  const std::size_t frame_bytes = i420_bytes(spec.width, spec.height);
+  const std::size_t frame_bytes = i420_bytes(spec.encoding.width, spec.encoding.height);
   FrameQueue queue(3, frame_bytes);
   std::string encode_error;
   std::atomic<std::uint64_t> encoded{0};
@@ -224,7 +217,7 @@ VideoExportResult export_video(const std::string& path, const VideoExportSpec& s
       std::vector<std::uint8_t> frame = queue.take_full();
       if (frame.empty()) break;
       const auto t0 = WallClock::now();
-      const I420Planes p = i420_planes(frame.data(), spec.width, spec.height);
+      const I420Planes p = i420_planes(frame.data(), spec.encoding.width, spec.encoding.height);
       bool ok = encoder->add_frame_i420(p.y, p.u, p.v);
       std::size_t at = 0;
       for (std::size_t s = 0; ok && s < channels.size(); ++s) {
@@ -257,10 +250,10 @@ VideoExportResult export_video(const std::string& path, const VideoExportSpec& s
       break;
     }
     const auto t0 = WallClock::now();
-    const std::uint8_t* pixels = frames->draw(video_frame_state(spec, tail, frame_time_us(spec.from_us, i, spec.fps)));
+    const std::uint8_t* pixels = frames->draw(video_frame_state(spec, tail, frame_time_us(spec.from_us, i, spec.encoding.fps)));
     std::vector<std::uint8_t> buffer = queue.take_free();
     if (buffer.empty()) break;  // the encoder stopped
-    rgba_bottom_up_to_i420(pixels, spec.width, spec.height, i420_planes(buffer.data(), spec.width, spec.height));
+    rgba_bottom_up_to_i420(pixels, spec.encoding.width, spec.encoding.height, i420_planes(buffer.data(), spec.encoding.width, spec.encoding.height));
     render_wall += seconds_since(t0);
     queue.put_full(std::move(buffer));
     if (progress) progress(encoded.load(), result.frames);

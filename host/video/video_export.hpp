@@ -19,6 +19,7 @@
 #include "host/haptics/haptic_track.hpp"
 #include "host/haptics/signal_tail.hpp"
 #include "host/midi/song.hpp"
+#include "host/video/video_backend.hpp"
 #include "host/view/view_backend.hpp"
 
 namespace hmp::video {
@@ -28,17 +29,14 @@ struct VideoExportSpec {
   std::shared_ptr<const haptics::HapticTrack> haptic;  // the haptic track (front layer, strip, 2nd audio)
   haptics::HapticOptions haptic_options;
   std::int64_t from_us = 0, to_us = 0;                 // the passage, song time
-  int width = 1280, height = 720, fps = 60;
-  int sample_rate = 44100;
+  // The file's size, rate, encoder settings and metadata; its path and audio streams are the export's.
+  VideoSetup encoding;
   double seconds_across = 12.0;                        // the roll's zoom, as in the window
   audio::AudioOptions audio;                           // the SoundFont
   bool song_audio = true;                              // false: a silent song stream (--no-audio)
   bool haptic_audio = false;                           // a second stream: the haptic signal, listenable
-  std::string preset = "ultrafast";
-  int crf = 20;
   std::vector<std::string> legend_labels;              // per track, "" = not listed (as the window)
   std::string overlay_prefix;                          // the top line before the clock (song, track, options)
-  std::string title, comment;                          // the file's metadata
   const std::atomic<bool>* cancel = nullptr;           // set (e.g. by Ctrl-C): stop, write nothing
 };
 

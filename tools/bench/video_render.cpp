@@ -33,10 +33,10 @@ int main(int argc, char** argv) {
     spec.haptic_options = opts;
     spec.from_us = 30'000'000;
     spec.to_us = spec.from_us + static_cast<std::int64_t>(seconds * 1e6);
-    spec.width = width;
-    spec.height = height;
-    spec.fps = fps;
-    spec.preset = preset;
+    spec.encoding.width = width;
+    spec.encoding.height = height;
+    spec.encoding.fps = fps;
+    spec.encoding.preset = preset;
     spec.overlay_prefix = "bench";
     const hmp::video::VideoExportResult r = hmp::video::export_video(out, spec, {}, [](const std::string& m) {
       std::fprintf(stderr, "warning: %s\n", m.c_str());

@@ -275,13 +275,13 @@ TEST(VideoFrames, SpecsThatCannotWorkAreRefusedBeforeAnyWork) {
       EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
     }
   };
-  refused([](auto& s) { s.fps = 24; }, "--fps 24");  // 44100 / 24 is not whole
-  refused([](auto& s) { s.fps = 0; }, "--fps 0");
-  refused([](auto& s) { s.fps = 1000; }, "--fps 1000");
-  refused([](auto& s) { s.width = 1281; }, "--size 1281x720");
-  refused([](auto& s) { s.height = 8; }, "--size 1280x8");
-  refused([](auto& s) { s.crf = 52; }, "--crf 52");
-  refused([](auto& s) { s.preset = "warp"; }, "--video-preset warp");
+  refused([](auto& s) { s.encoding.fps = 24; }, "--fps 24");  // 44100 / 24 is not whole
+  refused([](auto& s) { s.encoding.fps = 0; }, "--fps 0");
+  refused([](auto& s) { s.encoding.fps = 1000; }, "--fps 1000");
+  refused([](auto& s) { s.encoding.width = 1281; }, "--size 1281x720");
+  refused([](auto& s) { s.encoding.height = 8; }, "--size 1280x8");
+  refused([](auto& s) { s.encoding.crf = 52; }, "--crf 52");
+  refused([](auto& s) { s.encoding.preset = "warp"; }, "--video-preset warp");
   refused([](auto& s) { s.to_us = 0; }, "empty passage");
 }
 
