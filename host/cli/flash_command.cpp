@@ -5,7 +5,6 @@
 // to come back as our HID device and prints its `hmp devices` line (design §3, §13; docs/flashing.md). Tool or board missing: one line
 // saying what to install or how to enter DFU mode, exit 1; bad options: exit 2.
 #include <sys/stat.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -24,6 +23,7 @@
 #include <fmt/format.h>
 
 #include "host/cli/commands.hpp"
+#include "host/common/child_process.hpp"
 #include "host/common/error.hpp"
 #include "host/common/input_file.hpp"
 #include "host/flash/firmware_image.hpp"
@@ -74,21 +74,9 @@ std::string find_on_path(const std::string& program) {
 int run_program(const std::vector<std::string>& argv, const std::string& resolved, const fs::path& cwd = {}) {
   std::fflush(stdout);
   std::fflush(stderr);
-  const pid_t pid = ::fork();
-  if (pid < 0) return -1;
-  if (pid == 0) {
-    if (!cwd.empty() && ::chdir(cwd.c_str()) != 0) _exit(127);
-    std::vector<char*> args;
-    for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-    args.push_back(nullptr);
-    ::execv(resolved.c_str(), args.data());
-    _exit(127);
-  }
-  int status = 0;
-  while (::waitpid(pid, &status, 0) < 0) {
-    if (errno != EINTR) return -1;
-  }
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  std::string error;
+  const pid_t pid = start_child({argv, resolved, cwd.string(), "", "", "", false}, error);
+  return pid < 0 ? -1 : wait_child(pid);
 }
 
 int install_udev_rule() {

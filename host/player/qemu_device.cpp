@@ -1,12 +1,8 @@
 #include "host/player/qemu_device.hpp"
 
-#include <fcntl.h>
 #include <poll.h>
-#include <signal.h>
-#include <spawn.h>
 #include <sys/socket.h>
 #include <sys/un.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -19,9 +15,8 @@
 #include <thread>
 #include <vector>
 
+#include "host/common/child_process.hpp"
 #include "host/transport/serial_transport.hpp"
-
-extern char** environ;
 
 namespace hmp::player {
 
@@ -88,26 +83,10 @@ std::unique_ptr<transport::Transport> QemuDevice::connect() {
                                          "-semihosting-config", "enable=on,target=native",
                                          "-chardev", "socket,id=uart0,path=" + socket_path, "-serial", "chardev:uart0",
                                          "-kernel", image_, "-append", "hz=" + std::to_string(options_.tick_hz)};
-  std::vector<char*> argv;
-  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-  argv.push_back(nullptr);
-  const std::string log_path = dir_ + "/semihosting.log";
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, 2, log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawnattr_t attr;
-  posix_spawnattr_init(&attr);
-  posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETPGROUP);  // own process group: the terminal's Ctrl-C is ours
-  posix_spawnattr_setpgroup(&attr, 0);
-  const int err = ::posix_spawnp(&pid_, argv[0], &actions, &attr, argv.data(), environ);
-  posix_spawnattr_destroy(&attr);
-  posix_spawn_file_actions_destroy(&actions);
-  if (err != 0) {
-    pid_ = -1;
-    throw TransportError("--device qemu: cannot start " + emulator + ": " + std::strerror(err));
-  }
+  std::string error;
+  // Its own process group: the terminal's Ctrl-C is ours, and we stop the emulator.
+  pid_ = start_child({args, "", "", "/dev/null", "/dev/null", dir_ + "/semihosting.log", true}, error);
+  if (pid_ < 0) throw TransportError("--device qemu: cannot start " + emulator + ": " + error);
 
   pollfd p{listen_fd_, POLLIN, 0};
   if (::poll(&p, 1, 10'000) != 1) {
@@ -123,17 +102,7 @@ std::unique_ptr<transport::Transport> QemuDevice::connect() {
 
 void QemuDevice::stop() {
   if (pid_ > 0) {
-    ::kill(pid_, SIGTERM);  // the emulator this object started, by its id
-    int status = 0;
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(2);
-    while (::waitpid(pid_, &status, WNOHANG) == 0) {
-      if (std::chrono::steady_clock::now() > deadline) {
-        ::kill(pid_, SIGKILL);
-        ::waitpid(pid_, &status, 0);
-        break;
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
+    stop_child(pid_, std::chrono::seconds(2));  // the emulator this object started, by its id
     pid_ = -1;
   }
   if (listen_fd_ >= 0) ::close(listen_fd_);
