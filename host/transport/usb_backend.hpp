@@ -1,7 +1,7 @@
 #pragma once
 // The USB module's interface (module "usb", host/transport/usb/): hidapi for our HID device and libusb
 // for the boards that are not (yet) one — a DFU bootloader, an ST-LINK. hid_transport.hpp and
-// flash/usb_scan.hpp are what the rest of hmp calls; they come here, so a command that touches no
+// usb_scan.hpp (both in host/transport/) are what the rest of hmp calls; they come here, so a command that touches no
 // device (info, render, sim with the simulated device) never loads those libraries. Errors come back as text.
 #include <memory>
 #include <string>

@@ -1,4 +1,4 @@
-// The qemu-an386 firmware's UART link under load (boards/qemu-an386/serial_link.cpp): at a tick rate of
+// The qemu-an386 firmware's UART link under load (boards/cortex-m/serial_link.hpp): at a tick rate of
 // 5 Hz the core takes only 4 reports per 200 ms, so a burst of 40 reports must fill its 16-report inbox.
 // The board must then hold the line back (stop reading the UART until a tick makes room) rather than lose
 // reports: every report is answered, in order, and the core never counts a report it had to turn away.

@@ -1,5 +1,5 @@
 #pragma once
-// The usb module's look at the USB bus through libusb, for the boards hidapi cannot see (flash/usb_scan.hpp).
+// The usb module's look at the USB bus through libusb, for the boards hidapi cannot see (host/transport/usb_scan.hpp).
 #include "host/transport/usb_scan.hpp"
 
 namespace hmp::transport {
