@@ -280,7 +280,7 @@ void Core::send_periodic_reports() {
   status_countdown_ = state_ == State::playing ? status_period_playing_ : status_period_idle_;
   flush_started();
   if (protocol::Message* m = begin_report(protocol::Type::status)) {
-    m->status = status();
+    write_status(m->status);  // in place: the report is the tick's heaviest copy otherwise
     outbox_.commit();
   }
 }
@@ -293,6 +293,11 @@ Stats Core::stats() const {
 
 protocol::Status Core::status() const {
   protocol::Status s;
+  write_status(s);
+  return s;
+}
+
+void Core::write_status(protocol::Status& s) const {
   s.tick = tick_;
   s.queue_free = static_cast<std::uint16_t>(free_note_slots() / protocol::kNotesPerBatch);
   s.last_seq = last_seq_;
@@ -305,13 +310,21 @@ protocol::Status Core::status() const {
   s.active_voices = engine_.active_voices();
   s.output = last_output_;
   s.force_n = has_drive_ ? force_n_ : last_output_ * settings_.peak_force_n;
-  // Only finite positions inside the report's range are sent (a wild estimate is "not known").
-  const float grip[3] = {grip_.position.x, grip_.position.y, grip_.position.z};
-  bool grip_ok = has_drive_ && grip_.known;
-  for (const float v : grip) grip_ok = grip_ok && v >= -protocol::kGripRangeM && v <= protocol::kGripRangeM;
-  s.grip_known = grip_ok ? 1 : 0;
-  for (int i = 0; i < 3; ++i) s.grip_m[i] = grip_ok ? grip[i] : 0.0f;
-  return s;
+  // Only finite positions inside the report's range are sent (a wild estimate is "not known"); without
+  // a drive there is none, and the tick that queues the Status does no more (it is the 16-voice tick's
+  // heaviest kind, design §8).
+  s.grip_known = 0;
+  if (has_drive_ && grip_.known) {
+    const float grip[3] = {grip_.position.x, grip_.position.y, grip_.position.z};
+    bool inside = true;
+    for (const float v : grip) inside = inside && v >= -protocol::kGripRangeM && v <= protocol::kGripRangeM;
+    if (inside) {
+      s.grip_known = 1;
+      for (int i = 0; i < 3; ++i) s.grip_m[i] = grip[i];
+      return;
+    }
+  }
+  for (float& v : s.grip_m) v = 0.0f;
 }
 
 }  // namespace hmp::fw

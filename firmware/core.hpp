@@ -135,6 +135,7 @@ class Core {
   std::uint16_t queued_notes() const { return static_cast<std::uint16_t>(queue_.size() + prep_.pending()); }
   std::uint8_t prepared_pending() const { return prep_.pending(); }  // queued notes handed to the background
   protocol::Status status() const;  // what a Status report sent now would carry
+  void write_status(protocol::Status& s) const;  // the same, into a report being built
   bool has_drive() const { return has_drive_; }
   const Drive& drive() const { return drive_; }
   const float (&duties() const)[kMotorCount] { return duty_; }  // the last ones sent to the board
