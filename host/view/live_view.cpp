@@ -292,7 +292,7 @@ void LiveView::update_touch(FrameState& f, const LiveState& state, Clock::time_p
       touching = g[2] <= 0.0f || pressing_;
     }
   }
-  f.cursor = have;
+  f.cursor = have && static_cast<bool>(hooks_.touch);  // no cursor where nothing can be touched
   f.cursor_x = x;
   f.cursor_y = y;
   if (!have || !touching || dragging_progress_) {
