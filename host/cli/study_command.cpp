@@ -122,15 +122,21 @@ std::uint32_t instrument_track(const midi::Song& song, const std::string& instru
   return select_track(song, instrument);
 }
 
-// A song of the study and the tracks of its instruments; a song without one of them is refused naming
-// the option that gave it.
+// A song of the study, where it came from and the tracks of its instruments; a song that cannot be read,
+// or lacks one of them, is refused naming the option that gave it.
 struct StudySong {
+  std::string path;
   midi::Song song;
   std::map<std::string, std::uint32_t> tracks;
 };
 template <std::size_t N>
 StudySong load_study_song(const std::string& option, const std::string& path, const std::array<const char*, N>& instruments) {
-  StudySong s{midi::load_song(path).song, {}};
+  StudySong s{path, {}, {}};
+  try {
+    s.song = midi::load_song(path).song;
+  } catch (const BadInput& e) {
+    throw BadInput(fmt::format("{} {}", option, e.what()));
+  }
   for (const char* i : instruments) {
     try {
       s.tracks[i] = instrument_track(s.song, i);
@@ -260,20 +266,18 @@ int run_study(const StudyOptions& o) {
   // the terminal alone, with one warning — or, with --window, one line and exit 2, nothing written.
   std::unique_ptr<StudyWindow> window;
   bool want_window = !o.no_view;
-  auto open_window = [&](const midi::Song& song, const std::string& path) {
+  auto open_window = [&](const StudySong& s) {
     window.reset();
     std::string why;
-    window = StudyWindow::open(song, audio, fmt::format("hmp study — participant {} — {}", participant, path), why);
+    window = StudyWindow::open(s.song, audio, fmt::format("hmp study — participant {} — {}", participant, s.path), why);
     if (window) return;
     if (o.window) throw BadInput(fmt::format("--window: no animation window: {}", why));
     std::fprintf(stderr, "warning: no animation window: %s; the study goes on in the terminal (--no-view: do not try)\n",
                  why.c_str());
     want_window = false;
   };
-  if (want_window) {
-    const bool practice = session.plan()[session.rounds_done()].practice;
-    open_window(practice ? practice_song.song : main_song.song, practice ? o.practice_song : o.song);
-  }
+  const auto song_of = [&](const study::Round& r) -> const StudySong& { return r.practice ? practice_song : main_song; };
+  if (want_window) open_window(song_of(session.plan()[session.rounds_done()]));
 
   haptics::HapticOptions haptic;
   OpenedLink opened = open_link(o.device, haptic.tick_hz);
@@ -295,16 +299,16 @@ int run_study(const StudyOptions& o) {
   while (!session.done()) {
     study::RoundState& round = session.begin_round(unix_now());
     const study::Round plan = round.round();
-    const StudySong& played = plan.practice ? practice_song : main_song;
+    const StudySong& played = song_of(plan);
     const midi::Song& song = played.song;
     const std::uint32_t track = played.tracks.at(plan.instrument);
     if (scripted) {
       std::fprintf(stderr, "study: round %s %d %s (track %u of %s); key 0\n", plan.practice ? "practice" : "main",
-                   plan.experiment, plan.instrument.c_str(), track, (plan.practice ? o.practice_song : o.song).c_str());
+                   plan.experiment, plan.instrument.c_str(), track, played.path.c_str());
     }
     std::printf("\n%s\n%s\n", round_title(plan, round_index, session.plan().size()).c_str(), round.prompt().c_str());
     std::fflush(stdout);
-    if (want_window && (!window || &window->song() != &song)) open_window(song, plan.practice ? o.practice_song : o.song);
+    if (want_window && (!window || &window->song() != &song)) open_window(played);
     const std::string label = window_label(plan, round_index, session.plan().size());
     if (window) window->show(track, label + "     " + round.prompt());
     // Practice rounds: the instrument alone; the others' sound is left out.

@@ -10,16 +10,13 @@ hmp="$1"; repo="$2"
 demo="$repo/examples/bach-bwv1050-brandenburg5-mvt3-allegro.mid"
 source "$(dirname "${BASH_SOURCE[0]}")/lib.bash"
 
-expect_bad() {  # expect_bad EXACT-STDERR ARGS...
+expect_exact_error() {  # expect_exact_error EXACT-STDERR ARGS...
   local want="$1"; shift
   "$hmp" "$@" >"$tmp/out" 2>"$tmp/err"; local rc=$?
   local err; err=$(<"$tmp/err")
   if [ $rc -ne 2 ] || [ "$err" != "$want" ] || [ -s "$tmp/out" ]; then
     echo "FAIL: hmp $* -> rc=$rc, stdout $(wc -c <"$tmp/out") bytes, wanted [$want], stderr:"; cat -v "$tmp/err"; fail=1
   fi
-}
-expect_ok() {
-  "$hmp" "$@" >"$tmp/out" 2>"$tmp/err" || { echo "FAIL: hmp $* -> rc=$?"; cat -v "$tmp/err"; fail=1; }
 }
 echo old >"$tmp/old"
 is_old() { cmp -s "$1" "$tmp/old"; }  # is_old FILE: FILE still holds "old"
@@ -31,15 +28,15 @@ dir="$tmp/a folder"
 mkdir "$dir"
 
 # --- a directory where a file is read
-expect_bad "error: $dir: is a directory" info "$dir"
-expect_bad "error: $dir: is a directory" render "$dir" --track 1 --out "$tmp/x.csv"
-expect_bad "error: $dir: is a directory" render "$demo" --track flute --config "$dir" --out "$tmp/x.csv"
-expect_bad "error: $dir: is a directory" render "$demo" --sound --soundfont "$dir" --out "$tmp/x.wav"
-expect_bad "error: $dir: is a directory" play "$demo" --no-audio --soundfont "$dir"
-expect_bad "error: $dir: is a directory" study analyze "$dir"
-expect_bad "error: $dir: is a directory" flash --dry-run --firmware "$dir"
-expect_bad "error: $tmp/none.csv: no such file" study analyze "$tmp/none.csv"
-expect_bad "error: $tmp/none.toml: no such file" render "$demo" --track flute --config "$tmp/none.toml" --out "$tmp/x.csv"
+expect_exact_error "error: $dir: is a directory" info "$dir"
+expect_exact_error "error: $dir: is a directory" render "$dir" --track 1 --out "$tmp/x.csv"
+expect_exact_error "error: $dir: is a directory" render "$demo" --track flute --config "$dir" --out "$tmp/x.csv"
+expect_exact_error "error: $dir: is a directory" render "$demo" --sound --soundfont "$dir" --out "$tmp/x.wav"
+expect_exact_error "error: $dir: is a directory" play "$demo" --no-audio --soundfont "$dir"
+expect_exact_error "error: $dir: is a directory" study analyze "$dir"
+expect_exact_error "error: $dir: is a directory" flash --dry-run --firmware "$dir"
+expect_exact_error "error: $tmp/none.csv: no such file" study analyze "$tmp/none.csv"
+expect_exact_error "error: $tmp/none.toml: no such file" render "$demo" --track flute --config "$tmp/none.toml" --out "$tmp/x.csv"
 [ -e "$tmp/x.csv" ] && { echo "FAIL: x.csv written"; fail=1; }
 
 # --- a results file: one participant's main rounds of experiment 1
@@ -66,20 +63,20 @@ cmp -s "$tmp/out" <("$hmp" study analyze "$tmp/r.csv" 2>/dev/null) || { echo "FA
 
 # A NUL and bytes that are not UTF-8: escaped in the one-line message; a non-UTF-8 version refused.
 results "1.0" | sed '2s/^p1,/p\x001,/' >"$tmp/nul.csv"
-expect_bad "error: $tmp/nul.csv:2: bad participant id \"p\\01\"" study analyze "$tmp/nul.csv"
+expect_exact_error "error: $tmp/nul.csv:2: bad participant id \"p\\01\"" study analyze "$tmp/nul.csv"
 results "v$(printf '\xff')1" >"$tmp/latin.csv"
-expect_bad "error: $tmp/latin.csv:2: version \"v\\xFF1\" is not valid UTF-8" study analyze "$tmp/latin.csv"
+expect_exact_error "error: $tmp/latin.csv:2: version \"v\\xFF1\" is not valid UTF-8" study analyze "$tmp/latin.csv"
 results "1.0" | sed "2s/,flute,/,fl$(printf '\xe9')te,/" >"$tmp/inst.csv"
-expect_bad "error: $tmp/inst.csv:2: instrument \"fl\\xE9te\" is not valid UTF-8" study analyze "$tmp/inst.csv"
+expect_exact_error "error: $tmp/inst.csv:2: instrument \"fl\\xE9te\" is not valid UTF-8" study analyze "$tmp/inst.csv"
 
 # --- the study figure: checked before the table is printed; kept without --force
-expect_bad "error: $tmp/missing/fig.png: folder $tmp/missing does not exist" study analyze "$tmp/r.csv" --out "$tmp/missing/fig.png"
-expect_bad "error: --out -: the figure needs a file name" study analyze "$tmp/r.csv" --out -
+expect_exact_error "error: $tmp/missing/fig.png: folder $tmp/missing does not exist" study analyze "$tmp/r.csv" --out "$tmp/missing/fig.png"
+expect_exact_error "error: --out -: the figure needs a file name" study analyze "$tmp/r.csv" --out -
 echo old >"$tmp/fig.png"
-expect_bad "error: $tmp/fig.png: file exists (use --force to overwrite)" study analyze "$tmp/r.csv" --out "$tmp/fig.png" </dev/null
+expect_exact_error "error: $tmp/fig.png: file exists (use --force to overwrite)" study analyze "$tmp/r.csv" --out "$tmp/fig.png" </dev/null
 is_old "$tmp/fig.png" || { echo "FAIL: fig.png overwritten without --force"; fail=1; }
 no_part "$tmp/fig.png"
-expect_bad "error: $dir: is a directory" study analyze "$tmp/r.csv" --out "$dir"
+expect_exact_error "error: $dir: is a directory" study analyze "$tmp/r.csv" --out "$dir"
 if "$hmp" study analyze "$tmp/r.csv" --out "$tmp/fig.png" --force >"$tmp/out" 2>"$tmp/err"; then
   [ "$(head -c 4 "$tmp/fig.png" | od -An -tx1 | tr -d ' ')" = 89504e47 ] || { echo "FAIL: --force did not write a PNG"; fail=1; }
   no_part "$tmp/fig.png"
@@ -93,17 +90,17 @@ fi
 for ext in csv wav png ahap haptic; do
   out="$tmp/track.$ext"
   echo old >"$out"
-  expect_bad "error: $out: file exists (use --force to overwrite)" render "$demo" --track flute --to 8 --out "$out" </dev/null
+  expect_exact_error "error: $out: file exists (use --force to overwrite)" render "$demo" --track flute --to 8 --out "$out" </dev/null
   is_old "$out" || { echo "FAIL: $out overwritten without --force"; fail=1; }
   expect_ok render "$demo" --track flute --to 8 --out "$out" --force
   ! is_old "$out" && [ -s "$out" ] || { echo "FAIL: $out not replaced with --force"; fail=1; }
   no_part "$out"
-  expect_bad "error: $tmp/nowhere/track.$ext: folder $tmp/nowhere does not exist" render "$demo" --track flute --to 8 --out "$tmp/nowhere/track.$ext"
+  expect_exact_error "error: $tmp/nowhere/track.$ext: folder $tmp/nowhere does not exist" render "$demo" --track flute --to 8 --out "$tmp/nowhere/track.$ext"
 done
 for ext in csv png; do
   out="$tmp/sim.$ext"
   echo old >"$out"
-  expect_bad "error: $out: file exists (use --force to overwrite)" sim "$demo" --track flute --to 8 --out "$out" </dev/null
+  expect_exact_error "error: $out: file exists (use --force to overwrite)" sim "$demo" --track flute --to 8 --out "$out" </dev/null
   is_old "$out" || { echo "FAIL: $out overwritten without --force"; fail=1; }
   expect_ok sim "$demo" --track flute --to 8 --out "$out" --force
   ! is_old "$out" || { echo "FAIL: $out not replaced with --force"; fail=1; }
@@ -111,13 +108,13 @@ for ext in csv png; do
 done
 out="$tmp/tone.wav"
 echo old >"$out"
-expect_bad "error: $out: file exists (use --force to overwrite)" tone --freq 100 --amp 0.5 --ms 50 --instrument flute --out "$out" </dev/null
+expect_exact_error "error: $out: file exists (use --force to overwrite)" tone --freq 100 --amp 0.5 --ms 50 --instrument flute --out "$out" </dev/null
 expect_ok tone --freq 100 --amp 0.5 --ms 50 --instrument flute --out "$out" --force
 [ "$(head -c 4 "$out")" = RIFF ] || { echo "FAIL: tone --force did not write a WAV"; fail=1; }
 no_part "$out"
 out="$tmp/sound.wav"
 echo old >"$out"
-expect_bad "error: $out: file exists (use --force to overwrite)" render "$demo" --sound --to 1 --out "$out" </dev/null
+expect_exact_error "error: $out: file exists (use --force to overwrite)" render "$demo" --sound --to 1 --out "$out" </dev/null
 expect_ok render "$demo" --sound --to 1 --out "$out" --force
 [ "$(head -c 4 "$out")" = RIFF ] || { echo "FAIL: render --sound --force did not write a WAV"; fail=1; }
 no_part "$out"

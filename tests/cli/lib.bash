@@ -18,6 +18,11 @@ run() {
   out=$(<"$tmp/out"); err=$(<"$tmp/err")
 }
 
+# expect_ok ARGS...: hmp accepts ARGS (exit 0); its output in $tmp/out and $tmp/err
+expect_ok() {
+  "$hmp" "$@" >"$tmp/out" 2>"$tmp/err" || { echo "FAIL: hmp $* -> rc=$?"; cat -v "$tmp/err"; fail=1; }
+}
+
 # expect_bad WORD ARGS...: hmp refuses ARGS with exit 2 and one stderr line containing WORD (any case)
 expect_bad() {
   local word="$1"; shift

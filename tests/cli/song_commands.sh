@@ -6,9 +6,6 @@ hmp="$1"; repo="$2"
 demo="$repo/examples/bach-bwv1050-brandenburg5-mvt3-allegro.mid"
 source "$(dirname "${BASH_SOURCE[0]}")/lib.bash"
 
-expect_ok() {
-  "$hmp" "$@" >"$tmp/out" 2>"$tmp/err" || { echo "FAIL: hmp $* -> rc=$?"; cat "$tmp/err"; fail=1; }
-}
 
 # --- info
 expect_bad "no such" info "$tmp/missing.mid"

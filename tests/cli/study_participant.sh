@@ -6,7 +6,7 @@ set -u
 hmp="$1"
 source "$(dirname "${BASH_SOURCE[0]}")/lib.bash"
 
-expect_bad() {  # expect_bad WORD-IN-MESSAGE DIR ARGS...: refused before anything is written in DIR
+expect_refused_untouched() {  # expect_refused_untouched WORD-IN-MESSAGE DIR ARGS...: refused before anything is written in DIR
   local word="$1" dir="$2"; shift 2
   local before; before=$(ls -l --time-style=full-iso "$dir"; cat "$dir"/* 2>/dev/null | md5sum)
   "$hmp" study --device sim --no-audio --out "$dir" "$@" </dev/null >"$tmp/out" 2>"$tmp/err"; local rc=$?
@@ -19,13 +19,13 @@ expect_bad() {  # expect_bad WORD-IN-MESSAGE DIR ARGS...: refused before anythin
 }
 
 mkdir "$tmp/empty"
-expect_bad "--age 4: whole years from 5 to 120" "$tmp/empty" --participant p --age 4
-expect_bad "--age 121: whole years from 5 to 120" "$tmp/empty" --participant p --age 121
-expect_bad "--age 30.5:" "$tmp/empty" --participant p --age 30.5
-expect_bad "--age -3:" "$tmp/empty" --participant p --age=-3
-expect_bad "--age x:" "$tmp/empty" --participant p --age x
-expect_bad "--sex f: female, male, other or unstated" "$tmp/empty" --participant p --sex f
-expect_bad "--handedness both: left, right, ambidextrous or unstated" "$tmp/empty" --participant p --handedness both
+expect_refused_untouched "--age 4: whole years from 5 to 120" "$tmp/empty" --participant p --age 4
+expect_refused_untouched "--age 121: whole years from 5 to 120" "$tmp/empty" --participant p --age 121
+expect_refused_untouched "--age 30.5:" "$tmp/empty" --participant p --age 30.5
+expect_refused_untouched "--age -3:" "$tmp/empty" --participant p --age=-3
+expect_refused_untouched "--age x:" "$tmp/empty" --participant p --age x
+expect_refused_untouched "--sex f: female, male, other or unstated" "$tmp/empty" --participant p --sex f
+expect_refused_untouched "--handedness both: left, right, ambidextrous or unstated" "$tmp/empty" --participant p --handedness both
 [ -z "$(ls "$tmp/empty")" ] || { echo "FAIL: files written for bad options: $(ls "$tmp/empty")"; fail=1; }
 
 # A participant with one finished round (seed 1; age 30, female, right-handed): other values refused.
@@ -38,13 +38,13 @@ mkdir "$tmp/new"
   echo "p,1,main,1,flute,paper,triangle,1,2,3.000,1,$times,1,hmp,30,female,right"
   echo "p,1,main,1,flute,paper,analogue,2,1,3.000,1,$times,1,hmp,30,female,right"
 } >"$tmp/new/study-results.csv"
-expect_bad "participant p: age 31, but 30 on $tmp/new/study-results.csv:2" "$tmp/new" --participant p --seed 1 --age 31
-expect_bad "participant p: sex male, but female on" "$tmp/new" --participant p --seed 1 --age 30 --sex male
-expect_bad "handedness left, but right" "$tmp/new" --participant p --seed 1 --handedness left
+expect_refused_untouched "participant p: age 31, but 30 on $tmp/new/study-results.csv:2" "$tmp/new" --participant p --seed 1 --age 31
+expect_refused_untouched "participant p: sex male, but female on" "$tmp/new" --participant p --seed 1 --age 30 --sex male
+expect_refused_untouched "handedness left, but right" "$tmp/new" --participant p --seed 1 --handedness left
 [ ! -e "$tmp/new/study-p.journal" ] || { echo "FAIL: a refused session wrote its journal"; fail=1; }
 # The same with the session's journal there, as when resuming for real: still the error alone.
 printf 'seed=1\nexperiments=both\n' >"$tmp/new/study-p.journal"
-expect_bad "participant p: age 29, but 30 on" "$tmp/new" --participant p --age 29 --sex female
+expect_refused_untouched "participant p: age 29, but 30 on" "$tmp/new" --participant p --age 29 --sex female
 
 "$hmp" study analyze "$tmp/new/study-results.csv" >"$tmp/out" 2>"$tmp/err" || { echo "FAIL: analyze"; cat "$tmp/err"; fail=1; }
 expected="participants: 1 — sex: female 1, male 0, other 0, unstated 0
@@ -62,7 +62,7 @@ mkdir "$tmp/old"
   echo "q,1,main,1,flute,paper,triangle,1,2,3.000,1,$times,1,hmp"
   echo "q,1,main,1,flute,paper,analogue,2,1,3.000,1,$times,1,hmp"
 } >"$tmp/old/study-results.csv"
-expect_bad "written before the age, sex and handedness columns" "$tmp/old" --participant r --sex female
+expect_refused_untouched "written before the age, sex and handedness columns" "$tmp/old" --participant r --sex female
 "$hmp" study analyze "$tmp/old/study-results.csv" >"$tmp/out" 2>"$tmp/err" || { echo "FAIL: analyze old"; cat "$tmp/err"; fail=1; }
 grep -qxF "age: not given (by none of the 1)" "$tmp/out" || { echo "FAIL: old file's summary:"; cat "$tmp/out"; fail=1; }
 grep -qF "Copeland winner: analogue" "$tmp/out" || { echo "FAIL: old file's analysis:"; cat "$tmp/out"; fail=1; }

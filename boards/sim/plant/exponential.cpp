@@ -73,10 +73,10 @@ class Exponential final : public Integrator {
     Linearisation* lin = nullptr;
     const bool predicted = carrying_;
     if (predicted) {
-      for (int i = 0; i < n; ++i) mid_[i] = y[i] + 0.5 * (y[i] - last_start_[i]);
+      // saved_ still holds the last whole step's start: nothing has been saved since.
+      for (int i = 0; i < n; ++i) mid_[i] = y[i] + 0.5 * (y[i] - saved_[i]);
       system.project(mid_.data());
-      lin = find(system, mid_.data(), piece, h, d);
-      if (lin == nullptr) lin = &new_linearisation(system, mid_.data(), piece, h);
+      lin = &find_or_new(system, mid_.data(), piece, h);
       stepping_ = nullptr;
     } else {
       lin = &linearisation(system, y, piece, h, true);
@@ -89,7 +89,6 @@ class Exponential final : public Integrator {
       return;
     }
     save_start(y, n);
-    for (int i = 0; i < n; ++i) last_start_[i] = y[i];
     etd2(system, *lin, 0, h, y);
     // A step that carried the state far (a grip the finger moves) is taken again on a linearisation at its
     // midpoint: the remainder's change is then symmetric about the step's middle, and its linear part is
@@ -101,8 +100,7 @@ class Exponential final : public Integrator {
       system.project(mid_.data());
       if (!predicted || drift_squared(system, lin->origin.data(), mid_.data(), d) > 1.0) {
         restore_start(y, n);
-        lin = find(system, mid_.data(), piece, h, d);
-        if (lin == nullptr) lin = &new_linearisation(system, mid_.data(), piece, h);
+        lin = &find_or_new(system, mid_.data(), piece, h);
         etd2(system, *lin, 0, h, y);
       }
     }
@@ -283,6 +281,13 @@ class Exponential final : public Integrator {
     return d2;
   }
 
+  // The cached linearisation of `piece` nearest y within its reach, else a new one taken at y.
+  Linearisation& find_or_new(OdeSystem& system, const double* y, std::uint32_t piece, double h) {
+    std::array<double, kMaxDrift> drift{};
+    Linearisation* lin = find(system, y, piece, h, drift);
+    return lin != nullptr ? *lin : new_linearisation(system, y, piece, h);
+  }
+
   // A linearisation taken at y, in place of the least recently used one.
   Linearisation& new_linearisation(OdeSystem& system, const double* y, std::uint32_t piece, double h) {
     Linearisation* lin = &cache_[0];
@@ -338,8 +343,7 @@ class Exponential final : public Integrator {
   std::vector<Linearisation> cache_;
   std::uint64_t clock_ = 0;
   const Linearisation* stepping_ = nullptr;  // the one the last whole step started on
-  bool carrying_ = false;  // the last whole step went more than kFarStep
-  Vector last_start_{};    // where it started
+  bool carrying_ = false;  // the last whole step went more than kFarStep (saved_ holds its start)
   std::vector<double> jacobian_, gradient_, tmp_;
   Vector f_{}, f1_{}, a_{}, f0_{}, col_{}, tmp_y_{}, saved_{}, f_saved_{}, mid_{};
 };

@@ -158,8 +158,6 @@ void unbalance(const double* m, int stride, const double* scale, double* out, in
 
 void multiply_rows(const double* a, int m, const double* b, double* c, int n) { product(a, m, n, b, n, c); }
 
-void multiply(const double* a, const double* b, double* c, int n) { product(a, n, n, b, n, c); }
-
 PhiChain::PhiChain(int max_levels)
     : max_levels_(max_levels < 1 ? 1 : (max_levels > kMaxLevels ? kMaxLevels : max_levels)),
       e_(max_levels_ * kStride), p_(max_levels_ * kStride), q_(max_levels_ * kStride), b_(kPadded), x_(kPadded),
@@ -177,7 +175,6 @@ void PhiChain::compute(const double* a, int n, double h, int levels) {
   const double norm = h * norm_;
   int s = norm > kTaylorNorm ? static_cast<int>(std::ceil(std::log2(norm / kTaylorNorm))) : 0;
   if (s < levels - 1) s = levels - 1;
-  squarings_ = s;
   series(s);
   // Level s is τ; double up to level 0 (= h), keeping every level there is room for:
   //   E(2τ) = E², P(2τ) = P + E·P, Q(2τ) = Q + E·Q + τ·P.

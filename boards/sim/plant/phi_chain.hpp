@@ -36,14 +36,11 @@ class PhiChain {
   // A is n×n, row-major with row stride n. Computes the levels ℓ = 0 … levels − 1 (τ = h / 2^ℓ) now
   // (levels ≤ max_levels), finer ones up to max_levels − 1 when first asked for.
   void compute(const double* a, int n, double h, int levels);
-  int size() const { return n_; }
   // n×n, row-major, stride n; level < max_levels.
   const double* exponential(int level) { return at(e_, level); }
   const double* integral(int level) { return at(p_, level); }
   // Q(τ): the response to an input growing linearly from 0.
   const double* ramp(int level) { return at(q_, level); }
-  // Squarings the last compute() took (log₂ of h over the Taylor series' step).
-  int squarings() const { return squarings_; }
 
   static constexpr int kMaxLevels = 12;
   // The work matrices' rows are padded to a multiple of this many doubles: whole vectors of 8 or 4.
@@ -63,7 +60,7 @@ class PhiChain {
   // A level finer than the doubling's start, by its own series.
   void sum_level(int level);
 
-  int max_levels_, n_ = 0, ld_ = 0, squarings_ = 0;  // ld_: the work matrices' row stride
+  int max_levels_, n_ = 0, ld_ = 0;  // ld_: the work matrices' row stride
   double h_ = 0, norm_ = 0;  // the step and ‖B‖₁ of the balanced matrix
   std::array<bool, kMaxLevels> ready_{};
   std::vector<double> e_, p_, q_;      // max_levels × kStride each
@@ -73,8 +70,6 @@ class PhiChain {
   SparseRows rows_;                    // the left factor of the products being taken
 };
 
-// c = a·b for n×n row-major matrices (stride n); c must not alias a or b.
-void multiply(const double* a, const double* b, double* c, int n);
 // c = a·b for an m×n a and an n×n b (row-major); c must not alias. Zeros in a are skipped.
 void multiply_rows(const double* a, int m, const double* b, double* c, int n);
 
