@@ -7,6 +7,19 @@
 
 namespace hmp::audio {
 
+namespace {
+
+// busy_ (audio_player.hpp) for the lifetime of a scope.
+struct BusyFlag {
+  explicit BusyFlag(std::atomic<bool>& flag) : flag_(flag) { flag_.store(true); }
+  ~BusyFlag() { flag_.store(false); }
+  BusyFlag(const BusyFlag&) = delete;
+  BusyFlag& operator=(const BusyFlag&) = delete;
+  std::atomic<bool>& flag_;
+};
+
+}  // namespace
+
 AudioPlayer::AudioPlayer(const AudioOptions& options, WarningSink warn)
     : options_(options), warn_(std::move(warn)) {
   if (!options_.enabled) {
@@ -36,6 +49,7 @@ AudioPlayer::AudioPlayer(const AudioOptions& options, WarningSink warn)
   if (!open_driver()) return;
   bool loaded = false;
   {
+    const BusyFlag busy(busy_);
     std::lock_guard lock(mutex_);  // the callback renders nothing while not playing; this is belt and braces
     loaded = synth_->load_soundfont(*soundfont);
   }
@@ -112,6 +126,7 @@ void AudioPlayer::render(int len, int nout, float* out[]) {
   const TimePoint called = now();
   callbacks_.fetch_add(1);
   period_seen_.store(len);
+  if (busy_.load()) return;  // the driver zeroed the buffers
   std::lock_guard lock(mutex_);
   if (!playing_ || !synth_ || nout < 1 || len <= 0) return;  // the driver zeroed the buffers
   float* right = nout >= 2 ? out[1] : nullptr;
@@ -145,6 +160,7 @@ void AudioPlayer::load_events() {
 }
 
 void AudioPlayer::set_events(const std::vector<AudioEvent>& events) {
+  const BusyFlag busy(busy_);
   std::lock_guard lock(mutex_);
   playing_ = false;
   clock_.pause(now());

@@ -100,6 +100,10 @@ class AudioPlayer {
   bool playing_ = false;
   std::atomic<int> period_seen_{0};  // frames per callback the driver actually uses
   std::atomic<std::uint64_t> callbacks_{0};
+  // Set while a long job holds mutex_ with nothing playing (loading the SoundFont, measuring a song's
+  // onsets): the callback then returns silence at once instead of waiting for the lock, which would
+  // make the card run dry (an underrun) for a period that was silent anyway.
+  std::atomic<bool> busy_{false};
   std::vector<float> spare_;  // right channel when a driver hands out a single buffer
 };
 

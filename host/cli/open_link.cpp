@@ -1,6 +1,7 @@
 #include "host/cli/open_link.hpp"
 
 #include <cstdio>
+#include <filesystem>
 
 #include <fmt/format.h>
 
@@ -10,8 +11,17 @@
 
 namespace hmp::cli {
 
-OpenedLink open_link(const std::string& text, std::uint32_t tick_hz) {
-  const transport::DeviceSpec spec = transport::parse_device_spec(text);
+namespace {
+
+// What tells the HID device behind `link` from others: its VID:PID and serial, as enumerated now.
+OpenedLink::UsbIdentity usb_identity(const transport::Transport& link, const transport::HidId& id) {
+  for (const transport::HidDeviceInfo& d : transport::enumerate_hid(id)) {
+    if (link.name() == "hid:" + d.path) return {d.id, d.serial};
+  }
+  return {id, std::nullopt};  // opened by a path that enumerates otherwise: its id at least
+}
+
+OpenedLink open_spec(const transport::DeviceSpec& spec, std::uint32_t tick_hz) {
   OpenedLink out;
   transport::SimTransport::Options sim;
   sim.tick_hz = tick_hz;
@@ -35,6 +45,40 @@ OpenedLink open_link(const std::string& text, std::uint32_t tick_hz) {
       out.transport = transport::open_device(spec).transport;
       return out;
   }
+}
+
+}  // namespace
+
+OpenedLink open_link(const std::string& text, std::uint32_t tick_hz) {
+  const transport::DeviceSpec spec = transport::parse_device_spec(text);
+  OpenedLink out = open_spec(spec, tick_hz);
+  out.spec = spec;
+  out.tick_hz = tick_hz;
+  if (out.transport->name().starts_with("hid:")) out.usb = usb_identity(*out.transport, spec.hid);
+  return out;
+}
+
+transport::Transport* reopen_link(OpenedLink& opened) {
+  if (opened.usb) {
+    // The same device, wherever it enumerates now (its /dev/hidrawN may be another).
+    for (const transport::HidDeviceInfo& d : transport::enumerate_hid(opened.usb->id)) {
+      if (opened.usb->serial && d.serial != *opened.usb->serial) continue;
+      opened.transport = transport::open_hid_path(d.path);
+      return opened.transport.get();
+    }
+    return nullptr;
+  }
+  if (opened.spec.kind == transport::DeviceSpec::Kind::serial) {
+    std::error_code ec;
+    if (!std::filesystem::exists(opened.spec.path, ec)) return nullptr;
+  }
+  // The emulator goes after its link; the fresh one is started before the next link.
+  opened.transport.reset();
+  opened.qemu.reset();
+  OpenedLink again = open_spec(opened.spec, opened.tick_hz);
+  opened.qemu = std::move(again.qemu);
+  opened.transport = std::move(again.transport);
+  return opened.transport.get();
 }
 
 player::DeviceLink::Options link_options_for(const OpenedLink& opened) {

@@ -1,16 +1,17 @@
-// hmp play SONG [--track T] [--device …] [--no-audio] [--no-view] [--from S] [--to S] [--log FILE]
-// — the main job (design §3): the song's audio with one track felt on the device. The player itself is
-// host/player/; this file is the command line, the terminal and the messages.
+// hmp play SONG... [--track T] [--device …] [--no-audio] [--no-view] [--from S] [--to S] [--log FILE] [--loop]
+// [--shuffle] — the main job (design §3): the song's audio with one track felt on the device, song after
+// song. The player itself is host/player/; this file is the command line, the terminal and the messages.
 #include <unistd.h>
-
 
 #include <cmath>
 #include <cstdio>
+#include <random>
 
 #include <fmt/format.h>
 
 #include "host/audio/audio_events.hpp"
 #include "host/audio/audio_player.hpp"
+#include "host/audio/virtual_card.hpp"
 #include "host/cli/commands.hpp"
 #include "host/cli/open_link.hpp"
 #include "host/cli/play_view.hpp"
@@ -22,17 +23,15 @@
 #include "host/player/live_terminal.hpp"
 #include "host/player/play_log.hpp"
 #include "host/player/player.hpp"
-#include "host/player/qemu_device.hpp"
-#include "host/transport/device_spec.hpp"
+#include "host/player/playlist.hpp"
 #include "host/transport/handshake.hpp"
-#include "host/transport/sim_transport.hpp"
 
 namespace hmp::cli {
 
 namespace {
 
 struct PlayOptions {
-  std::string song;
+  std::vector<std::string> songs;
   std::optional<std::string> track;
   std::string device = "auto";
   AudioCliOptions audio;
@@ -42,49 +41,107 @@ struct PlayOptions {
   std::optional<double> from_s, to_s;
   std::optional<std::string> log;
   bool force = false;
+  bool loop = false, shuffle = false;
+  bool exit_on_device_loss = false;
   HapticCliOptions haptic;
 };
 
 void check_window(const PlayOptions& o, const midi::Song& song) {
-  for (const auto& t : {o.from_s, o.to_s}) {
-    if (t && !(std::isfinite(*t) && *t >= 0)) throw BadInput("--from/--to: must be seconds ≥ 0");
-  }
   if (o.from_s && *o.from_s >= song.duration_s()) {
     throw BadInput(fmt::format("--from {}: the song ends at {:.3f} s", *o.from_s, song.duration_s()));
+  }
+}
+
+void check_window_options(const PlayOptions& o) {
+  for (const auto& t : {o.from_s, o.to_s}) {
+    if (t && !(std::isfinite(*t) && *t >= 0)) throw BadInput("--from/--to: must be seconds ≥ 0");
   }
   if (o.to_s && *o.to_s <= o.from_s.value_or(0.0)) throw BadInput("--from/--to: empty window");
 }
 
+// A song read and its haptic track chosen, ready to play.
+struct ReadySong {
+  midi::Song song;
+  std::uint32_t track = 0;
+};
+
+// Reads `path` and chooses its track: --track when the song has it, else the first with a Table 1
+// instrument. One song alone refuses a --track it does not have; in a playlist, each song that lacks it
+// plays its default track, said once per song. Throws BadInput naming the file.
+ReadySong ready_song(const PlayOptions& o, const std::string& path, bool alone) {
+  ReadySong out;
+  midi::ReadResult r = midi::load_song(path);
+  for (const midi::Warning& w : r.warnings) warn_on_stderr(w.message);
+  out.song = std::move(r.song);
+  check_window(o, out.song);
+  std::optional<std::uint32_t> chosen;
+  if (o.track) {
+    try {
+      chosen = select_track(out.song, *o.track);
+    } catch (const BadInput& e) {
+      if (alone) throw;
+      std::fprintf(stderr, "%s: %s: the default track instead\n", path.c_str(), e.what());
+    }
+  }
+  out.track = chosen ? *chosen : default_haptic_track(out.song);
+  if (!chosen) {
+    std::fprintf(stderr, "haptic track %s (the first with a Table 1 instrument; choose with --track or the t key)\n",
+                 describe_track(out.song, out.track).c_str());
+  }
+  return out;
+}
+
 void print_summary(const player::Counters& c, const player::Snapshot& s, std::size_t window_notes, const std::string& device) {
   std::printf("%s\n",
-              fmt::format("played {} of {} notes sent ({} in the window) of track {} \"{}\" on {}: late {}, stolen {}, "
+              fmt::format("{}played {} of {} notes sent ({} in the window) of track {} \"{}\" on {}: late {}, stolen {}, "
                           "rejected {}{}{}; stopped at {}",
-                          c.notes_played, c.notes_sent, window_notes, s.track, s.track_name, device, c.late, c.stolen,
-                          c.rejected, c.skipped ? fmt::format(", skipped {}", c.skipped) : "",
+                          s.song_label.empty() ? "" : s.song_label + ": ", c.notes_played, c.notes_sent, window_notes,
+                          s.track, s.track_name, device, c.late, c.stolen, c.rejected,
+                          c.skipped ? fmt::format(", skipped {}", c.skipped) : "",
                           c.recoveries ? fmt::format(", recovered {} time(s)", c.recoveries) : "",
                           format_time(s.song_us))
                   .c_str());
   std::fflush(stdout);
 }
 
+player::Counters& operator+=(player::Counters& a, const player::Counters& b) {
+  a.notes_sent += b.notes_sent;
+  a.notes_played += b.notes_played;
+  a.late += b.late;
+  a.stolen += b.stolen;
+  a.rejected += b.rejected;
+  a.skipped += b.skipped;
+  a.recoveries += b.recoveries;
+  return a;
+}
+
+// "[2/5] name.mid" in a playlist (the pass too when looping), "" for one song.
+std::string song_label(const player::Playlist& list, bool alone) {
+  if (alone) return "";
+  const std::string name = std::filesystem::path(list.current()).filename().string();
+  return list.pass() > 0 ? fmt::format("[{}/{} pass {}] {}", list.position() + 1, list.size(), list.pass() + 1, name)
+                         : fmt::format("[{}/{}] {}", list.position() + 1, list.size(), name);
+}
+
 int run_play(const PlayOptions& o) {
   haptics::HapticOptions haptic = resolve(o.haptic);
   haptic.speed = o.speed;
   haptics::validate(haptic);
+  check_window_options(o);
   // Refuse an existing log before any work (design §3: never overwrite without --force).
   player::PlayLog log;
   if (o.log) output::check_writable(*o.log, o.force);
   const audio::AudioOptions audio_opts = audio_options(o.audio);  // checks --soundfont, before any work
 
-  const midi::ReadResult r = midi::load_song(o.song);
-  for (const midi::Warning& w : r.warnings) warn_on_stderr(w.message);
-  const midi::Song& song = r.song;
-  check_window(o, song);
-  const std::uint32_t track = o.track ? select_track(song, *o.track) : default_haptic_track(song);
-  if (!o.track) {
-    std::fprintf(stderr, "haptic track %s (the first with a Table 1 instrument; choose with --track or the t key)\n",
-                 describe_track(song, track).c_str());
-  }
+  std::vector<std::string> notes;
+  std::vector<std::string> songs = player::expand_songs(o.songs, notes);
+  if (songs.empty()) throw BadInput("no song to play: " + fmt::format("{}", fmt::join(notes, "; ")));
+  for (const std::string& n : notes) warn_on_stderr(n);
+  // One song alone keeps the single-song rules: a song that cannot be read is an error before the device.
+  const bool alone = songs.size() == 1 && !o.loop;
+  player::Playlist list(std::move(songs), o.loop, o.shuffle, std::random_device{}());
+  std::optional<ReadySong> first;
+  if (alone) first = ready_song(o, list.current(), true);
 
   OpenedLink opened = open_link(o.device, haptic.tick_hz);
   if (!opened.note.empty()) std::fprintf(stderr, "%s\n", opened.note.c_str());
@@ -96,7 +153,6 @@ int run_play(const PlayOptions& o) {
   }
 
   audio::AudioPlayer audio(audio_opts);
-  audio.set_events(audio::audio_events(song));
   if (audio.audible()) {
     std::fprintf(stderr, "audio: %s, output latency %.1f ms (compensated)\n", audio.driver_name().c_str(),
                  audio.output_latency_s() * 1e3);
@@ -107,9 +163,12 @@ int run_play(const PlayOptions& o) {
   player::RawKeys keys;
   player::StatusLine status(tty);
   player::install_stop_signals();
+  if (keys.active()) {
+    status.message(fmt::format("keys: space pause/resume, ←/→ seek 5 s, t/T track, e envelope, m mapping, [/] speed, {}q quit",
+                               alone ? "" : "n/p song, "));
+  }
 
   player::PlayerOptions po;
-  po.track = track;
   po.haptic = haptic;
   for (const std::string& path : o.haptic.config_paths) {
     // The config's [device] table: force of full scale and vibration direction (design §11).
@@ -121,47 +180,121 @@ int run_play(const PlayOptions& o) {
   }
   po.from_us = o.from_s ? std::llround(*o.from_s * 1e6) : 0;
   if (o.to_s) po.to_us = std::llround(*o.to_s * 1e6);
-  po.on_started = [&](const player::StartedNote& n) { log.started(n); };
   po.on_message = [&](const std::string& text) { status.message(text); };
-  player::Player* running = nullptr;
-  po.on_idle = [&] {
-    if (player::stop_signal() != 0) running->post(player::Command::interrupt);
-    while (auto key = keys.poll()) running->post(player::command_for(*key));
-    status.show(running->snapshot());
-    log.flush();
-  };
-  player::Player player(link, audio, song, po);
-  running = &player;
-  if (keys.active()) status.message("keys: space pause/resume, ←/→ seek 5 s, t/T track, e envelope, m mapping, [/] speed, q quit");
-  // The animation (design §14): where there is no window to be had, one warning and the song plays on.
-  std::unique_ptr<view::LiveView> window;
-  if (!o.no_view) {
-    haptics::HapticOptions strip = haptic;
-    strip.tick_hz = hello.tick_hz;  // the strip shows what the device plays, at its rate
-    std::string why;
-    window = open_play_view(song, player, audio, strip,
-                            {fmt::format("hmp — {}", o.song), opened.transport->name(), o.fullscreen}, why);
-    if (!window) std::fprintf(stderr, "warning: no animation window: %s; the song plays on without it (--no-view: do not try)\n", why.c_str());
-  }
+  if (!o.exit_on_device_loss) po.find_device = [&] { return reopen_link(opened); };
 
+  player::Counters total;
+  std::size_t played = 0, skipped = 0, skipped_this_pass = 0, played_this_pass = 0;
+  double played_s = 0;
+  int last_move = 1;  // a song that cannot be read is passed over in the direction the user went
   player::Outcome outcome = player::Outcome::finished;
-  try {
-    outcome = player.run();
-  } catch (const player::LinkError&) {
-    status.close();
-    keys.restore();
-    log.summary(player.counters());
-    log.close();  // the log of a lost link is whole (summary included): kept, not removed as a cut write
-    throw;
+  for (bool more = true; more;) {
+    std::optional<ReadySong> ready = std::move(first);
+    first.reset();
+    if (!ready) {
+      try {
+        ready = ready_song(o, list.current(), alone);
+      } catch (const BadInput& e) {
+        std::fprintf(stderr, "skipped %s: %s\n", list.current().c_str(), e.what());
+        ++skipped;
+        ++skipped_this_pass;
+      }
+    }
+    if (ready) {
+      const midi::Song& song = ready->song;
+      audio.set_events(audio::audio_events(song));
+      po.track = ready->track;
+      po.song_label = song_label(list, alone);
+      log.begin_song(list.current_index());
+      po.on_started = [&](const player::StartedNote& n) { log.started(n); };
+      player::Player* running = nullptr;
+      po.on_idle = [&] {
+        if (player::stop_signal() != 0) running->post(player::Command::interrupt);
+        while (auto key = keys.poll()) running->post(player::command_for(*key));
+        status.show(running->snapshot());
+        log.flush();
+      };
+      player::Player player(link, audio, song, po);
+      running = &player;
+      // The animation (design §14): where there is no window to be had, one warning and the song plays on.
+      std::unique_ptr<view::LiveView> window;
+      if (!o.no_view) {
+        haptics::HapticOptions strip = haptic;
+        strip.tick_hz = hello.tick_hz;  // the strip shows what the device plays, at its rate
+        std::string why;
+        const std::string title = po.song_label.empty() ? list.current() : po.song_label;
+        window = open_play_view(song, player, audio, strip,
+                                {fmt::format("hmp — {}", title), opened.transport->name(), o.fullscreen}, why);
+        if (!window) std::fprintf(stderr, "warning: no animation window: %s; the song plays on without it (--no-view: do not try)\n", why.c_str());
+      }
+      try {
+        outcome = player.run();
+      } catch (const player::LinkError&) {
+        status.close();
+        keys.restore();
+        total += player.counters();
+        log.summary(total, {});
+        log.close();  // the log of a lost link is whole (summary included): kept, not removed as a cut write
+        throw;
+      }
+      window.reset();
+      status.show(player.snapshot(), true);
+      status.close();
+      const player::Snapshot end = player.snapshot();
+      const player::Counters counters = player.counters();
+      const double song_s = static_cast<double>(std::max<std::int64_t>(0, end.song_us - end.begin_us)) / 1e6;
+      log.song_end(list.current_index(), list.current(), song_s, counters);
+      print_summary(counters, end, player.window_notes(), opened.transport->name());
+      total += counters;
+      played_s += song_s;
+      ++played;
+      ++played_this_pass;
+    }
+    switch (outcome) {
+      case player::Outcome::quit:
+      case player::Outcome::interrupted: more = false; break;
+      case player::Outcome::previous_song:
+        list.previous();
+        last_move = -1;
+        break;
+      default: {
+        if (outcome == player::Outcome::next_song) last_move = 1;
+        if (!ready && last_move < 0 && list.position() > 0) {
+          list.previous();
+          break;
+        }
+        const std::size_t pass = list.pass();
+        more = list.next();
+        last_move = 1;
+        if (more && list.pass() != pass) {
+          // A whole pass that played nothing would loop for ever.
+          if (played_this_pass == 0) {
+            std::fprintf(stderr, "error: no song of the playlist could be played\n");
+            more = false;
+          }
+          played_this_pass = skipped_this_pass = 0;
+        }
+      }
+    }
+    if (!ready && outcome == player::Outcome::previous_song) outcome = player::Outcome::finished;
   }
-  status.show(player.snapshot(), true);
-  status.close();
   keys.restore();
-  const player::Counters counters = player.counters();
-  log.summary(counters);
+  player::PlayLog::Totals totals;
+  totals.songs_played = played;
+  totals.files_skipped = skipped;
+  totals.played_s = played_s;
+  if (const audio::VirtualCard* card = audio.virtual_card()) totals.audio_underruns = card->underruns();
+  log.summary(total, totals);
   log.close();
-  print_summary(counters, player.snapshot(), player.window_notes(), opened.transport->name());
+  if (!alone) {
+    std::printf("%s\n", fmt::format("playlist: {} song(s) played, {} file(s) skipped; notes played {} of {} sent, late {}, "
+                                    "stolen {}, rejected {}",
+                                    played, skipped, total.notes_played, total.notes_sent, total.late, total.stolen,
+                                    total.rejected)
+                            .c_str());
+  }
   if (outcome == player::Outcome::interrupted) return 128 + player::stop_signal();  // as shells report a signal
+  if (skipped > 0) return kExitBadInput;
   return kExitOk;
 }
 
@@ -170,7 +303,7 @@ int run_play(const PlayOptions& o) {
 void register_play(CLI::App& app, Registry& registry) {
   auto o = std::make_shared<PlayOptions>();
   CLI::App* cmd = app.add_subcommand("play", "Play a song with one track felt on the haptic device (the main job)");
-  cmd->add_option("SONG", o->song, "MIDI file")->required();
+  cmd->add_option("SONG", o->songs, "MIDI files or folders (their .mid/.midi files, sorted), played in order")->required();
   cmd->add_option("--track", o->track,
                   "Haptic track: index, or part of its name or instrument (default: the first with a Table 1 instrument)");
   cmd->add_option("--device", o->device, "auto (HID, else the simulated device), sim, qemu, hid[:VID:PID], serial:PATH")
@@ -184,6 +317,10 @@ void register_play(CLI::App& app, Registry& registry) {
   cmd->add_option("--to", o->to_s, "End of the passage in seconds of the song");
   cmd->add_option("--log", o->log, "JSON lines: every note the device started, then a summary");
   cmd->add_flag("-f,--force", o->force, "Overwrite an existing log file");
+  cmd->add_flag("--loop", o->loop, "Play the songs again from the first after the last, until q");
+  cmd->add_flag("--shuffle", o->shuffle, "Play the songs in a random order (a new one on every pass)");
+  cmd->add_flag("--exit-on-device-loss", o->exit_on_device_loss,
+                "A device that is lost ends the run with exit 1 (default: wait for it to come back)");
   add_haptic_options(cmd, o->haptic);
   cmd->callback([o, &registry] { registry.set([o] { return run_play(*o); }); });
 }

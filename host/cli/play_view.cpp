@@ -45,8 +45,8 @@ std::unique_ptr<view::LiveView> open_play_view(const midi::Song& song, player::P
     st.begin_us = s.begin_us;
     st.end_us = s.end_us;
     st.grip_m = s.grip_m;
-    st.overlay = fmt::format("{}  {} / {}{}   track {} \"{}\"   envelope {}   mapping {}   {}   late {}  stolen {}   (h: help)",
-                             s.paused ? "paused" : "playing", format_time(s.song_us), format_time(s.end_us),
+    st.overlay = fmt::format("{}{}  {} / {}{}   track {} \"{}\"   envelope {}   mapping {}   {}   late {}  stolen {}   (h: help)",
+                             s.song_label.empty() ? "" : s.song_label + "   ", player::state_word(s), format_time(s.song_us), format_time(s.end_us),
                              s.speed != 1.0 ? fmt::format("   speed {:g}×", s.speed) : "", s.track, s.track_name,
                              s.envelope, s.mapping, device, s.counters.late, s.counters.stolen);
     return st;

@@ -11,7 +11,7 @@ std::int64_t steady_us() {
 }
 
 DeviceLink::DeviceLink(transport::Transport& link, const Options& options)
-    : link_(link), options_(options), clock_(ClockSync::Options{}) {}
+    : link_(&link), options_(options), clock_(ClockSync::Options{}) {}
 
 DeviceLink::~DeviceLink() { stop_receiver(); }
 
@@ -21,17 +21,17 @@ protocol::HelloReply DeviceLink::greet() {
     std::lock_guard lock(mutex_);
     hello_seq = session_.take_seq();
   }
-  const auto id = transport::say_hello(link_, hello_seq, options_.hello_timeout);
+  const auto id = transport::say_hello(*link_, hello_seq, options_.hello_timeout);
   if (!id) {
-    if (!link_.is_open()) throw LinkError(fmt::format("device {}: link closed ({})", link_.name(), link_.closed_reason()));
-    throw LinkError(fmt::format("device {}: no answer to Hello within {} ms (sent every {} ms)", link_.name(),
+    if (!link_->is_open()) throw DeviceLost(fmt::format("device {}: link closed ({})", link_->name(), link_->closed_reason()));
+    throw DeviceLost(fmt::format("device {}: no answer to Hello within {} ms (sent every {} ms)", link_->name(),
                                 options_.hello_timeout.count(),
                                 std::chrono::duration_cast<std::chrono::milliseconds>(transport::kHelloResend).count()));
   }
   if (!id->compatible()) {
     throw LinkError(fmt::format("device {} speaks protocol version {}, this hmp speaks version {}: "
                                 "update the firmware or hmp so that both match",
-                                link_.name(), id->hello.protocol_version, protocol::kProtocolVersion));
+                                link_->name(), id->hello.protocol_version, protocol::kProtocolVersion));
   }
   std::lock_guard lock(mutex_);
   ClockSync::Options c;
@@ -40,6 +40,7 @@ protocol::HelloReply DeviceLink::greet() {
   session_.restart(id->status);
   events_ = Events{};
   last_report_us_ = steady_us();
+  dead_reason_.clear();
   return id->hello;
 }
 
@@ -49,8 +50,13 @@ protocol::HelloReply DeviceLink::connect() {
   return hello_;
 }
 
-protocol::HelloReply DeviceLink::reconnect() {
+protocol::HelloReply DeviceLink::reconnect() { return attach(*link_); }
+
+void DeviceLink::detach() { stop_receiver(); }
+
+protocol::HelloReply DeviceLink::attach(transport::Transport& link) {
   stop_receiver();
+  link_ = &link;
   hello_ = greet();
   start_receiver();
   return hello_;
@@ -79,11 +85,11 @@ void DeviceLink::receive_loop() {
       std::lock_guard lock(mutex_);
       if (stop_) return;
     }
-    const transport::Received got = link_.receive(report, options_.receive_poll);
+    const transport::Received got = link_->receive(report, options_.receive_poll);
     const std::int64_t now = steady_us();
     if (got == transport::Received::closed) {
       std::lock_guard lock(mutex_);
-      dead_reason_ = link_.closed_reason().empty() ? "link closed" : link_.closed_reason();
+      dead_reason_ = link_->closed_reason().empty() ? "link closed" : link_->closed_reason();
       woken_ = true;
       wake_.notify_all();
       return;
@@ -135,7 +141,7 @@ std::optional<std::uint16_t> DeviceLink::send(protocol::Message m) {
     std::lock_guard lock(mutex_);
     seq = session_.number(m, report);  // counted in flight before sending: a quick Status must see it
   }
-  if (!link_.send(report)) return std::nullopt;
+  if (!link_->send(report)) return std::nullopt;
   return seq;
 }
 
@@ -174,10 +180,10 @@ DeviceLink::Events DeviceLink::take_events() {
 
 void DeviceLink::check() const {
   std::lock_guard lock(mutex_);
-  if (!dead_reason_.empty()) throw LinkError(fmt::format("device {}: link lost ({})", link_.name(), dead_reason_));
+  if (!dead_reason_.empty()) throw DeviceLost(fmt::format("device {}: link lost ({})", link_->name(), dead_reason_));
   const std::int64_t silent = steady_us() - last_report_us_;
   if (silent > std::chrono::duration_cast<std::chrono::microseconds>(options_.silence_limit).count()) {
-    throw LinkError(fmt::format("device {}: no report for {} ms: the device stopped answering", link_.name(), silent / 1000));
+    throw DeviceLost(fmt::format("device {}: no report for {} ms: the device stopped answering", link_->name(), silent / 1000));
   }
 }
 

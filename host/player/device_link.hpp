@@ -29,6 +29,13 @@ class LinkError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// The device is gone (its link closed, or it stopped answering): it may come back (a cable put back, a
+// board that rebooted), unlike a device that speaks another protocol version.
+class DeviceLost : public LinkError {
+ public:
+  using LinkError::LinkError;
+};
+
 std::int64_t steady_us();  // host clock for the Sync exchange: µs of std::chrono::steady_clock
 
 class DeviceLink {
@@ -59,6 +66,11 @@ class DeviceLink {
   protocol::HelloReply connect();
   // After a restart: stops the receiver, greets again, forgets the old clock and credit.
   protocol::HelloReply reconnect();
+  // A lost device: detach() stops the receiver, so that the old transport may be destroyed; attach()
+  // greets the device behind `link` (the same one, opened again) as connect() does. attach() throws
+  // DeviceLost while it does not answer yet (still booting).
+  void detach();
+  protocol::HelloReply attach(transport::Transport& link);
 
   // Numbers and sends a report; nullopt when the link is dead (check()).
   std::optional<std::uint16_t> send(protocol::Message m);
@@ -71,7 +83,7 @@ class DeviceLink {
   std::optional<protocol::Status> status() const;
   std::uint64_t statuses() const;  // Status reports received so far
   Events take_events();
-  // Throws LinkError when the link is closed or silent for too long.
+  // Throws DeviceLost when the link is closed or silent for too long.
   void check() const;
 
   // The clock (nullopt until the first SyncReply).
@@ -87,7 +99,7 @@ class DeviceLink {
   void notify();
 
   const protocol::HelloReply& hello() const { return hello_; }
-  transport::Transport& transport() { return link_; }
+  transport::Transport& transport() { return *link_; }
 
  private:
   void start_receiver();
@@ -96,7 +108,7 @@ class DeviceLink {
   void on_report(const protocol::Message& m, std::int64_t now);
   protocol::HelloReply greet();
 
-  transport::Transport& link_;
+  transport::Transport* link_;
   Options options_;
   protocol::HelloReply hello_{};
 

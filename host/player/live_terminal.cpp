@@ -38,6 +38,8 @@ Command command_for(Key k) {
     case Key::mapping: return Command::cycle_mapping;
     case Key::slower: return Command::slower;
     case Key::faster: return Command::faster;
+    case Key::next_song: return Command::next_song;
+    case Key::previous_song: return Command::previous_song;
     case Key::quit: return Command::quit;
   }
   return Command::quit;
@@ -72,6 +74,8 @@ std::optional<Key> key_for_char(char c) {
     case 'm': return Key::mapping;
     case '[': return Key::slower;
     case ']': return Key::faster;
+    case 'n': return Key::next_song;
+    case 'p': return Key::previous_song;
     case 'q': return Key::quit;
     default: return std::nullopt;
   }
@@ -108,12 +112,17 @@ std::optional<unsigned char> RawKeys::read_byte() {
   return std::nullopt;
 }
 
+const char* state_word(const Snapshot& s) {
+  if (s.device_lost) return "DEVICE LOST";
+  return s.paused ? "paused " : "playing";
+}
+
 std::string format_status(const Snapshot& s) {
   // Most important first: a narrow terminal cuts the end (envelope and mapping).
   const Counters& c = s.counters;
-  return fmt::format("{} {}/{}{}  track {} \"{}\"  sent {} played {}  queue {}/{}  late {} stolen {}  env {} map {}",
-                     s.paused ? "paused " : "playing", format_time(s.song_us), format_time(s.end_us),
-                     s.speed != 1.0 ? fmt::format(" ×{:g}", s.speed) : "", s.track,
+  return fmt::format("{}{} {}/{}{}  track {} \"{}\"  sent {} played {}  queue {}/{}  late {} stolen {}  env {} map {}",
+                     s.song_label.empty() ? "" : s.song_label + "  ", state_word(s), format_time(s.song_us),
+                     format_time(s.end_us), s.speed != 1.0 ? fmt::format(" ×{:g}", s.speed) : "", s.track,
                      s.track_name, c.notes_sent, c.notes_played, s.queue_capacity - s.queue_free, s.queue_capacity,
                      c.late, c.stolen, s.envelope, s.mapping);
 }

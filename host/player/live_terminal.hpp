@@ -16,7 +16,9 @@
 
 namespace hmp::player {
 
-enum class Key { space, left, right, next_track, previous_track, envelope, mapping, slower, faster, quit };
+enum class Key {
+  space, left, right, next_track, previous_track, envelope, mapping, slower, faster, next_song, previous_song, quit
+};
 
 // The command a key stands for (design §14 keys: pause, seek, switch track/envelope/mapping, quit).
 Command command_for(Key k);
@@ -70,6 +72,7 @@ class StatusLine {
 };
 
 std::string format_status(const Snapshot& s);
+const char* state_word(const Snapshot& s);  // "playing", "paused " or "DEVICE LOST"
 
 // SIGINT, SIGTERM and SIGHUP set a flag instead of killing the process; the player polls it.
 void install_stop_signals();

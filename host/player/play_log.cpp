@@ -1,30 +1,59 @@
 #include "host/player/play_log.hpp"
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 namespace hmp::player {
 
-std::string started_line(const StartedNote& n) {
-  // start_s: the shortest text that reads back as the same double (the µs of the MIDI file).
-  return fmt::format(R"({{"track":{},"key":{},"start_s":{},"scheduled_tick":{},"actual_tick":{}}})", n.origin.track,
-                     n.origin.key, n.origin.start_s, n.scheduled_tick, n.actual_tick);
+namespace {
+
+nlohmann::json counters_json(const Counters& c) {
+  return {{"notes_sent", c.notes_sent}, {"notes_played", c.notes_played}, {"late", c.late},
+          {"stolen", c.stolen},         {"rejected", c.rejected},         {"skipped", c.skipped}};
 }
 
-std::string summary_line(const Counters& c) {
-  return fmt::format(R"({{"summary":{{"notes_sent":{},"notes_played":{},"late":{},"stolen":{},"rejected":{}}}}})",
-                     c.notes_sent, c.notes_played, c.late, c.stolen, c.rejected);
+}  // namespace
+
+std::string started_line(std::size_t song, const StartedNote& n) {
+  // start_s: the shortest text that reads back as the same double (the µs of the MIDI file).
+  return fmt::format(R"({{"song":{},"track":{},"key":{},"start_s":{},"scheduled_tick":{},"actual_tick":{}}})", song,
+                     n.origin.track, n.origin.key, n.origin.start_s, n.scheduled_tick, n.actual_tick);
+}
+
+std::string song_end_line(std::size_t index, const std::string& path, double played_s, const Counters& c) {
+  nlohmann::json j = counters_json(c);
+  j["index"] = index;
+  j["path"] = path;
+  j["played_s"] = played_s;
+  // A path that is not UTF-8 is written with U+FFFD in place of its bad bytes rather than refused.
+  return nlohmann::json{{"song_end", j}}.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+std::string summary_line(const Counters& c, const PlayLog::Totals& totals) {
+  nlohmann::json j = counters_json(c);
+  j["songs_played"] = totals.songs_played;
+  j["files_skipped"] = totals.files_skipped;
+  j["played_s"] = totals.played_s;
+  j["audio_underruns"] = totals.audio_underruns ? nlohmann::json(*totals.audio_underruns) : nlohmann::json(nullptr);
+  return nlohmann::json{{"summary", j}}.dump();
 }
 
 PlayLog::PlayLog(const std::string& path, bool force) : file_(output::open_for_writing(path, force)) {}
 
-void PlayLog::started(const StartedNote& n) {
-  if (file_) std::fprintf(file_.get(), "%s\n", started_line(n).c_str());
+void PlayLog::write(const std::string& line) {
+  if (file_) std::fprintf(file_.get(), "%s\n", line.c_str());
 }
 
-void PlayLog::summary(const Counters& c) {
-  if (!file_) return;
-  std::fprintf(file_.get(), "%s\n", summary_line(c).c_str());
-  std::fflush(file_.get());
+void PlayLog::started(const StartedNote& n) { write(started_line(song_, n)); }
+
+void PlayLog::song_end(std::size_t index, const std::string& path, double played_s, const Counters& c) {
+  write(song_end_line(index, path, played_s, c));
+  flush();
+}
+
+void PlayLog::summary(const Counters& c, const Totals& totals) {
+  write(summary_line(c, totals));
+  flush();
 }
 
 void PlayLog::flush() {

@@ -1,7 +1,9 @@
 #pragma once
 // `hmp play --log FILE` (design §3): one JSON object per line for every note the device started, as its
-// Started reports say, then one closing summary line. The file is opened through
+// Started reports say, one line at the end of each song, then one closing summary line. The file is opened through
 // output::open_for_writing: an existing file is replaced only with --force (or a "yes" on a terminal).
+#include <cstdint>
+#include <optional>
 #include <string>
 
 #include "host/output/output_file.hpp"
@@ -11,11 +13,20 @@ namespace hmp::player {
 
 class PlayLog {
  public:
+  // What the summary says of a playlist as a whole.
+  struct Totals {
+    std::size_t songs_played = 0, files_skipped = 0;
+    double played_s = 0;                           // song seconds played (position reached − start)
+    std::optional<std::uint64_t> audio_underruns;  // the virtual card's; unknown for a real card
+  };
+
   PlayLog() = default;                                     // no log: every call does nothing
   PlayLog(const std::string& path, bool force);            // throws BadInput (exists, no folder, …)
   bool enabled() const { return file_ != nullptr; }
+  void begin_song(std::size_t index) { song_ = index; }  // the playlist index the started lines carry
   void started(const StartedNote& n);
-  void summary(const Counters& c);
+  void song_end(std::size_t index, const std::string& path, double played_s, const Counters& c);
+  void summary(const Counters& c, const Totals& totals);
   void flush();
   // Closes the file: renamed from FILE.part into place (output_file.hpp); throws when the write failed.
   // A log never closed this way is renamed when it goes out of scope normally and removed when an
@@ -23,10 +34,18 @@ class PlayLog {
   void close();
 
  private:
+  void write(const std::string& line);
   output::FilePtr file_;
+  std::size_t song_ = 0;
 };
 
-std::string started_line(const StartedNote& n);  // {"track":T,"key":K,"start_s":S,"scheduled_tick":N,"actual_tick":M}
-std::string summary_line(const Counters& c);     // {"summary":{"notes_sent":..,"notes_played":..,"late":..,"stolen":..,"rejected":..}}
+// {"song":I,"track":T,"key":K,"start_s":S,"scheduled_tick":N,"actual_tick":M}
+std::string started_line(std::size_t song, const StartedNote& n);
+// {"song_end":{"index":I,"path":"…","played_s":S,"notes_sent":..,"notes_played":..,"late":..,"stolen":..,
+// "rejected":..,"skipped":..}}
+std::string song_end_line(std::size_t index, const std::string& path, double played_s, const Counters& c);
+// {"summary":{"notes_sent":..,"notes_played":..,"late":..,"stolen":..,"rejected":..,"skipped":..,
+// "songs_played":..,"files_skipped":..,"played_s":..,"audio_underruns":N|null}}
+std::string summary_line(const Counters& c, const PlayLog::Totals& totals);
 
 }  // namespace hmp::player

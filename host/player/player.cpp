@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "host/common/error.hpp"
+#include "host/common/time_format.hpp"
 #include "host/midi/gm.hpp"
 #include "host/player/note_batcher.hpp"
 #include "host/transport/handshake.hpp"
@@ -395,6 +396,12 @@ bool Player::handle_commands(Outcome& outcome) {
         apply_speed(next_speed(options_.haptic.speed, c == Command::faster ? 1 : -1));
         break;
       }
+      case Command::next_song:
+        outcome = Outcome::next_song;
+        return true;
+      case Command::previous_song:
+        outcome = Outcome::previous_song;
+        return true;
       case Command::quit:
         outcome = Outcome::quit;
         return true;
@@ -452,6 +459,8 @@ void Player::update_snapshot() {
   s.counters = counters_;
   s.begin_us = options_.from_us;
   s.speed = options_.haptic.speed;
+  s.song_label = options_.song_label;
+  s.device_lost = device_lost_;
   s.queue_capacity = link_.hello().queue_capacity;
   if (const auto st = link_.status()) {
     s.queue_free = st->queue_free;
@@ -554,31 +563,128 @@ Snapshot Player::snapshot() const {
   return snapshot_;
 }
 
-Outcome Player::run() {
-  set_up_device();
-  scheduler_.load(track_, options_.from_us);
-  paused_ = true;  // the device is idle: start_at sends play
-  audio_.set_speed(options_.haptic.speed);
-  start_at(options_.from_us, options_.start_preroll_s);
-  Outcome outcome = Outcome::finished;
+bool Player::turn(Outcome& outcome) {
+  link_.wait(options_.loop_period);
+  link_.check();
+  handle_events();
+  check_device_state();
+  if (handle_commands(outcome)) return true;
+  handle_touches();
+  if (steady_us() >= next_sync_us_) {
+    link_.send_sync();
+    next_sync_us_ = steady_us() + std::chrono::duration_cast<std::chrono::microseconds>(options_.sync_period).count();
+  }
+  if (!paused_) schedule();
+  update_counters();
+  if (ended()) return true;
+  update_snapshot();
+  if (options_.on_idle) options_.on_idle();
+  return false;
+}
+
+bool Player::wait_for_device(const std::string& why, Outcome& outcome) {
+  // Everything sent to the old session is gone with it: the song waits where it was heard.
+  if (!paused_) {
+    paused_at_us_ = audio_.song_time_us();
+    audio_.pause();
+    paused_ = true;
+  }
+  update_counters();
+  carried_ = counters_;
+  baseline_.reset();
+  ++epoch_;
+  sent_.clear();
+  resend_.clear();
+  play_seq_.reset();
+  last_note_end_tick_ = 0;
+  link_.detach();
+  device_lost_ = true;
+  update_snapshot();
+  message(why);
+  message("device lost — plug it back in, or q to quit");
+  std::string last_failure;
+  auto next_try = Clock::now();
   for (;;) {
-    link_.wait(options_.loop_period);
-    link_.check();
-    handle_events();
-    check_device_state();
-    if (handle_commands(outcome)) break;
-    handle_touches();
-    if (steady_us() >= next_sync_us_) {
-      link_.send_sync();
-      next_sync_us_ = steady_us() + std::chrono::duration_cast<std::chrono::microseconds>(options_.sync_period).count();
+    std::deque<Command> commands;
+    {
+      std::lock_guard lock(mutex_);
+      commands.swap(commands_);
     }
-    if (!paused_) schedule();
-    update_counters();
-    if (ended()) break;
+    for (const Command c : commands) {
+      switch (c) {
+        case Command::quit: outcome = Outcome::quit; break;
+        case Command::interrupt: outcome = Outcome::interrupted; break;
+        case Command::next_song: outcome = Outcome::next_song; break;
+        case Command::previous_song: outcome = Outcome::previous_song; break;
+        case Command::toggle_pause:
+          play_when_ready_ = !play_when_ready_;
+          message(play_when_ready_ ? "the song plays on when the device is back" : "the song stays paused when the device is back");
+          continue;
+        default: continue;  // nothing to change without a device
+      }
+      device_lost_ = false;
+      update_snapshot();
+      return false;
+    }
+    if (Clock::now() >= next_try) {
+      next_try = Clock::now() + options_.find_period;
+      try {
+        if (transport::Transport* found = options_.find_device()) {
+          const protocol::HelloReply hello = link_.attach(*found);
+          if (hello.tick_hz != tick_hz_) {
+            tick_hz_ = hello.tick_hz;
+            options_.haptic.tick_hz = tick_hz_;
+            set_track(haptics::build_haptic_track(song_, options_.track, options_.haptic));
+          }
+          ++counters_.recoveries;
+          device_lost_ = false;
+          message(fmt::format("device {} is back: {} at {}", found->name(), play_when_ready_ ? "playing on" : "paused",
+                              format_time(paused_at_us_)));
+          return true;
+        }
+      } catch (const DeviceLost& e) {
+        // Opened but not answering yet (a board still booting): try again.
+        if (e.what() != last_failure) message(last_failure = e.what());
+      } catch (const transport::TransportError& e) {
+        // There but not openable (permissions, busy): said once, tried again.
+        if (e.what() != last_failure) message(last_failure = e.what());
+      }
+    }
     update_snapshot();
     if (options_.on_idle) options_.on_idle();
+    link_.wait(std::chrono::milliseconds(20));
   }
-  finish();
+}
+
+Outcome Player::run() {
+  paused_ = true;  // the device is idle: start_at sends play
+  paused_at_us_ = options_.from_us;
+  audio_.set_speed(options_.haptic.speed);
+  bool ready = false, first = true;
+  Outcome outcome = Outcome::finished;
+  for (;;) {
+    try {
+      if (!ready) {
+        set_up_device();
+        ready = true;
+        scheduler_.load(track_, paused_at_us_);
+        if (play_when_ready_) start_at(paused_at_us_, first ? options_.start_preroll_s : options_.seek_preroll_s);
+        first = false;
+      }
+      if (turn(outcome)) break;
+    } catch (const DeviceLost& e) {
+      if (!options_.find_device) throw;
+      if (ready) play_when_ready_ = !paused_;  // as the user left it (lost while setting up: as it was)
+      ready = false;
+      if (!wait_for_device(e.what(), outcome)) return outcome;
+    }
+  }
+  try {
+    finish();
+  } catch (const DeviceLost&) {
+    // Lost while stopping: the song is over anyway, and a device that is gone vibrates no more.
+    audio_.stop();
+  }
   return outcome;
 }
 

@@ -61,11 +61,13 @@ enum class Command {
   cycle_mapping,   // paper → rank → constant → legacy2013 → paper
   slower,          // playback speed one step down (2, 1.5, 1.25, 1, 0.75, 0.5)
   faster,          // one step up
+  next_song,      // a playlist's next song (the player ends with Outcome::next_song)
+  previous_song,  // the one before (or this one again from its start, as the first)
   quit,
   interrupt,  // Ctrl-C: like quit, reported as interrupted
 };
 
-enum class Outcome { finished, quit, interrupted };
+enum class Outcome { finished, quit, interrupted, next_song, previous_song };
 
 // What the status line shows.
 struct Snapshot {
@@ -81,6 +83,8 @@ struct Snapshot {
   std::int64_t begin_us = 0;                   // the passage's start (--from)
   double speed = 1.0;
   std::shared_ptr<const haptics::HapticTrack> haptic;  // the haptic track's notes as now sent (the view's strip)
+  std::string song_label;  // PlayerOptions::song_label
+  bool device_lost = false;  // waiting for the device to come back
 };
 
 struct PlayerOptions {
@@ -100,6 +104,12 @@ struct PlayerOptions {
   std::function<void()> on_idle;   // every loop turn, on the player's thread (keys, status line)
   std::function<void(const StartedNote&)> on_started;
   std::function<void(const std::string&)> on_message;  // one-line notices (track switched, recovery)
+  std::string song_label;  // shown with the song's time: "[2/5] name.mid" in a playlist
+  // A device that is lost (unplugged, rebooted, silent): the player pauses and calls this every
+  // `find_period` until it returns the same device opened again (null: not back yet), greets it and
+  // plays on from where the song stopped. Not set: the loss ends run() with DeviceLost.
+  std::function<transport::Transport*()> find_device;
+  std::chrono::milliseconds find_period{250};
 };
 
 class Player {
@@ -107,8 +117,9 @@ class Player {
   // The link must be connected (DeviceLink::connect()); the audio player is owned by the caller.
   Player(DeviceLink& link, audio::AudioPlayer& audio, const midi::Song& song, PlayerOptions options);
 
-  // Plays to the end of the window, a quit or an interrupt; stops the device (nothing keeps
-  // vibrating) and returns. Throws LinkError when the device is lost.
+  // Plays to the end of the window, a quit, an interrupt or a change of song; stops the device (nothing
+  // keeps vibrating) and returns. Throws LinkError when the device is lost (unless find_device brings
+  // it back) or refuses the protocol.
   Outcome run();
 
   void post(Command c);  // any thread
@@ -139,6 +150,8 @@ class Player {
   };
 
   void set_up_device();
+  bool turn(Outcome& outcome);                                    // one loop turn; true: leave run()
+  bool wait_for_device(const std::string& why, Outcome& outcome);  // false: the user left meanwhile
   void send_presets();
   void sync_burst();
   void start_at(std::int64_t song_us, double preroll_s);
@@ -185,6 +198,8 @@ class Player {
   std::int64_t next_sync_us_ = 0;
   std::optional<std::uint16_t> play_seq_;  // the last Transport play sent
   std::int64_t last_fault_recovery_us_ = 0;
+  bool play_when_ready_ = true;  // start playing once the device is set up (again)
+  bool device_lost_ = false;
 
   std::optional<protocol::Status> baseline_;  // device counters when the session (or a restart) began
   Counters carried_{};                        // counters of device sessions before a restart

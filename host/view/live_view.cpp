@@ -17,6 +17,7 @@ bool same_bar(const Bar& a, const Bar& b) { return a.track == b.track && a.start
 std::vector<std::string> LiveView::help_lines() {
   return {"space  pause / resume          \u2190 \u2192  seek 5 s",
           "t / T  next / previous track    e  envelope    m  mapping    [ / ]  speed",
+          "n / p  next / previous song (a playlist)",
           "+ / \u2212  zoom    f  fullscreen    h  this help    q  quit",
           "click or drag the bar at the bottom: seek",
           "click a track in the legend: show / hide it",

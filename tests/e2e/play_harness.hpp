@@ -108,6 +108,7 @@ struct LogEntry {
 struct ParsedLog {
   std::vector<LogEntry> notes;
   std::optional<nlohmann::json> summary;
+  std::vector<nlohmann::json> song_ends;  // a playlist's lines at the end of each song
   int lines_after_summary = 0;
 };
 
@@ -121,6 +122,10 @@ inline ParsedLog parse_log(const std::string& path) {
     if (log.summary) ++log.lines_after_summary;
     if (j.contains("summary")) {
       log.summary = j.at("summary");
+      continue;
+    }
+    if (j.contains("song_end")) {
+      log.song_ends.push_back(j.at("song_end"));
       continue;
     }
     log.notes.push_back({j.at("track").get<std::uint32_t>(), j.at("key").get<int>(), j.at("start_s").get<double>(),

@@ -1,5 +1,5 @@
 // `hmp play` on a terminal (design §3, §14): the hmp binary runs on a pseudo-terminal; the live keys
-// (space, →, t, q, Ctrl-C) act and the one-line status shows it; the terminal's settings come back
+// (space, →, t, n, p, q, Ctrl-C) act and the one-line status shows it; the terminal's settings come back
 // when hmp ends.
 #include <gtest/gtest.h>
 
@@ -15,6 +15,7 @@
 #include <optional>
 #include <regex>
 #include <string>
+#include <vector>
 
 #include "play_harness.hpp"
 
@@ -26,14 +27,18 @@ namespace test = hmp::test;
 
 class PtySession {
  public:
-  PtySession() {
+  // hmp play SONGS… --no-audio --device sim (the demo's flute from 130 s to 170 s by default).
+  explicit PtySession(std::vector<std::string> args = {test::kDemo, "--track", "flute", "--from", "130", "--to", "170"}) {
+    args.insert(args.begin(), {"hmp", "play", "--no-audio", "--device", "sim"});
+    std::vector<char*> argv;
+    for (std::string& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
     winsize ws{};
     ws.ws_row = 24;
     ws.ws_col = 220;
     pid_ = ::forkpty(&master_, nullptr, nullptr, &ws);
     if (pid_ == 0) {
-      ::execl(test::kHmp.c_str(), "hmp", "play", test::kDemo.c_str(), "--track", "flute", "--no-audio", "--device", "sim",
-              "--from", "130", "--to", "170", static_cast<char*>(nullptr));
+      ::execv(test::kHmp.c_str(), argv.data());
       ::_exit(127);
     }
   }
@@ -159,3 +164,23 @@ TEST(PlayTerminal, CtrlCStopsCleanlyAndRestoresTheTerminal) {
 }
 
 }  // namespace
+
+TEST(PlayTerminal, PlaylistKeysMoveBetweenSongs) {
+  const std::string largo = std::string(HMP_REPO_DIR) + "/examples/bach-bwv1079-trio-sonata-largo.mid";
+  PtySession hmp({test::kDemo, largo, "--from", "20", "--to", "60"});
+  ASSERT_TRUE(hmp.started());
+  const auto shows = [&](const std::string& label) {
+    return hmp.wait_status([&](const std::string& s) { return s.rfind(label, 0) == 0 && s.find("playing") != std::string::npos; }, 8s);
+  };
+  ASSERT_TRUE(shows("[1/2] bach-bwv1050")) << hmp.output();
+  hmp.type("n");
+  ASSERT_TRUE(shows("[2/2] bach-bwv1079")) << hmp.status();
+  hmp.type("p");
+  ASSERT_TRUE(shows("[1/2] bach-bwv1050")) << hmp.status();
+  hmp.type("q");
+  const std::optional<int> code = hmp.wait_exit(3s);
+  ASSERT_TRUE(code.has_value()) << "hmp did not quit";
+  EXPECT_EQ(*code, 0);
+  EXPECT_NE(hmp.output().find("playlist: 3 song(s) played, 0 file(s) skipped"), std::string::npos) << hmp.output();
+  EXPECT_TRUE(hmp.terminal_restored());
+}

@@ -53,8 +53,9 @@ echo "guest: log begin"
 cat /tmp/play.log
 echo "guest: log end"
 
-# Unplugged mid-song: hmp says so and exits 1 within a second.
-hmp play /opt/data/song.mid --track flute --device hid --no-audio --no-view --from 30 > /tmp/unplug.out 2>&1 &
+# Unplugged mid-song with --exit-on-device-loss (for scripts): hmp says so and exits 1 within a second.
+hmp play /opt/data/song.mid --track flute --device hid --no-audio --no-view --from 30 --exit-on-device-loss \
+  > /tmp/unplug.out 2>&1 &
 pid=$!
 sleep 2
 echo "guest: unplug now"
@@ -73,4 +74,26 @@ echo "guest: replug now"
 wait_for /dev/hidraw0 || echo "guest: FAIL replug: no /dev/hidraw0 within 10 s"
 sleep 0.5
 case $(hmp devices 2>&1) in *1209:0001*) echo "guest: ok replug_found" ;; *) echo "guest: FAIL replug_found"; fail=1 ;; esac
+
+# Unplugged mid-song by default: hmp pauses, waits, and plays on when the device is back; the host side
+# checks the log (every note after the resume on its tick).
+hmp play /opt/data/song.mid --track flute --device hid --no-audio --no-view --from 30 --to 40 --log /tmp/resume.log \
+  > /tmp/resume.out 2>&1 &
+pid=$!
+sleep 3
+echo "guest: unplug now"
+for i in $(seq 100); do [ -e /dev/hidraw0 ] || break; sleep 0.02; done
+sleep 1
+echo "guest: replug now"
+wait $pid
+rc=$?
+sed 's/^/guest: resumed: /' /tmp/resume.out
+check resume_exit "$rc" 0
+case $(cat /tmp/resume.out) in *"device lost — plug it back in, or q to quit"*) echo "guest: ok resume_said_lost" ;;
+  *) echo "guest: FAIL resume_said_lost"; fail=1 ;; esac
+case $(cat /tmp/resume.out) in *"is back: playing on at"*) echo "guest: ok resume_said_back" ;;
+  *) echo "guest: FAIL resume_said_back"; fail=1 ;; esac
+echo "guest: resume log begin"
+cat /tmp/resume.log
+echo "guest: resume log end"
 echo "guest: done fail=$fail"
