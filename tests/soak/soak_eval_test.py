@@ -12,7 +12,7 @@ SCRIPT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "s
 
 def load_soak():
     """scripts/soak has no .py extension, so it is loaded by path; its main() does not run on import."""
-    sys.dont_write_bytecode = True  # no scripts/__pycache__ left behind
+    sys.dont_write_bytecode = True  # no __pycache__ folder left beside the script
     loader = SourceFileLoader("soak", SCRIPT)
     module = module_from_spec(spec_from_loader("soak", loader))
     loader.exec_module(module)
