@@ -13,7 +13,7 @@
 #include "host/audio/audio_player.hpp"
 #include "host/audio/virtual_card.hpp"
 #include "host/cli/commands.hpp"
-#include "host/cli/open_link.hpp"
+#include "host/cli/device_hello.hpp"
 #include "host/cli/play_view.hpp"
 #include "host/cli/song_options.hpp"
 #include "host/common/error.hpp"
@@ -143,7 +143,7 @@ int run_play(const PlayOptions& o) {
   std::optional<ReadySong> first;
   if (alone) first = ready_song(o, list.current(), true);
 
-  OpenedLink opened = open_link(o.device, haptic.tick_hz);
+  transport::OpenedDevice opened = transport::open_device(transport::parse_device_spec(o.device), haptic.tick_hz);
   if (!opened.note.empty()) std::fprintf(stderr, "%s\n", opened.note.c_str());
   player::DeviceLink link(*opened.transport, link_options_for(opened));
   const protocol::HelloReply hello = connect_and_describe(link, opened);
@@ -181,7 +181,7 @@ int run_play(const PlayOptions& o) {
   po.from_us = o.from_s ? std::llround(*o.from_s * 1e6) : 0;
   if (o.to_s) po.to_us = std::llround(*o.to_s * 1e6);
   po.on_message = [&](const std::string& text) { status.message(text); };
-  if (!o.exit_on_device_loss) po.find_device = [&] { return reopen_link(opened); };
+  if (!o.exit_on_device_loss) po.find_device = [&] { return transport::reopen_device(opened); };
 
   player::Counters total;
   std::size_t played = 0, skipped = 0, skipped_this_pass = 0, played_this_pass = 0;

@@ -20,7 +20,7 @@
 #include "host/audio/audio_events.hpp"
 #include "host/audio/audio_player.hpp"
 #include "host/cli/commands.hpp"
-#include "host/cli/open_link.hpp"
+#include "host/cli/device_hello.hpp"
 #include "host/cli/song_options.hpp"
 #include "host/cli/study_view.hpp"
 #include "host/common/error.hpp"
@@ -280,7 +280,7 @@ int run_study(const StudyOptions& o) {
   if (want_window) open_window(song_of(session.plan()[session.rounds_done()]));
 
   haptics::HapticOptions haptic;
-  OpenedLink opened = open_link(o.device, haptic.tick_hz);
+  transport::OpenedDevice opened = transport::open_device(transport::parse_device_spec(o.device), haptic.tick_hz);
   if (!opened.note.empty()) std::fprintf(stderr, "%s\n", opened.note.c_str());
   player::DeviceLink link(*opened.transport, link_options_for(opened));
   connect_and_describe(link, opened);

@@ -1,6 +1,8 @@
 #include "host/transport/device_spec.hpp"
 
 #include <charconv>
+#include <filesystem>
+#include <system_error>
 
 #include "host/common/error.hpp"
 #include "host/transport/serial_transport.hpp"
@@ -77,20 +79,32 @@ std::string to_string(const DeviceSpec& spec) {
   return "?";
 }
 
-OpenedDevice open_device(const DeviceSpec& spec) {
+namespace {
+
+// VID:PID and serial of the HID device behind `link`, as enumerated now.
+UsbIdentity usb_identity(const Transport& link, const HidId& id) {
+  for (const HidDeviceInfo& d : enumerate_hid(id)) {
+    if (link.name() == "hid:" + d.path) return {d.id, d.serial};
+  }
+  return {id, std::nullopt};
+}
+
+OpenedDevice open_kind(const DeviceSpec& spec, std::uint32_t tick_hz) {
   OpenedDevice opened;
+  SimTransport::Options sim;
+  sim.tick_hz = tick_hz;
   switch (spec.kind) {
     case DeviceSpec::Kind::automatic: {
       const std::vector<HidDeviceInfo> found = enumerate_hid(spec.hid);
       if (!found.empty()) {
         opened.transport = open_hid_path(found.front().path);
       } else {
-        opened.transport = std::make_unique<SimTransport>();
+        opened.transport = std::make_unique<SimTransport>(sim);
         opened.note = "no HID device " + to_string(spec.hid) + " found: using the simulated device";
       }
       break;
     }
-    case DeviceSpec::Kind::sim: opened.transport = std::make_unique<SimTransport>(); break;
+    case DeviceSpec::Kind::sim: opened.transport = std::make_unique<SimTransport>(sim); break;
     case DeviceSpec::Kind::hid:
       opened.transport = spec.path.empty() ? open_hid(spec.hid) : open_hid_path(spec.path);
       break;
@@ -101,9 +115,44 @@ OpenedDevice open_device(const DeviceSpec& spec) {
       break;
     }
     case DeviceSpec::Kind::qemu:
-      throw TransportError("--device qemu is not available yet (use serial:PATH with a running qemu-system-arm)");
+      opened.qemu = std::make_unique<QemuDevice>(QemuDevice::Options{tick_hz});
+      opened.transport = opened.qemu->connect();
+      break;
   }
   return opened;
+}
+
+}  // namespace
+
+OpenedDevice open_device(const DeviceSpec& spec, std::uint32_t tick_hz) {
+  OpenedDevice opened = open_kind(spec, tick_hz);
+  opened.spec = spec;
+  opened.tick_hz = tick_hz;
+  if (opened.transport->name().starts_with("hid:")) opened.usb = usb_identity(*opened.transport, spec.hid);
+  return opened;
+}
+
+Transport* reopen_device(OpenedDevice& opened) {
+  if (opened.usb) {
+    // The same device, wherever it enumerates now (its /dev/hidrawN may be another).
+    for (const HidDeviceInfo& d : enumerate_hid(opened.usb->id)) {
+      if (opened.usb->serial && d.serial != *opened.usb->serial) continue;
+      opened.transport = open_hid_path(d.path);
+      return opened.transport.get();
+    }
+    return nullptr;
+  }
+  if (opened.spec.kind == DeviceSpec::Kind::serial) {
+    std::error_code ec;
+    if (!std::filesystem::exists(opened.spec.path, ec)) return nullptr;
+  }
+  // The emulator goes after its link; a fresh one starts before the next link.
+  opened.transport.reset();
+  opened.qemu.reset();
+  OpenedDevice again = open_kind(opened.spec, opened.tick_hz);
+  opened.qemu = std::move(again.qemu);
+  opened.transport = std::move(again.transport);
+  return opened.transport.get();
 }
 
 }  // namespace hmp::transport

@@ -1,4 +1,4 @@
-#include "host/player/qemu_device.hpp"
+#include "host/transport/qemu_device.hpp"
 
 #include <poll.h>
 #include <sys/socket.h>
@@ -18,10 +18,9 @@
 #include "host/common/child_process.hpp"
 #include "host/transport/serial_transport.hpp"
 
-namespace hmp::player {
+namespace hmp::transport {
 
 namespace fs = std::filesystem;
-using transport::TransportError;
 
 namespace {
 
@@ -55,7 +54,7 @@ std::string QemuDevice::log() const {
   return s.str();
 }
 
-std::unique_ptr<transport::Transport> QemuDevice::connect() {
+std::unique_ptr<Transport> QemuDevice::connect() {
   image_ = find_qemu_image();
   if (image_.empty()) {
     throw TransportError("--device qemu: no firmware image (build it with `cmake --preset qemu-an386 && cmake --build "
@@ -97,7 +96,7 @@ std::unique_ptr<transport::Transport> QemuDevice::connect() {
   }
   const int fd = ::accept4(listen_fd_, nullptr, nullptr, SOCK_CLOEXEC);
   if (fd < 0) throw TransportError(std::string("--device qemu: accept: ") + std::strerror(errno));
-  return transport::SerialTransport::adopt(fd, "qemu");
+  return SerialTransport::adopt(fd, "qemu");
 }
 
 void QemuDevice::stop() {
@@ -114,4 +113,4 @@ void QemuDevice::stop() {
   }
 }
 
-}  // namespace hmp::player
+}  // namespace hmp::transport

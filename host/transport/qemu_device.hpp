@@ -17,7 +17,7 @@
 #include "host/transport/transport.hpp"
 #include "shared/synth/tick_rate.hpp"
 
-namespace hmp::player {
+namespace hmp::transport {
 
 class QemuDevice {
  public:
@@ -29,9 +29,9 @@ class QemuDevice {
   QemuDevice(const QemuDevice&) = delete;
   QemuDevice& operator=(const QemuDevice&) = delete;
 
-  // Starts the emulator and returns the connected link. Throws transport::TransportError (no image, no
+  // Starts the emulator and returns the connected link. Throws TransportError (no image, no
   // emulator, no connection within 10 s) with a one-line message.
-  std::unique_ptr<transport::Transport> connect();
+  std::unique_ptr<Transport> connect();
   // The firmware's semihosting output so far (its log): for messages and tests.
   std::string log() const;
   const std::string& image() const { return image_; }
@@ -48,4 +48,4 @@ class QemuDevice {
 // Where the image is looked for (see above); empty when neither place has one.
 std::string find_qemu_image();
 
-}  // namespace hmp::player
+}  // namespace hmp::transport
