@@ -18,7 +18,7 @@ namespace {
 namespace test = hmp::test;
 namespace fs = std::filesystem;
 
-// The same places hmp looks (host/player/qemu_device.hpp).
+// The same places hmp looks (host/transport/qemu_device.hpp).
 std::string image() {
   if (const char* e = std::getenv("HMP_QEMU_ELF"); e != nullptr && *e != '\0') return e;
   return (fs::path(HMP_BIN_DIR).parent_path().parent_path() / "qemu-an386" / "boards" / "qemu-an386" / "hmp_fw_qemu_an386.elf")

@@ -33,8 +33,8 @@ def comment_text(path, line):
         return line if line.lstrip().startswith("*") else ""
     if path.endswith(".md"):
         return line
-    at = line.find("#")
-    return line[at:] if at >= 0 else ""
+    at = re.search(r"(?:^|\s)#", line)  # not the # inside a word or a link's anchor
+    return line[at.start():] if at else ""
 
 
 def exists(root, word):
