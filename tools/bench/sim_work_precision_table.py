@@ -37,12 +37,12 @@ def cvode_cpu_at(points, error):
     return None
 
 
-def main():
-    rows = [json.loads(line)["params"] for line in sys.stdin if line.startswith("{")]
+def render(rows):
+    """The table (Markdown lines) and the cells that miss a goal, from the benchmark's rows' params."""
     scenes = list(dict.fromkeys(r["scene"] for r in rows))
     stiffnesses = sorted({r["stiffness_n_per_m"] for r in rows})
-    print("| scene | " + " | ".join(f"{k:.0e} N/m" for k in stiffnesses) + " |")
-    print("|---|" + "---|" * len(stiffnesses))
+    lines = ["| scene | " + " | ".join(f"{k:.0e} N/m" for k in stiffnesses) + " |",
+             "|---|" + "---|" * len(stiffnesses)]
     misses = []
     for scene in scenes:
         cells = []
@@ -68,7 +68,13 @@ def main():
             if cvode is not None and rt > 0:
                 text += f" (CVODE {cvode * rt:.0f}× the CPU)"
             cells.append(text)
-        print(f"| {scene} | " + " | ".join(cells) + " |")
+        lines.append(f"| {scene} | " + " | ".join(cells) + " |")
+    return lines, misses
+
+
+def main():
+    lines, misses = render([json.loads(line)["params"] for line in sys.stdin if line.startswith("{")])
+    print("\n".join(lines))
     print()
     print("bold: a goal missed (" + (", ".join(misses) if misses else "none") + ")")
 
