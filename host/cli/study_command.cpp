@@ -30,7 +30,7 @@
 #include "host/player/live_terminal.hpp"
 #include "host/player/player.hpp"
 #include "host/study/analysis.hpp"
-#include "host/study/figure.hpp"
+#include "host/cli/study_figure.hpp"
 #include "host/study/session.hpp"
 
 #ifndef HMP_DEMO_SONG
@@ -412,7 +412,7 @@ int run_analyze(const AnalyzeOptions& o) {
     std::printf("%s\n%s", study::format_summary(participants).c_str(), study::format_report(groups).c_str());
   }
   if (o.figure) {
-    study::write_figure(groups, *o.figure, true);  // checked above (absent, --force, or a "yes")
+    write_study_figure(groups, *o.figure, true);  // checked above (absent, --force, or a "yes")
     std::fprintf(stderr, "figure: %s\n", o.figure->c_str());
   }
   return kExitOk;

@@ -1,11 +1,10 @@
-// The PNG writers the rest of hmp calls (signal_plot.hpp, trace_plot.hpp, study/figure.hpp): check the
-// output file here, draw in the plot module.
+// The PNG writers the rest of hmp calls (signal_plot.hpp, trace_plot.hpp, bar_chart.hpp, loglog_plot.hpp):
+// check the output file here, draw in the plot module.
 #include "host/output/plot_backend.hpp"
 
 #include "host/common/error.hpp"
 #include "host/modules/module_loader.hpp"
 #include "host/output/output_file.hpp"
-#include "host/study/figure.hpp"
 
 namespace hmp::output {
 namespace {
@@ -48,13 +47,9 @@ void write_loglog_png(const std::string& path, const std::vector<LogLogPanel>& p
   write_png(path, force, [&](const PlotBackend& b, const std::string& to) { return b.loglog_png(to, panels, spec); });
 }
 
-}  // namespace hmp::output
-
-namespace hmp::study {
-
-void write_figure(const std::vector<GroupAnalysis>& groups, const std::string& path, bool force) {
-  // The same checks as every PNG writer: an existing file is kept without --force.
-  output::write_png(path, force, [&](const output::PlotBackend& b, const std::string& to) { return b.study_figure_png(to, groups); });
+void write_bar_chart_png(const std::string& path, const std::vector<BarPanel>& panels, const BarChartSpec& spec,
+                         bool force) {
+  write_png(path, force, [&](const PlotBackend& b, const std::string& to) { return b.bar_chart_png(to, panels, spec); });
 }
 
-}  // namespace hmp::study
+}  // namespace hmp::output

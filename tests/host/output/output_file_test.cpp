@@ -15,7 +15,7 @@
 
 #include "host/common/error.hpp"
 #include "host/output/output_file.hpp"
-#include "host/study/figure.hpp"
+#include "host/output/bar_chart.hpp"
 
 namespace {
 
@@ -121,11 +121,11 @@ TEST_F(OutputFileTest, BadNamesAreRefusedBeforeAnyWriting) {
   EXPECT_EQ(error_of(dir_.string(), true), dir_.string() + ": is a directory");
 }
 
-TEST_F(OutputFileTest, TheStudyFigureKeepsAnExistingFile) {
+TEST_F(OutputFileTest, TheBarChartKeepsAnExistingFile) {
   const std::string p = path("fig.png");
   std::ofstream(p) << "old";
   try {
-    hmp::study::write_figure({}, p, false);
+    hmp::output::write_bar_chart_png(p, {}, {}, false);
     FAIL() << "an existing figure was replaced without --force";
   } catch (const hmp::BadInput& e) {
     EXPECT_EQ(std::string(e.what()), p + ": file exists (use --force to overwrite)");

@@ -4,8 +4,8 @@
 #include <cmath>
 #include <limits>
 
-#include "host/plot/cairo_helpers.hpp"
-#include "host/plot/drawings.hpp"
+#include "host/output/plot/cairo_helpers.hpp"
+#include "host/output/plot/drawings.hpp"
 
 namespace hmp::plot {
 

@@ -1,4 +1,4 @@
-#include "host/plot/drawings.hpp"
+#include "host/output/plot/drawings.hpp"
 
 #include <cairo.h>
 
@@ -7,7 +7,7 @@
 #include <cstdio>
 #include <memory>
 
-#include "host/plot/cairo_helpers.hpp"
+#include "host/output/plot/cairo_helpers.hpp"
 
 namespace hmp::plot {
 

@@ -1,7 +1,7 @@
 // The plot module's entry (hmp-plot.so): the PlotBackend over the cairo drawings.
 #include "host/modules/module_loader.hpp"
 #include "host/output/plot_backend.hpp"
-#include "host/plot/drawings.hpp"
+#include "host/output/plot/drawings.hpp"
 
 namespace hmp::plot {
 namespace {
@@ -16,9 +16,9 @@ class CairoBackend final : public output::PlotBackend {
                          const output::TracePlotSpec& spec) const override {
     return draw_traces_png(path, traces, spec);
   }
-  std::string study_figure_png(const std::string& path,
-                               const std::vector<study::GroupAnalysis>& groups) const override {
-    return draw_study_figure_png(path, groups);
+  std::string bar_chart_png(const std::string& path, const std::vector<output::BarPanel>& panels,
+                            const output::BarChartSpec& spec) const override {
+    return draw_bar_chart_png(path, panels, spec);
   }
   std::string loglog_png(const std::string& path, const std::vector<output::LogLogPanel>& panels,
                          const output::LogLogPlotSpec& spec) const override {

@@ -1,4 +1,4 @@
-#include "host/plot/drawings.hpp"
+#include "host/output/plot/drawings.hpp"
 
 #include <cairo.h>
 
@@ -8,7 +8,7 @@
 #include <memory>
 #include <stdexcept>
 
-#include "host/plot/cairo_helpers.hpp"
+#include "host/output/plot/cairo_helpers.hpp"
 
 namespace hmp::plot {
 
