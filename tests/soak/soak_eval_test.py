@@ -57,13 +57,17 @@ class SoakEvalTest(unittest.TestCase):
         self.dir = tempfile.TemporaryDirectory()
         self.addCleanup(self.dir.cleanup)
 
-    def judge(self, records, minutes=2, kib_per_hour=0.0, raw_lines=()):
+    def judge(self, records, minutes=2, kib_per_hour=0.0, raw_lines=(), edit_samples=None, cpu_s=20.0):
+        """The log written as hmp would, judged with flat (or steadily growing) samples; `edit_samples(rss,
+        fds)` changes them first."""
         path = os.path.join(self.dir.name, "log.jsonl")
         with open(path, "w") as f:
             f.writelines(json.dumps(r) + "\n" for r in records)
             f.writelines(line + "\n" for line in raw_lines)
         rss, fds = flat_samples(minutes, kib_per_hour)
-        return soak.evaluate(soak.read_log(path), rss, fds, cpu_s=20.0, hmp_ok=True)
+        if edit_samples:
+            edit_samples(rss, fds)
+        return soak.evaluate(soak.read_log(path), rss, fds, cpu_s=cpu_s, hmp_ok=True)
 
     def test_clean_log_passes(self):
         r = self.judge(clean_log())
@@ -138,12 +142,9 @@ class SoakEvalTest(unittest.TestCase):
         self.assertTrue(r["pass"])
 
     def test_rss_warm_up_is_left_out_of_the_fit(self):
-        path = os.path.join(self.dir.name, "log.jsonl")
-        with open(path, "w") as f:
-            f.writelines(json.dumps(r) + "\n" for r in clean_log())
-        rss, fds = flat_samples(20)
-        rss[0][1] -= 30_000  # loading the first song: a jump before 60 s, not a leak
-        r = soak.evaluate(soak.read_log(path), rss, fds, cpu_s=1.0, hmp_ok=True)
+        def warm_up(rss, _fds):
+            rss[0][1] -= 30_000  # loading the first song: a jump before 60 s, not a leak
+        r = self.judge(clean_log(), minutes=20, edit_samples=warm_up, cpu_s=1.0)
         self.assertAlmostEqual(r["rss_growth_kib_per_hour"], 0, delta=1)
 
     def test_two_minute_run_leaves_the_rss_goal_unjudged(self):
@@ -153,12 +154,9 @@ class SoakEvalTest(unittest.TestCase):
         self.assertTrue(r["pass"])
 
     def test_fds_growing_fails(self):
-        path = os.path.join(self.dir.name, "log.jsonl")
-        with open(path, "w") as f:
-            f.writelines(json.dumps(r) + "\n" for r in clean_log())
-        rss, fds = flat_samples(2)
-        fds[-1][1] += 3
-        r = soak.evaluate(soak.read_log(path), rss, fds, cpu_s=1.0, hmp_ok=True)
+        def leak(_rss, fds):
+            fds[-1][1] += 3
+        r = self.judge(clean_log(), edit_samples=leak, cpu_s=1.0)
         self.assertFalse(r["goals"]["fds_flat"])
 
     def test_an_underrun_fails(self):
