@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <set>
 
 #include <fmt/format.h>
 
@@ -123,6 +124,90 @@ std::string song_label(const player::Playlist& list, bool alone) {
                          : fmt::format("[{}/{}] {}", list.position() + 1, list.size(), name);
 }
 
+// One song after another on the one device session, sound card, terminal and log of the run.
+struct PlaylistRun {
+  const PlayOptions& o;
+  const player::Playlist& list;
+  bool alone;
+  player::DeviceLink& link;
+  const protocol::HelloReply& hello;
+  transport::OpenedDevice& opened;
+  audio::AudioPlayer& audio;
+  player::RawKeys& keys;
+  player::StatusLine& status;
+  player::PlayLog& log;
+  player::PlayerOptions& po;
+  player::Counters total{};
+  player::PlayLog::Totals totals{};
+  std::set<std::size_t> skipped_files;  // list indices: a file skipped on every pass counts once
+
+  // The current song read, or nullopt after one line saying why it is skipped.
+  std::optional<ReadySong> read_current() {
+    try {
+      return ready_song(o, list.current(), alone);
+    } catch (const BadInput& e) {
+      std::fprintf(stderr, "skipped %s: %s\n", list.current().c_str(), e.what());
+      skipped_files.insert(list.current_index());
+      return std::nullopt;
+    }
+  }
+
+  // Plays `ready` to its end, a quit or a change of song, with its window where one can be had; its
+  // song_end line and summary. A device lost for good (or another protocol) ends the run: LinkError, the
+  // log closed whole first.
+  player::Outcome play(const ReadySong& ready) {
+    const midi::Song& song = ready.song;
+    audio.set_events(audio::audio_events(song));
+    po.track = ready.track;
+    po.song_label = song_label(list, alone);
+    log.begin_song(list.current_index());
+    po.on_started = [this](const player::StartedNote& n) { log.started(n); };
+    player::Player* running = nullptr;
+    po.on_idle = [&] {
+      if (player::stop_signal() != 0) running->post(player::Command::interrupt);
+      while (auto key = keys.poll()) running->post(player::command_for(*key));
+      status.show(running->snapshot());
+      log.flush();
+    };
+    player::Player player(link, audio, song, po);
+    running = &player;
+    // The animation (design §14): where there is no window to be had, one warning and the song plays on.
+    std::unique_ptr<view::LiveView> window;
+    if (!o.no_view) {
+      haptics::HapticOptions strip = po.haptic;
+      strip.tick_hz = hello.tick_hz;  // the strip shows what the device plays, at its rate
+      std::string why;
+      const std::string title = po.song_label.empty() ? list.current() : po.song_label;
+      window = open_play_view(song, player, audio, strip,
+                              {fmt::format("hmp — {}", title), opened.transport->name(), o.fullscreen}, why);
+      if (!window) std::fprintf(stderr, "warning: no animation window: %s; the song plays on without it (--no-view: do not try)\n", why.c_str());
+    }
+    player::Outcome outcome;
+    try {
+      outcome = player.run();
+    } catch (const player::LinkError&) {
+      status.close();
+      keys.restore();
+      total += player.counters();
+      log.summary(total, totals);
+      log.close();  // the log of a lost link is whole (summary included): kept, not removed as a cut write
+      throw;
+    }
+    window.reset();
+    status.show(player.snapshot(), true);
+    status.close();
+    const player::Snapshot end = player.snapshot();
+    const player::Counters counters = player.counters();
+    const double song_s = static_cast<double>(std::max<std::int64_t>(0, end.song_us - end.begin_us)) / 1e6;
+    log.song_end(list.current_index(), list.current(), song_s, counters);
+    print_summary(counters, end, player.window_notes(), opened.transport->name());
+    total += counters;
+    totals.played_s += song_s;
+    ++totals.songs_played;
+    return outcome;
+  }
+};
+
 int run_play(const PlayOptions& o) {
   haptics::HapticOptions haptic = resolve(o.haptic);
   haptic.speed = o.speed;
@@ -183,72 +268,19 @@ int run_play(const PlayOptions& o) {
   po.on_message = [&](const std::string& text) { status.message(text); };
   if (!o.exit_on_device_loss) po.find_device = [&] { return transport::reopen_device(opened); };
 
-  player::Counters total;
-  std::size_t played = 0, skipped = 0, skipped_this_pass = 0, played_this_pass = 0;
-  double played_s = 0;
-  int last_move = 1;  // a song that cannot be read is passed over in the direction the user went
+  PlaylistRun run{o, list, alone, link, hello, opened, audio, keys, status, log, po, {}, {}, {}};
   player::Outcome outcome = player::Outcome::finished;
+  int last_move = 1;  // a song that cannot be read is passed over in the direction the user went
+  std::size_t played_this_pass = 0;
   for (bool more = true; more;) {
     std::optional<ReadySong> ready = std::move(first);
     first.reset();
-    if (!ready) {
-      try {
-        ready = ready_song(o, list.current(), alone);
-      } catch (const BadInput& e) {
-        std::fprintf(stderr, "skipped %s: %s\n", list.current().c_str(), e.what());
-        ++skipped;
-        ++skipped_this_pass;
-      }
-    }
+    if (!ready) ready = run.read_current();
     if (ready) {
-      const midi::Song& song = ready->song;
-      audio.set_events(audio::audio_events(song));
-      po.track = ready->track;
-      po.song_label = song_label(list, alone);
-      log.begin_song(list.current_index());
-      po.on_started = [&](const player::StartedNote& n) { log.started(n); };
-      player::Player* running = nullptr;
-      po.on_idle = [&] {
-        if (player::stop_signal() != 0) running->post(player::Command::interrupt);
-        while (auto key = keys.poll()) running->post(player::command_for(*key));
-        status.show(running->snapshot());
-        log.flush();
-      };
-      player::Player player(link, audio, song, po);
-      running = &player;
-      // The animation (design §14): where there is no window to be had, one warning and the song plays on.
-      std::unique_ptr<view::LiveView> window;
-      if (!o.no_view) {
-        haptics::HapticOptions strip = haptic;
-        strip.tick_hz = hello.tick_hz;  // the strip shows what the device plays, at its rate
-        std::string why;
-        const std::string title = po.song_label.empty() ? list.current() : po.song_label;
-        window = open_play_view(song, player, audio, strip,
-                                {fmt::format("hmp — {}", title), opened.transport->name(), o.fullscreen}, why);
-        if (!window) std::fprintf(stderr, "warning: no animation window: %s; the song plays on without it (--no-view: do not try)\n", why.c_str());
-      }
-      try {
-        outcome = player.run();
-      } catch (const player::LinkError&) {
-        status.close();
-        keys.restore();
-        total += player.counters();
-        log.summary(total, {});
-        log.close();  // the log of a lost link is whole (summary included): kept, not removed as a cut write
-        throw;
-      }
-      window.reset();
-      status.show(player.snapshot(), true);
-      status.close();
-      const player::Snapshot end = player.snapshot();
-      const player::Counters counters = player.counters();
-      const double song_s = static_cast<double>(std::max<std::int64_t>(0, end.song_us - end.begin_us)) / 1e6;
-      log.song_end(list.current_index(), list.current(), song_s, counters);
-      print_summary(counters, end, player.window_notes(), opened.transport->name());
-      total += counters;
-      played_s += song_s;
-      ++played;
+      outcome = run.play(*ready);
       ++played_this_pass;
+    } else if (outcome == player::Outcome::previous_song) {
+      last_move = -1;
     }
     switch (outcome) {
       case player::Outcome::quit:
@@ -256,6 +288,7 @@ int run_play(const PlayOptions& o) {
       case player::Outcome::previous_song:
         list.previous();
         last_move = -1;
+        outcome = player::Outcome::finished;  // where the user went is in last_move now
         break;
       default: {
         if (outcome == player::Outcome::next_song) last_move = 1;
@@ -272,29 +305,27 @@ int run_play(const PlayOptions& o) {
             std::fprintf(stderr, "error: no song of the playlist could be played\n");
             more = false;
           }
-          played_this_pass = skipped_this_pass = 0;
+          played_this_pass = 0;
         }
       }
     }
-    if (!ready && outcome == player::Outcome::previous_song) outcome = player::Outcome::finished;
   }
   keys.restore();
-  player::PlayLog::Totals totals;
-  totals.songs_played = played;
-  totals.files_skipped = skipped;
-  totals.played_s = played_s;
+  player::PlayLog::Totals totals = run.totals;
+  totals.files_skipped = run.skipped_files.size();
   if (const audio::VirtualCard* card = audio.virtual_card()) totals.audio_underruns = card->underruns();
-  log.summary(total, totals);
+  log.summary(run.total, totals);
   log.close();
   if (!alone) {
+    const player::Counters& t = run.total;
     std::printf("%s\n", fmt::format("playlist: {} song(s) played, {} file(s) skipped; notes played {} of {} sent, late {}, "
                                     "stolen {}, rejected {}",
-                                    played, skipped, total.notes_played, total.notes_sent, total.late, total.stolen,
-                                    total.rejected)
+                                    totals.songs_played, totals.files_skipped, t.notes_played, t.notes_sent, t.late,
+                                    t.stolen, t.rejected)
                             .c_str());
   }
   if (outcome == player::Outcome::interrupted) return 128 + player::stop_signal();  // as shells report a signal
-  if (skipped > 0) return kExitBadInput;
+  if (!run.skipped_files.empty()) return kExitBadInput;
   return kExitOk;
 }
 
