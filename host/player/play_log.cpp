@@ -1,5 +1,7 @@
 #include "host/player/play_log.hpp"
 
+#include <cmath>
+
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
@@ -20,11 +22,12 @@ std::string started_line(std::size_t song, const StartedNote& n) {
                      n.origin.track, n.origin.key, n.origin.start_s, n.scheduled_tick, n.actual_tick);
 }
 
-std::string song_end_line(std::size_t index, const std::string& path, double played_s, const Counters& c) {
+std::string song_end_line(std::size_t index, const std::string& path, double played_s, double wall_s, const Counters& c) {
   nlohmann::json j = counters_json(c);
   j["index"] = index;
   j["path"] = path;
   j["played_s"] = played_s;
+  j["wall_s"] = std::round(wall_s * 10) / 10;
   // A path that is not UTF-8 is written with U+FFFD in place of its bad bytes rather than refused.
   return nlohmann::json{{"song_end", j}}.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
@@ -47,7 +50,8 @@ void PlayLog::write(const std::string& line) {
 void PlayLog::started(const StartedNote& n) { write(started_line(song_, n)); }
 
 void PlayLog::song_end(std::size_t index, const std::string& path, double played_s, const Counters& c) {
-  write(song_end_line(index, path, played_s, c));
+  const std::chrono::duration<double> wall = std::chrono::steady_clock::now() - opened_;
+  write(song_end_line(index, path, played_s, wall.count(), c));
   flush();
 }
 

@@ -2,6 +2,7 @@
 // `hmp play --log FILE` (design §3): one JSON object per line for every note the device started, as its
 // Started reports say, one line at the end of each song, then one closing summary line. The file is opened through
 // output::open_for_writing: an existing file is replaced only with --force (or a "yes" on a terminal).
+#include <chrono>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -37,13 +38,14 @@ class PlayLog {
   void write(const std::string& line);
   output::FilePtr file_;
   std::size_t song_ = 0;
+  std::chrono::steady_clock::time_point opened_ = std::chrono::steady_clock::now();
 };
 
 // {"song":I,"track":T,"key":K,"start_s":S,"scheduled_tick":N,"actual_tick":M}
 std::string started_line(std::size_t song, const StartedNote& n);
-// {"song_end":{"index":I,"path":"…","played_s":S,"notes_sent":..,"notes_played":..,"late":..,"stolen":..,
-// "rejected":..,"skipped":..}}
-std::string song_end_line(std::size_t index, const std::string& path, double played_s, const Counters& c);
+// {"song_end":{"index":I,"path":"…","played_s":S,"wall_s":W,"notes_sent":..,"notes_played":..,"late":..,
+// "stolen":..,"rejected":..,"skipped":..}}; wall_s: seconds since the log was opened
+std::string song_end_line(std::size_t index, const std::string& path, double played_s, double wall_s, const Counters& c);
 // {"summary":{"notes_sent":..,"notes_played":..,"late":..,"stolen":..,"rejected":..,"skipped":..,
 // "songs_played":..,"files_skipped":..,"played_s":..,"audio_underruns":N|null}}
 std::string summary_line(const Counters& c, const PlayLog::Totals& totals);

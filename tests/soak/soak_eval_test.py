@@ -147,6 +147,19 @@ class SoakEvalTest(unittest.TestCase):
         r = self.judge(clean_log(), minutes=20, edit_samples=warm_up, cpu_s=1.0)
         self.assertAlmostEqual(r["rss_growth_kib_per_hour"], 0, delta=1)
 
+    def test_growth_counts_from_the_end_of_the_first_song(self):
+        records = clean_log()
+        records[1000]["song_end"]["wall_s"] = 300.0  # the first song ended 5 minutes in
+
+        def load_then_grow(rss, _fds):
+            for p in rss:
+                p[1] += 4096 if p[0] >= 200 else 0   # the first song loading: before its end, not counted
+                p[1] += 2048 if p[0] >= 900 else 0   # a step after it: counted
+        r = self.judge(records, minutes=30, edit_samples=load_then_grow)
+        self.assertEqual(r["rss_fit_from_s"], 300.0)
+        self.assertAlmostEqual(r["rss_growth_kib_per_hour"], 2048 / (1500 / 3600), delta=1)
+        self.assertFalse(r["goals"]["rss_growth_at_most_1_mib_per_hour"])
+
     def test_two_minute_run_leaves_the_rss_goal_unjudged(self):
         r = self.judge(clean_log(), minutes=2, kib_per_hour=100_000)
         self.assertIsNone(r["goals"]["rss_growth_at_most_1_mib_per_hour"])
