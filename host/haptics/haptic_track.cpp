@@ -9,6 +9,7 @@
 #include "host/haptics/sustain_pedal.hpp"
 #include "host/midi/gm.hpp"
 #include "shared/common/text.hpp"
+#include "shared/envelope/gm_auto.hpp"
 #include "shared/synth/frequency.hpp"
 
 namespace hmp::haptics {
@@ -164,14 +165,17 @@ std::uint64_t seconds_to_tick(std::int64_t micros, std::uint32_t tick_hz) {
   return static_cast<std::uint64_t>(num / 2000000u);
 }
 
+// The `auto` table (shared/envelope cannot see host/midi) and the song model agree on the drum channel.
+static_assert(envelope::kGmDrumChannel == midi::kDrumChannel);
+
 std::string auto_preset_name(const HapticOptions& opts, std::uint8_t program, std::uint8_t channel) {
   if (channel != midi::kDrumChannel) {
     if (auto it = opts.gm_presets.find(program); it != opts.gm_presets.end()) return it->second;
-    if (!midi::table1_instrument(program)) {
+    if (!envelope::table1_instrument(program)) {
       if (auto it = opts.measured_presets.find(program); it != opts.measured_presets.end()) return it->second;
     }
   }
-  return envelope::name(midi::auto_preset(program, channel));
+  return envelope::name(envelope::auto_preset(program, channel));
 }
 
 std::string measured_preset_name(const HapticOptions& opts, std::uint8_t program, std::uint8_t channel) {

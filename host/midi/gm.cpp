@@ -69,38 +69,4 @@ const char* gm_instrument_name(std::uint8_t program, std::uint8_t channel) {
   return channel == 9 ? "Percussion" : gm_program_name(program);
 }
 
-bool table1_instrument(std::uint8_t program) {
-  for (const Table1Instrument& i : kTable1Instruments) {
-    if (program >= i.first && program <= i.last) return true;
-  }
-  return false;
-}
-
-envelope::Preset auto_preset(std::uint8_t program, std::uint8_t channel) {
-  using envelope::Preset;
-  if (channel == 9) return Preset::guitar;
-  if (program >= 128) return Preset::square;
-  switch (program / 8) {
-    case 0:  // Piano
-    case 1:  // Chromatic Percussion
-      return Preset::harpsichord;
-    case 2: return Preset::organ;
-    case 3: return Preset::guitar;
-    case 4: return Preset::contrabass;
-    case 5:  // Strings: Violin, Viola | Cello | Contrabass | Tremolo, Pizzicato, Harp, Timpani
-      if (program <= 41) return Preset::violin;
-      if (program == 42) return Preset::cello;
-      if (program == 43) return Preset::contrabass;
-      return Preset::guitar;
-    case 6: return Preset::violin;   // Ensemble
-    case 7: return Preset::trumpet;  // Brass
-    case 8:                          // Reed
-    case 9:                          // Pipe
-      return Preset::flute;
-    case 10: return Preset::organ;   // Synth Lead
-    case 11: return Preset::violin;  // Synth Pad
-    default: return Preset::square;  // Synth Effects, Ethnic, Percussive, Sound Effects
-  }
-}
-
 }  // namespace hmp::midi

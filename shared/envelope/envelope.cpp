@@ -9,25 +9,40 @@ namespace hmp::envelope {
 
 namespace {
 
+// The built-in presets, one row each: its enum value (= its slot on the wire), its name and its ADSR.
+// Adding a preset is a new Preset value before `count` and its row here, in the same place.
 // Table 1 as design §6 reads it: A, Dc, R in ms; s and r as fractions of the peak.
-constexpr Adsr kBuiltins[kBuiltinCount] = {
-    {5, 0, 25, 1.0f, 0.01f, Shape::adsr},          // organ
-    {75, 0, 60, 1.0f, 0.01f, Shape::adsr},         // flute
-    {55, 0, 55, 1.0f, 0.1739f, Shape::adsr},       // harpsichord
-    {15, 0, 15, 1.0f, 0.0136f, Shape::adsr},       // guitar
-    {30, 110, 100, 0.3209f, 0.01f, Shape::adsr},   // trumpet
-    {66, 376, 225, 0.5714f, 0.01f, Shape::adsr},   // violin
-    {40, 290, 200, 0.4745f, 0.01f, Shape::adsr},   // cello
-    {55, 355, 225, 0.5274f, 0.01f, Shape::adsr},   // contrabass
-    {0, 0, 0, 1.0f, 1.0f, Shape::adsr},            // square: the peak for the whole note
-    {0, 0, 0, 0.0f, 1.0f, Shape::triangle},        // triangle: the peak falling linearly to 0 at D
-    {0, 0, 0, 1.0f, static_cast<float>(mapping::kLegacyForceMin), Shape::damped},  // legacy2013
+struct BuiltinRow {
+  Preset preset;
+  const char* name;
+  Adsr adsr;
+};
+constexpr BuiltinRow kBuiltins[] = {
+    {Preset::organ, "organ", {5, 0, 25, 1.0f, 0.01f, Shape::adsr}},
+    {Preset::flute, "flute", {75, 0, 60, 1.0f, 0.01f, Shape::adsr}},
+    {Preset::harpsichord, "harpsichord", {55, 0, 55, 1.0f, 0.1739f, Shape::adsr}},
+    {Preset::guitar, "guitar", {15, 0, 15, 1.0f, 0.0136f, Shape::adsr}},
+    {Preset::trumpet, "trumpet", {30, 110, 100, 0.3209f, 0.01f, Shape::adsr}},
+    {Preset::violin, "violin", {66, 376, 225, 0.5714f, 0.01f, Shape::adsr}},
+    {Preset::cello, "cello", {40, 290, 200, 0.4745f, 0.01f, Shape::adsr}},
+    {Preset::contrabass, "contrabass", {55, 355, 225, 0.5274f, 0.01f, Shape::adsr}},
+    // square: the peak for the whole note
+    {Preset::square, "square", {0, 0, 0, 1.0f, 1.0f, Shape::adsr}},
+    // triangle: the peak falling linearly to 0 at D
+    {Preset::triangle, "triangle", {0, 0, 0, 0.0f, 1.0f, Shape::triangle}},
+    {Preset::legacy2013, "legacy2013", {0, 0, 0, 1.0f, static_cast<float>(mapping::kLegacyForceMin), Shape::damped}},
 };
 
-constexpr const char* kNames[kBuiltinCount] = {
-    "organ", "flute", "harpsichord", "guitar", "trumpet", "violin",
-    "cello", "contrabass", "square", "triangle", "legacy2013",
-};
+// builtin() and name() index the table by the enum value, and the firmware's slots are those values:
+// the table must hold one row per Preset, in the enum's order.
+constexpr bool rows_follow_enum() {
+  if (sizeof kBuiltins / sizeof kBuiltins[0] != kBuiltinCount) return false;
+  for (std::uint8_t i = 0; i < kBuiltinCount; ++i) {
+    if (static_cast<std::uint8_t>(kBuiltins[i].preset) != i) return false;
+  }
+  return true;
+}
+static_assert(rows_follow_enum(), "kBuiltins needs one row per envelope::Preset, in the enum's order");
 
 constexpr float kMaxDurationMs = 1e7f;
 
@@ -54,18 +69,18 @@ std::uint32_t first_tick_at_or_after(double t) { return static_cast<std::uint32_
 
 const Adsr& builtin(Preset p) {
   const auto i = static_cast<std::uint8_t>(p);
-  return kBuiltins[i < kBuiltinCount ? i : static_cast<std::uint8_t>(Preset::square)];
+  return kBuiltins[i < kBuiltinCount ? i : static_cast<std::uint8_t>(Preset::square)].adsr;
 }
 
 const char* name(Preset p) {
   const auto i = static_cast<std::uint8_t>(p);
-  return i < kBuiltinCount ? kNames[i] : "unknown";
+  return i < kBuiltinCount ? kBuiltins[i].name : "unknown";
 }
 
 bool find_builtin(const char* wanted, Preset& out) {
-  for (std::uint8_t i = 0; i < kBuiltinCount; ++i) {
-    if (text::iequals(wanted, kNames[i])) {
-      out = static_cast<Preset>(i);
+  for (const BuiltinRow& row : kBuiltins) {
+    if (text::iequals(wanted, row.name)) {
+      out = row.preset;
       return true;
     }
   }

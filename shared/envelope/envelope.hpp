@@ -28,6 +28,8 @@ struct Adsr {
 };
 
 // Built-in presets: Table 1 and the two simple envelopes of the paper's experiment, plus legacy2013.
+// The value is the preset's slot on the wire; its name and ADSR are its row in envelope.cpp's table
+// (a static_assert there keeps the rows in this order). The GM → preset `auto` table is gm_auto.hpp.
 enum class Preset : std::uint8_t {
   organ, flute, harpsichord, guitar, trumpet, violin, cello, contrabass, square, triangle, legacy2013,
   count

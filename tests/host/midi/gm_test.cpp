@@ -69,3 +69,21 @@ TEST(MidiGm, DrumChannelIsGuitarAtConstantFrequency) {
   EXPECT_FALSE(auto_constant_frequency(10));
   EXPECT_EQ(auto_preset(73, 10), Preset::flute);  // channel 11 is not drums
 }
+
+// The `auto` table's rows (shared/envelope/gm_auto.hpp) carry GM1's own names: a whole family's name for a
+// row of exactly that family, otherwise its programs' names in order.
+TEST(MidiGm, AutoRowsCarryGmNames) {
+  for (const hmp::envelope::GmAutoRow& row : hmp::envelope::kGmAutoRows) {
+    const bool whole_family = row.first % 8 == 0 && row.last == row.first + 7;
+    std::string want;
+    if (whole_family) {
+      want = gm_family_name(row.first);
+    } else {
+      for (int p = row.first; p <= row.last; ++p) {
+        if (!want.empty()) want += ", ";
+        want += gm_program_name(static_cast<std::uint8_t>(p));
+      }
+    }
+    EXPECT_EQ(row.gm_name, want) << "programs " << int{row.first} << "–" << int{row.last};
+  }
+}

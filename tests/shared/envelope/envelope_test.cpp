@@ -262,6 +262,18 @@ TEST(EnvelopePresets, NamesRoundTripCaseInsensitively) {
   EXPECT_FALSE(hmp::envelope::find_builtin(nullptr, found));
 }
 
+TEST(EnvelopePresets, EveryNameLeadsBackToItsPreset) {
+  // name → preset → name for every built-in, whatever its place in the table.
+  for (std::uint8_t i = 0; i < hmp::envelope::kBuiltinCount; ++i) {
+    const std::string name = hmp::envelope::name(static_cast<Preset>(i));
+    Preset found{};
+    ASSERT_TRUE(hmp::envelope::find_builtin(name.c_str(), found)) << name;
+    EXPECT_EQ(static_cast<unsigned>(found), unsigned{i}) << name;
+    EXPECT_EQ(hmp::envelope::name(found), name);
+  }
+  EXPECT_STREQ(hmp::envelope::name(Preset::count), "unknown");
+}
+
 // Hand-computed points of Table 1's violin at 1 kHz (A 66, Dc 376, R 225, s 57.14 %, r 1 %), one second.
 TEST(EnvelopeShape, ViolinByHand) {
   Envelope e;
