@@ -32,6 +32,7 @@ extern "C" {
 #include <usbredirparser.h>
 }
 
+#include "boards/usb-sim/control_transfer.hpp"
 #include "firmware/core.hpp"
 #include "firmware/usb/device.hpp"
 
@@ -43,12 +44,10 @@ using Clock = std::chrono::steady_clock;
 
 volatile sig_atomic_t g_unplug = 0, g_replug = 0, g_stop = 0;
 
-// The endpoint state the stack asked for (dcd.hpp), as a host controller keeps it.
-struct Endpoint {
+// The endpoint state the stack asked for (dcd.hpp), as a host controller keeps it; the packet (buffer, len,
+// in_data) is meaningful while `armed`.
+struct Endpoint : hmp::usb_host::Packet {
   bool open = false, stalled = false, armed = false;
-  std::uint8_t* buffer = nullptr;
-  std::uint16_t len = 0;
-  std::vector<std::uint8_t> in_data;  // IN: the packet handed over
   static Endpoint opened() {
     Endpoint e;
     e.open = true;
@@ -56,7 +55,8 @@ struct Endpoint {
   }
 };
 
-class UsbSim {
+// The controller is also endpoint 0 as the shared control-transfer model reads it (usb_host::Ep0).
+class UsbSim : private hmp::usb_host::Ep0 {
  public:
   UsbSim(int fd, std::uint32_t tick_hz) : fd_(fd), core_(seam(), tick_hz), device_(dcd(), core_, "USBSIM0001") {
     tick_period_ = std::chrono::nanoseconds(1'000'000'000LL / tick_hz);
@@ -72,7 +72,7 @@ class UsbSim {
     }
     usbredirparser_init(parser_, "hmp-usb-sim 1", caps, USB_REDIR_CAPS_SIZE, usbredirparser_fl_usb_host);
   }
-  ~UsbSim() { usbredirparser_destroy(parser_); }
+  ~UsbSim() override { usbredirparser_destroy(parser_); }
 
   int run() {
     auto next_tick = Clock::now();
@@ -216,49 +216,33 @@ class UsbSim {
 
   // ---- control transfers: a SETUP and its stages, as a host controller runs them ----
 
-  // Returns the usbredir status; IN data goes to `in`.
+  // Runs one through the shared model (control_transfer.hpp) and returns the usbredir status; IN data goes
+  // to `in` (as much as came, also when the transfer failed part way).
   std::uint8_t control(std::uint8_t type, std::uint8_t req, std::uint16_t value, std::uint16_t index,
                        std::uint16_t length, const std::uint8_t* out_data, std::vector<std::uint8_t>* in = nullptr) {
-    Endpoint& e0_in = ep(0x80);
-    Endpoint& e0_out = ep(0x00);
-    e0_in = Endpoint::opened();
-    e0_out = Endpoint::opened();
-    const std::uint8_t pkt[8] = {type, req, static_cast<std::uint8_t>(value), static_cast<std::uint8_t>(value >> 8),
-                                 static_cast<std::uint8_t>(index), static_cast<std::uint8_t>(index >> 8),
-                                 static_cast<std::uint8_t>(length), static_cast<std::uint8_t>(length >> 8)};
-    device_.on_setup(pkt);
-    if (type & 0x80) {
-      std::size_t got = 0;
-      for (int guard = 0; guard < 1100; ++guard) {
-        if (e0_in.stalled) return usb_redir_stall;
-        if (!e0_in.armed) return usb_redir_ioerror;
-        e0_in.armed = false;
-        const std::vector<std::uint8_t> d = e0_in.in_data;
-        if (in) in->insert(in->end(), d.begin(), d.end());
-        got += d.size();
-        device_.on_xfer_complete(0x80, static_cast<std::uint16_t>(d.size()));
-        if (d.size() < usb::kEp0Size || got >= length) break;
-      }
-      if (!e0_out.armed) return usb_redir_ioerror;  // the status stage
-      e0_out.armed = false;
-      device_.on_xfer_complete(0x00, 0);
-      return usb_redir_success;
+    const usb::Setup setup{type, req, value, index, length};
+    const hmp::usb_host::ControlResult r = hmp::usb_host::control_transfer(device_, *this, setup, out_data);
+    if (in) in->insert(in->end(), r.data.begin(), r.data.end());
+    switch (r.outcome) {
+      case hmp::usb_host::ControlOutcome::done: return usb_redir_success;
+      case hmp::usb_host::ControlOutcome::stalled: return usb_redir_stall;
+      case hmp::usb_host::ControlOutcome::no_data_packet:
+      case hmp::usb_host::ControlOutcome::no_status_stage: break;
     }
-    for (std::size_t done = 0; done < length;) {
-      if (e0_out.stalled) return usb_redir_stall;
-      if (!e0_out.armed) return usb_redir_ioerror;
-      const std::size_t n = std::min<std::size_t>({usb::kEp0Size, length - done, e0_out.len});
-      std::memcpy(e0_out.buffer, out_data + done, n);
-      e0_out.armed = false;
-      done += n;
-      device_.on_xfer_complete(0x00, static_cast<std::uint16_t>(n));
-    }
-    if (e0_in.stalled || e0_out.stalled) return usb_redir_stall;
-    if (!e0_in.armed || e0_in.len != 0) return usb_redir_ioerror;
-    e0_in.armed = false;
-    device_.on_xfer_complete(0x80, 0);
-    return usb_redir_success;
+    return usb_redir_ioerror;  // the stack left the host waiting (a real controller would time out)
   }
+
+  // Endpoint 0 for the model: a SETUP opens both directions afresh (no stall, nothing armed).
+  void accept_setup() override {
+    ep(0x80) = Endpoint::opened();
+    ep(0x00) = Endpoint::opened();
+  }
+  bool stalled() override { return ep(0x80).stalled || ep(0x00).stalled; }
+  hmp::usb_host::Packet* packet(std::uint8_t addr) override {
+    Endpoint& e = ep(addr);
+    return e.armed ? &e : nullptr;
+  }
+  void take(std::uint8_t addr) override { ep(addr).armed = false; }
 
   // ---- interrupt endpoints ----
 

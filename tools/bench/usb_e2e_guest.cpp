@@ -4,6 +4,8 @@
 //  2. throughput: for 5 s, Notes reports of 5 notes (one tick each, starting 5 per ms from 200 ms ahead)
 //     sent as fast as the device's credit allows (queue_free minus reports in flight); then waits for the
 //     device's Status to show every note started. Prints notes/s sent and the device's counters.
+// Numbering and credit are the host's session rules (host/transport/host_session.hpp), as hmp plays: the
+// benchmark measures the link under the same rules, and never sends the reserved sequence number 0.
 // Output: `usb-e2e rtt_median_us=… rtt_p99_us=… notes_per_s=… sent=… started=… rejected=… late=…`.
 #include <fcntl.h>
 #include <poll.h>
@@ -14,8 +16,10 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <stdexcept>
 #include <vector>
 
+#include "host/transport/host_session.hpp"
 #include "shared/protocol/protocol.hpp"
 
 namespace {
@@ -24,17 +28,20 @@ namespace p = hmp::protocol;
 using Clock = std::chrono::steady_clock;
 
 int g_fd = -1;
-std::uint16_t g_seq = 0;
+hmp::transport::HostSession g_session;  // numbers every report; counts note reports in flight for the credit
 
 std::int64_t now_us() {
   return std::chrono::duration_cast<std::chrono::microseconds>(Clock::now().time_since_epoch()).count();
 }
 
+// Numbers `m`, writes it and returns its number. A note report counts in flight from here on (before the
+// write: a quick Status must already see it).
 std::uint16_t send(p::Message m) {
-  m.seq = ++g_seq;
   std::uint8_t buf[1 + p::kReportSize] = {0};  // report ID 0 first: usbhid drops it for unnumbered reports
   p::Report r;
-  if (!p::encode(m, r)) {
+  try {
+    g_session.number(m, r);
+  } catch (const std::logic_error&) {
     std::fprintf(stderr, "usb-e2e: cannot encode\n");
     _exit(1);
   }
@@ -66,18 +73,15 @@ int main(int argc, char** argv) {
   }
   send(p::make(p::Type::hello, 0));
   p::Message m;
-  p::Status status{};
-  bool have_status = false;
-  for (int i = 0; i < 100 && !have_status; ++i) {
-    if (receive(m, 50) && m.type == p::Type::status) {
-      status = m.status;
-      have_status = true;
-    }
+  for (int i = 0; i < 100 && !g_session.status(); ++i) {
+    if (receive(m, 50) && m.type == p::Type::status) g_session.on_status(m.status);
   }
-  if (!have_status) {
+  if (!g_session.status()) {
     std::fprintf(stderr, "usb-e2e: no Status after Hello\n");
     return 1;
   }
+  // The device's newest Status (every Status received goes through the session, which keeps it).
+  const auto status = []() -> const p::Status& { return *g_session.status(); };
 
   // 1. Round trips.
   std::vector<double> rtt;
@@ -91,7 +95,7 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "usb-e2e: no SyncReply within 100 ms\n");
         return 1;
       }
-      if (m.type == p::Type::status) status = m.status;
+      if (m.type == p::Type::status) g_session.on_status(m.status);
       if (m.type == p::Type::sync_reply && m.sync_reply.host_time_us == static_cast<std::uint64_t>(t0)) break;
     }
     rtt.push_back(static_cast<double>(now_us() - t0));
@@ -105,20 +109,18 @@ int main(int argc, char** argv) {
   p::Message play = p::make(p::Type::transport, 0);
   play.transport.op = p::TransportOp::play;
   send(play);
-  std::vector<std::uint16_t> in_flight;
-  const std::uint32_t started0 = status.started, rejected0 = status.rejected, late0 = status.late;
-  const std::uint64_t first = status.tick + 200;
+  const p::Status at_start = status();
+  const std::uint32_t started0 = at_start.started, rejected0 = at_start.rejected, late0 = at_start.late;
+  const std::uint64_t first = at_start.tick + 200;
   std::uint64_t next_start = first;
   std::uint32_t sent = 0;
   const auto t_start = Clock::now();
   auto last_sync = t_start;
   while (Clock::now() - t_start < std::chrono::seconds(5)) {
     while (receive(m, 0)) {
-      if (m.type != p::Type::status) continue;
-      status = m.status;
-      std::erase_if(in_flight, [&](std::uint16_t q) { return static_cast<std::int16_t>(q - status.last_seq) <= 0; });
+      if (m.type == p::Type::status) g_session.on_status(m.status);
     }
-    if (static_cast<int>(status.queue_free) - static_cast<int>(in_flight.size()) > 0) {
+    if (g_session.credit() > 0) {
       p::Message n = p::make(p::Type::notes, 0);
       n.notes.count = 5;
       n.notes.base_tick = static_cast<std::uint32_t>(next_start);
@@ -128,14 +130,11 @@ int main(int argc, char** argv) {
         n.notes.notes[k].freq_q20 = 100u << 20;
         n.notes.notes[k].amp_q16 = 1000;
       }
-      in_flight.push_back(send(n));
+      send(n);
       next_start += 1;  // five notes a tick: the protocol's ceiling at one report per ms
       sent += 5;
     } else {
-      if (receive(m, 1) && m.type == p::Type::status) {
-        status = m.status;
-        std::erase_if(in_flight, [&](std::uint16_t q) { return static_cast<std::int16_t>(q - status.last_seq) <= 0; });
-      }
+      if (receive(m, 1) && m.type == p::Type::status) g_session.on_status(m.status);
     }
     if (Clock::now() - last_sync > std::chrono::milliseconds(100)) {
       send(p::make(p::Type::sync, 0));
@@ -145,11 +144,12 @@ int main(int argc, char** argv) {
   const double seconds = std::chrono::duration<double>(Clock::now() - t_start).count();
   // Wait until the device has started every note sent (or 3 s).
   const auto deadline = Clock::now() + std::chrono::seconds(3);
-  while (Clock::now() < deadline && (status.started - started0) + (status.rejected - rejected0) < sent) {
-    if (receive(m, 20) && m.type == p::Type::status) status = m.status;
+  while (Clock::now() < deadline && (status().started - started0) + (status().rejected - rejected0) < sent) {
+    if (receive(m, 20) && m.type == p::Type::status) g_session.on_status(m.status);
   }
+  const p::Status end = status();
   std::printf("usb-e2e rtt_median_us=%.0f rtt_p99_us=%.0f notes_per_s=%.0f sent=%u started=%u rejected=%u late=%u\n",
-              rtt[rtt.size() / 2], rtt[rtt.size() * 99 / 100], sent / seconds, sent, status.started - started0,
-              status.rejected - rejected0, status.late - late0);
+              rtt[rtt.size() / 2], rtt[rtt.size() * 99 / 100], sent / seconds, sent, end.started - started0,
+              end.rejected - rejected0, end.late - late0);
   return 0;
 }

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "boards/usb-sim/control_transfer.hpp"
 #include "firmware/core.hpp"
 #include "firmware/usb/device.hpp"
 #include "shared/protocol/protocol.hpp"
@@ -21,6 +22,7 @@ namespace {
 
 namespace p = hmp::protocol;
 namespace usb = hmp::fw::usb;
+namespace host = hmp::usb_host;
 using Bytes = std::vector<std::uint8_t>;
 
 // A device controller that records what the stack asks of it; the scripted host reads those records.
@@ -30,11 +32,7 @@ struct FakeController {
   std::map<std::uint8_t, std::uint16_t> open;  // ep → max packet
   std::map<std::uint8_t, bool> stalled;
   std::vector<std::uint8_t> toggle_resets;     // ep_clear_stall calls
-  struct Pending {
-    std::uint8_t* buffer = nullptr;
-    std::uint16_t len = 0;
-    Bytes in_data;  // IN: the bytes as handed over
-  };
+  using Pending = host::Packet;                // buffer and room (OUT) or the bytes as handed over (IN)
   std::map<std::uint8_t, Pending> pending;  // armed OUT / queued IN packet per endpoint
 
   usb::Dcd dcd() {
@@ -74,8 +72,28 @@ struct FakeController {
   static FakeController& self(void* c) { return *static_cast<FakeController*>(c); }
 };
 
+// Endpoint 0 of the FakeController as the shared control-transfer model (the one the usbredir rig runs
+// too) reads it.
+struct FakeEp0 final : host::Ep0 {
+  FakeController& ctl;
+  explicit FakeEp0(FakeController& c) : ctl(c) {}
+  // The controller clears an endpoint-0 stall on every SETUP, as USB requires.
+  void accept_setup() override {
+    ctl.stalled[0x00] = false;
+    ctl.pending.erase(0x80);
+    ctl.pending.erase(0x00);
+  }
+  bool stalled() override { return ctl.stalled[0x00]; }
+  host::Packet* packet(std::uint8_t ep) override {
+    auto it = ctl.pending.find(ep);
+    return it == ctl.pending.end() ? nullptr : &it->second;
+  }
+  void take(std::uint8_t ep) override { ctl.pending.erase(ep); }
+};
+
 struct Rig {
   FakeController ctl;
+  FakeEp0 ep0{ctl};
   std::vector<float> outputs;
   hmp::fw::BoardSeam seam;
   std::optional<hmp::fw::Core> core;
@@ -90,14 +108,9 @@ struct Rig {
     dev->start();
   }
 
-  // A SETUP; the controller clears an endpoint-0 stall on every SETUP, as USB requires.
+  // A SETUP alone (the transfer's other stages are left to the test).
   void setup(std::uint8_t type, std::uint8_t req, std::uint16_t value, std::uint16_t index, std::uint16_t length) {
-    ctl.stalled[0x00] = false;
-    ctl.pending.erase(0x80);
-    ctl.pending.erase(0x00);
-    const std::uint8_t pkt[8] = {type, req, std::uint8_t(value), std::uint8_t(value >> 8), std::uint8_t(index),
-                                 std::uint8_t(index >> 8), std::uint8_t(length), std::uint8_t(length >> 8)};
-    dev->on_setup(pkt);
+    host::send_setup(*dev, ep0, usb::Setup{type, req, value, index, length});
   }
 
   struct Result {
@@ -109,65 +122,26 @@ struct Rig {
   // A control read as a host controller does it: IN packets until a short one or wLength bytes, then the
   // status stage (a ZLP OUT).
   Result control_in(std::uint8_t type, std::uint8_t req, std::uint16_t value, std::uint16_t index, std::uint16_t length) {
-    setup(type, req, value, index, length);
-    Result r;
-    for (int guard = 0; guard < 100; ++guard) {
-      if (ctl.stalled[0x00]) {
-        r.stalled = true;
-        return r;
-      }
-      auto it = ctl.pending.find(0x80);
-      if (it == ctl.pending.end()) {
-        ADD_FAILURE() << "no IN packet";
-        return r;
-      }
-      const Bytes d = it->second.in_data;
-      ctl.pending.erase(it);
-      r.packets.push_back(static_cast<std::uint16_t>(d.size()));
-      r.data.insert(r.data.end(), d.begin(), d.end());
-      dev->on_xfer_complete(0x80, static_cast<std::uint16_t>(d.size()));
-      if (d.size() < 64 || r.data.size() >= length) break;
-    }
-    EXPECT_TRUE(ctl.pending.count(0x00)) << "status stage not armed";
-    ctl.pending.erase(0x00);
-    dev->on_xfer_complete(0x00, 0);
-    return r;
+    const host::ControlResult c = host::control_transfer(*dev, ep0, usb::Setup{type, req, value, index, length});
+    if (c.outcome == host::ControlOutcome::no_data_packet) ADD_FAILURE() << "no IN packet";
+    EXPECT_NE(c.outcome, host::ControlOutcome::no_status_stage) << "status stage not armed";
+    return Result{c.outcome == host::ControlOutcome::stalled, c.data, c.packets};
   }
 
   // A control write without data: the device answers the status stage with a ZLP IN, or stalls.
   bool control_out(std::uint8_t type, std::uint8_t req, std::uint16_t value, std::uint16_t index) {
-    setup(type, req, value, index, 0);
-    if (ctl.stalled[0x00]) return false;
-    auto it = ctl.pending.find(0x80);
-    EXPECT_TRUE(it != ctl.pending.end() && it->second.len == 0) << "no status ZLP";
-    if (it == ctl.pending.end()) return false;
-    ctl.pending.erase(it);
-    dev->on_xfer_complete(0x80, 0);
-    return true;
+    const host::ControlResult c = host::control_transfer(*dev, ep0, usb::Setup{type, req, value, index, 0});
+    EXPECT_NE(c.outcome, host::ControlOutcome::no_status_stage) << "no status ZLP";
+    return c.outcome == host::ControlOutcome::done;
   }
 
-  // A control write with a data stage (SET_REPORT).
+  // A control write with a data stage (SET_REPORT), in 64-byte packets each into the buffer the device
+  // armed; false when the device stalls or leaves the host waiting.
   bool control_out_data(std::uint8_t type, std::uint8_t req, std::uint16_t value, std::uint16_t index, const Bytes& data) {
-    setup(type, req, value, index, static_cast<std::uint16_t>(data.size()));
-    std::size_t done = 0;
-    while (done < data.size()) {
-      if (ctl.stalled[0x00]) return false;
-      auto it = ctl.pending.find(0x00);
-      if (it == ctl.pending.end()) return false;
-      const std::size_t n = std::min<std::size_t>(64, data.size() - done);
-      EXPECT_GE(it->second.len, n);
-      std::copy(data.begin() + static_cast<std::ptrdiff_t>(done), data.begin() + static_cast<std::ptrdiff_t>(done + n),
-                it->second.buffer);
-      ctl.pending.erase(it);
-      done += n;
-      dev->on_xfer_complete(0x00, static_cast<std::uint16_t>(n));
-    }
-    if (ctl.stalled[0x00]) return false;
-    auto it = ctl.pending.find(0x80);
-    if (it == ctl.pending.end() || it->second.len != 0) return false;
-    ctl.pending.erase(it);
-    dev->on_xfer_complete(0x80, 0);
-    return true;
+    const usb::Setup s{type, req, value, index, static_cast<std::uint16_t>(data.size())};
+    const host::ControlResult c = host::control_transfer(*dev, ep0, s, data.data());
+    EXPECT_EQ(c.cut_packets, 0u) << "the device armed less room than a packet of the data stage";
+    return c.outcome == host::ControlOutcome::done;
   }
 
   // The host writes one report on the interrupt OUT endpoint; false when the endpoint is NAKing.
