@@ -23,6 +23,7 @@
 #include "firmware/note_queue.hpp"
 #include "firmware/output_stage.hpp"
 #include "firmware/spsc_queue.hpp"
+#include "shared/common/version.hpp"
 #include "shared/protocol/protocol.hpp"
 #include "shared/synth/engine.hpp"
 #include "shared/synth/tick_rate.hpp"
@@ -35,7 +36,8 @@ inline constexpr std::uint32_t kDefaultTickHz = HMP_TICK_HZ;
 #else
 inline constexpr std::uint32_t kDefaultTickHz = synth::kNominalTickHz;
 #endif
-inline constexpr std::uint8_t kFirmwareMajor = 0, kFirmwareMinor = 1, kFirmwarePatch = 0;
+inline constexpr std::uint8_t kFirmwareMajor = version::kMajor, kFirmwareMinor = version::kMinor,
+                              kFirmwarePatch = version::kPatch;
 
 // Counters beyond the ones the Status report carries (all cumulative, wrapping).
 struct Stats {

@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "shared/common/version.hpp"
 #include "shared/protocol/protocol.hpp"
 
 namespace hmp::fw::usb {
@@ -46,7 +47,7 @@ inline constexpr std::uint8_t kDeviceDescriptor[18] = {
     static_cast<std::uint8_t>(64),                     // bMaxPacketSize0
     lo(protocol::kUsbVid), hi(protocol::kUsbVid),      // idVendor 0x1209
     lo(protocol::kUsbPid), hi(protocol::kUsbPid),      // idProduct 0x0001 (test PID)
-    0x00, 0x01,                                        // bcdDevice 1.00
+    lo(version::usb_bcd()), hi(version::usb_bcd()),    // bcdDevice: the project's version (0.1.0: 0x0010)
     1, 2, 3,                                           // iManufacturer, iProduct, iSerialNumber
     1,                                                 // bNumConfigurations
 };

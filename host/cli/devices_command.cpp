@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "host/cli/commands.hpp"
+#include "host/cli/run_command.hpp"
 #include "host/common/error.hpp"
 #include "host/transport/usb_scan.hpp"
 #include "host/transport/handshake.hpp"
@@ -98,6 +99,11 @@ void print_text(const Probe& p) {
   fmt::print("  protocol {}, firmware {}, board {}, {} Hz, {} voices, queue {} reports\n", h.protocol_version,
              transport::firmware_version(h), transport::board_name(h.board), h.tick_hz, h.voices, h.queue_capacity);
   if (h.board_flags != 0) fmt::print("  board: {}\n", transport::board_flag_names(h.board_flags));
+  if (transport::firmware_version(h) != host_version()) {
+    // The protocol matches, so it plays; but a firmware of another release may differ in what it does.
+    fmt::print("  warning: firmware {} differs from this hmp's {}: `hmp flash` writes the matching one\n",
+               transport::firmware_version(h), host_version());
+  }
   if (const auto& s = p.identity->status) {
     fmt::print("  state {}, faults {}, tick {}\n", transport::state_name(s->state), transport::fault_names(s->faults),
                s->tick);

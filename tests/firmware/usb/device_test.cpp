@@ -228,7 +228,10 @@ TEST(UsbDevice, EnumerationAsLinuxDoesIt) {
   EXPECT_EQ(rig.dev->address(), 23);
   // 3. The whole device descriptor.
   r = rig.control_in(0x80, 6, 0x0100, 0, 18);
-  EXPECT_EQ(r.data, (Bytes{18, 1, 0x00, 0x02, 0, 0, 0, 64, 0x09, 0x12, 0x01, 0x00, 0x00, 0x01, 1, 2, 3, 1}));
+  // bcdDevice is the project's version in binary-coded decimal, JJ.M.N (0.1.0: 0x0010).
+  const auto bcd_low = static_cast<std::uint8_t>(HMP_VERSION_MINOR << 4 | HMP_VERSION_PATCH);
+  const auto bcd_high = static_cast<std::uint8_t>((HMP_VERSION_MAJOR / 10) << 4 | HMP_VERSION_MAJOR % 10);
+  EXPECT_EQ(r.data, (Bytes{18, 1, 0x00, 0x02, 0, 0, 0, 64, 0x09, 0x12, 0x01, 0x00, bcd_low, bcd_high, 1, 2, 3, 1}));
   // 4. Configuration: 9 bytes, then wTotalLength.
   r = rig.control_in(0x80, 6, 0x0200, 0, 9);
   ASSERT_EQ(r.data.size(), 9u);
