@@ -1,5 +1,8 @@
 #include "host/audio/virtual_card.hpp"
 
+#include <pthread.h>
+#include <sched.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -49,6 +52,12 @@ std::vector<float> VirtualCard::recording() const {
 }
 
 void VirtualCard::run() {
+  // A sound card's driver thread runs at real-time priority (FluidSynth asks for 60 for the drivers it
+  // starts), so that a busy machine does not starve it: the simulated card's thread does the same where
+  // the user may have it (root, or an RLIMIT_RTPRIO of 60), and otherwise runs as an ordinary thread.
+  sched_param priority{};
+  priority.sched_priority = kRealtimePriority;
+  realtime_.store(pthread_setschedparam(pthread_self(), SCHED_FIFO, &priority) == 0);
   const auto period = static_cast<std::size_t>(settings_.period_frames);
   std::vector<float> left(period), right(period);
   std::chrono::steady_clock::duration delay{};  // added by underruns so far

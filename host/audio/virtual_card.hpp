@@ -45,6 +45,9 @@ class VirtualCard {
   std::uint64_t frames_played() const { return frames_.load(); }
   std::vector<float> recording() const;
   void stop();
+  // Whether its thread got real-time priority (known once the first period was asked for).
+  bool realtime() const { return realtime_.load(); }
+  static constexpr int kRealtimePriority = 60;
 
  private:
   void run();
@@ -54,6 +57,7 @@ class VirtualCard {
   Callback callback_;
   TimePoint start_;
   std::atomic<std::uint64_t> frames_{0};
+  std::atomic<bool> realtime_{false};
   mutable std::mutex mutex_;  // recording_, stop_
   std::condition_variable stop_signal_;
   bool stop_ = false;

@@ -1,6 +1,7 @@
 // hmp play SONG... [--track T] [--device …] [--no-audio] [--no-view] [--from S] [--to S] [--log FILE] [--loop]
 // [--shuffle] — the main job (design §3): the song's audio with one track felt on the device, song after
 // song. The player itself is host/player/; this file is the command line, the terminal and the messages.
+#include <malloc.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -273,6 +274,9 @@ int run_play(const PlayOptions& o) {
   int last_move = 1;  // a song that cannot be read is passed over in the direction the user went
   std::size_t played_this_pass = 0;
   for (bool more = true; more;) {
+    // The last song's notes, events and player are gone: hand the heap they took back to the system, so
+    // that a long playlist's memory follows the song playing, not the biggest one so far.
+    malloc_trim(0);
     std::optional<ReadySong> ready = std::move(first);
     first.reset();
     if (!ready) ready = run.read_current();
@@ -313,7 +317,10 @@ int run_play(const PlayOptions& o) {
   keys.restore();
   player::PlayLog::Totals totals = run.totals;
   totals.files_skipped = run.skipped_files.size();
-  if (const audio::VirtualCard* card = audio.virtual_card()) totals.audio_underruns = card->underruns();
+  if (const audio::VirtualCard* card = audio.virtual_card()) {
+    totals.audio_underruns = card->underruns();
+    totals.audio_realtime = card->realtime();
+  }
   log.summary(run.total, totals);
   log.close();
   if (!alone) {

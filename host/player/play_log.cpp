@@ -38,6 +38,7 @@ std::string summary_line(const Counters& c, const PlayLog::Totals& totals) {
   j["files_skipped"] = totals.files_skipped;
   j["played_s"] = totals.played_s;
   j["audio_underruns"] = totals.audio_underruns ? nlohmann::json(*totals.audio_underruns) : nlohmann::json(nullptr);
+  j["audio_realtime"] = totals.audio_realtime ? nlohmann::json(*totals.audio_realtime) : nlohmann::json(nullptr);
   return nlohmann::json{{"summary", j}}.dump();
 }
 

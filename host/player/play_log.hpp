@@ -19,6 +19,7 @@ class PlayLog {
     std::size_t songs_played = 0, files_skipped = 0;
     double played_s = 0;                           // song seconds played (position reached − start)
     std::optional<std::uint64_t> audio_underruns;  // the virtual card's; unknown for a real card
+    std::optional<bool> audio_realtime;            // whether the virtual card's thread had real-time priority
   };
 
   PlayLog() = default;                                     // no log: every call does nothing
@@ -47,7 +48,7 @@ std::string started_line(std::size_t song, const StartedNote& n);
 // "stolen":..,"rejected":..,"skipped":..}}; wall_s: seconds since the log was opened
 std::string song_end_line(std::size_t index, const std::string& path, double played_s, double wall_s, const Counters& c);
 // {"summary":{"notes_sent":..,"notes_played":..,"late":..,"stolen":..,"rejected":..,"skipped":..,
-// "songs_played":..,"files_skipped":..,"played_s":..,"audio_underruns":N|null}}
+// "songs_played":..,"files_skipped":..,"played_s":..,"audio_underruns":N|null,"audio_realtime":B|null}}
 std::string summary_line(const Counters& c, const PlayLog::Totals& totals);
 
 }  // namespace hmp::player
