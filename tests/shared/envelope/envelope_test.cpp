@@ -10,10 +10,12 @@
 #include <iterator>
 #include <limits>
 #include <random>
+#include <span>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "design_presets.hpp"
 #include "shared/envelope/envelope.hpp"
 
 namespace {
@@ -210,24 +212,15 @@ constexpr Preset kAllPresets[] = {Preset::organ,      Preset::flute,  Preset::ha
 // ---------------------------------------------------------------------------------------------------------
 
 TEST(EnvelopePresets, MatchSpecTable) {
-  struct Row {
-    const char* name;
-    double a, dc, r_ms, s_pct, r_pct;
-  };
-  // design §6 table, typed in again here.
-  const Row rows[] = {
-      {"organ", 5, 0, 25, 100, 1},         {"flute", 75, 0, 60, 100, 1},
-      {"harpsichord", 55, 0, 55, 100, 17.39}, {"guitar", 15, 0, 15, 100, 1.36},
-      {"trumpet", 30, 110, 100, 32.09, 1},  {"violin", 66, 376, 225, 57.14, 1},
-      {"cello", 40, 290, 200, 47.45, 1},    {"contrabass", 55, 355, 225, 52.74, 1},
-  };
-  for (const Row& row : rows) {
+  // Table 1's instruments (square's stored release is checked with the other shapes below).
+  const auto rows = std::span(hmp::test::kDesignPresets).first(8);
+  for (const hmp::test::DesignPreset& row : rows) {
     Preset p{};
     ASSERT_TRUE(hmp::envelope::find_builtin(row.name, p)) << row.name;
     const Adsr& a = hmp::envelope::builtin(p);
     EXPECT_EQ(a.shape, Shape::adsr) << row.name;
-    EXPECT_FLOAT_EQ(a.attack_ms, static_cast<float>(row.a)) << row.name;
-    EXPECT_FLOAT_EQ(a.decay_ms, static_cast<float>(row.dc)) << row.name;
+    EXPECT_FLOAT_EQ(a.attack_ms, static_cast<float>(row.a_ms)) << row.name;
+    EXPECT_FLOAT_EQ(a.decay_ms, static_cast<float>(row.dc_ms)) << row.name;
     EXPECT_FLOAT_EQ(a.release_ms, static_cast<float>(row.r_ms)) << row.name;
     EXPECT_FLOAT_EQ(a.sustain, static_cast<float>(row.s_pct / 100)) << row.name;
     EXPECT_FLOAT_EQ(a.final_ratio, static_cast<float>(row.r_pct / 100)) << row.name;

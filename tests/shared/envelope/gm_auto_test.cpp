@@ -10,6 +10,7 @@
 
 #include "shared/envelope/envelope.hpp"
 #include "shared/envelope/gm_auto.hpp"
+#include "design_presets.hpp"
 
 namespace {
 
@@ -54,19 +55,8 @@ const char* const kAutoByProgram[128] = {
 };
 // clang-format on
 
-// design §6's preset table (Table 1's reading): A, Dc, R in ms, s and r in %. square prints r as "–" (it
-// has no release); it is stored as 100 %, no fall.
-struct Table1Row {
-  const char* name;
-  double a_ms, dc_ms, r_ms, s_pct, r_pct;
-};
-constexpr Table1Row kTable1[] = {
-    {"organ", 5, 0, 25, 100, 1},          {"flute", 75, 0, 60, 100, 1},
-    {"harpsichord", 55, 0, 55, 100, 17.39}, {"guitar", 15, 0, 15, 100, 1.36},
-    {"trumpet", 30, 110, 100, 32.09, 1},  {"violin", 66, 376, 225, 57.14, 1},
-    {"cello", 40, 290, 200, 47.45, 1},    {"contrabass", 55, 355, 225, 52.74, 1},
-    {"square", 0, 0, 0, 100, 100},
-};
+using Table1Row = hmp::test::DesignPreset;
+constexpr const auto& kTable1 = hmp::test::kDesignPresets;
 
 const Table1Row& table1_row(const std::string& name) {
   for (const Table1Row& row : kTable1) {
