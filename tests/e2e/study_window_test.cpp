@@ -24,6 +24,7 @@
 #include "play_harness.hpp"
 #include "study_keys.hpp"
 #include "tests/support/xvfb.hpp"
+#include "window_keys.hpp"
 
 namespace {
 
@@ -66,25 +67,6 @@ std::vector<std::string> rows_without_times(const std::string& csv) {
     rows.push_back(kept);
   }
   return rows;
-}
-
-// The X window whose name contains `name`, waiting up to 30 s; "" if none came.
-std::string window_named(const std::string& name) {
-  for (int i = 0; i < 300; ++i) {
-    const test::CommandResult r = test::run_command("xdotool search --name '" + name + "'");
-    if (r.status == 0 && !r.out.empty()) return r.out.substr(0, r.out.find('\n'));
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
-  return "";
-}
-
-// Types `keys` into window `id` as X key events: Enter is Return, the rest their own key.
-void type_into(const std::string& id, const std::string& keys) {
-  test::run_command("xdotool windowfocus --sync " + id);
-  for (const char k : keys) {
-    test::run_command("xdotool key " + (k == '\n' ? std::string("Return") : std::string(1, k)));
-    std::this_thread::sleep_for(std::chrono::milliseconds(40));
-  }
 }
 
 // The screen as 8-bit RGB (ffmpeg's X11 grabber): width × height × 3 bytes.
@@ -139,14 +121,14 @@ TEST_F(StudyWindowE2e, KeysTypedInTheWindowGiveTheTerminalsRows) {
        "--no-audio", "--window", "--out", (dir_ / "window").string()},
       (dir_ / "window.err").string());
   ASSERT_GT(pid, 0);
-  const std::string practice_window = window_named("bach-bwv1079-trio-sonata-largo");
+  const std::string practice_window = test::window_named("bach-bwv1079-trio-sonata-largo");
   ASSERT_FALSE(practice_window.empty()) << slurp(dir_ / "window.err");
-  type_into(practice_window, practice);
-  const std::string main_window = window_named("bach-bwv1050-brandenburg5");
+  test::type_into(practice_window, practice);
+  const std::string main_window = test::window_named("bach-bwv1050-brandenburg5");
   ASSERT_FALSE(main_window.empty()) << slurp(dir_ / "window.err");
   std::this_thread::sleep_for(std::chrono::milliseconds(800));  // a few frames of the first main round
   const std::vector<std::uint8_t> screen = grab_screen(1600, 1000);
-  type_into(main_window, main);
+  test::type_into(main_window, main);
   int status = -1;
   for (int i = 0; i < 600 && ::waitpid(pid, &status, WNOHANG) == 0; ++i) {
     std::this_thread::sleep_for(std::chrono::milliseconds(100));

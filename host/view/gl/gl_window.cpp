@@ -42,6 +42,8 @@ char key_of(SDL_Keycode k, Uint16 mod) {
     case SDLK_MINUS: case SDLK_KP_MINUS: return '-';
     case SDLK_LEFTBRACKET: return '[';
     case SDLK_RIGHTBRACKET: return ']';
+    case SDLK_n: return 'n';  // next song (and, in the study, next round, as Enter)
+    case SDLK_p: return 'p';  // previous song
     // The study's keys: 0/1/2 switch, a/b/c rank, u undo, Enter next.
     case SDLK_0: case SDLK_KP_0: return '0';
     case SDLK_1: case SDLK_KP_1: return '1';
