@@ -99,7 +99,7 @@ def soak(path):
             r = json.load(h)
         rss = r.get("rss_kib") or [[0, 0]]
         growth = r.get("rss_growth_kib_per_hour")
-        fds = [v for _, v in r.get("fds") or []]
+        fds = [v for _, v in (r.get("fds") or [])[1:]]  # the first sample is taken before hmp opened anything
         failed = [k for k, v in (r.get("goals") or {}).items() if v is False]
         out.append(" | ".join([
             f"| {r['device']}", f"{r['minutes']:g}", "stress-ng" if r.get("load") else "none",
