@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "host/audio/pi_mutex.hpp"
+
 #include "host/audio/audio_events.hpp"
 #include "host/audio/audio_options.hpp"
 #include "host/audio/playback_clock.hpp"
@@ -89,7 +91,9 @@ class AudioPlayer {
   std::string driver_name_ = "none";
   std::string silence_reason_;
 
-  mutable std::mutex mutex_;  // synth_, clock_, playing_ between the control calls and the audio thread
+  // synth_, clock_, playing_ between the control calls and the audio thread (which must not wait behind an
+  // ordinary thread the load preempted: priority inheritance)
+  mutable PiMutex mutex_;
   PlaybackClock clock_;                  // in play time
   double speed_ = 1.0;
   std::vector<AudioEvent> events_;       // in song time
