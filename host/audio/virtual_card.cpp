@@ -42,6 +42,13 @@ std::uint64_t VirtualCard::underruns() const {
   return shifts_.size();
 }
 
+std::vector<VirtualCard::Underrun> VirtualCard::underrun_list() const {
+  std::lock_guard lock(mutex_);
+  std::vector<Underrun> list;
+  for (const Shift& s : shifts_) list.push_back(s.cause);
+  return list;
+}
+
 double VirtualCard::latency_s() const {
   return static_cast<double>(settings_.period_frames) * settings_.periods / frames_per_second();
 }
@@ -70,6 +77,7 @@ void VirtualCard::run() {
       std::unique_lock lock(mutex_);
       if (stop_signal_.wait_until(lock, due, [this] { return stop_; })) return;
     }
+    const TimePoint woke = std::chrono::steady_clock::now();
     std::fill(left.begin(), left.end(), 0.0f);
     std::fill(right.begin(), right.end(), 0.0f);
     callback_(left.data(), right.data(), settings_.period_frames);
@@ -79,7 +87,9 @@ void VirtualCard::run() {
     std::lock_guard lock(mutex_);
     if (ready > needed) {  // the card ran dry: silence until now, the rest comes later
       delay += ready - needed;
-      shifts_.push_back({n * period, delay});
+      const auto ms = [](std::chrono::steady_clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); };
+      shifts_.push_back({n * period, delay,
+                         {static_cast<double>(n * period) / frames_per_second(), ms(ready - needed), ms(woke - due), ms(ready - woke)}});
     }
     for (std::size_t i = 0; i < period && recording_.size() < settings_.record_frames; ++i) {
       recording_.push_back(std::fabs(left[i]) + std::fabs(right[i]));

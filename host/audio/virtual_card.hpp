@@ -39,6 +39,15 @@ class VirtualCard {
   // Host time at which frame `frame` of the stream (0 = the first the card asked for) is heard.
   TimePoint heard_at(double frame) const;
   std::uint64_t underruns() const;
+  // Each underrun: where in the stream, how much silence it left, and whether the card's thread woke
+  // late for that period or its callback took long (the two causes a real-time thread can have).
+  struct Underrun {
+    double at_s;          // stream time of the period's first frame, by the card's crystal
+    double short_ms;      // how much after it was needed the period came: the silence heard
+    double woke_late_ms;  // the thread's wake-up after the period was due
+    double callback_ms;   // the callback's run time
+  };
+  std::vector<Underrun> underrun_list() const;
   double latency_s() const;  // periods × period / rate, by the card's crystal
   // Frames asked for so far, and what was kept of them (call after the card stopped, or accept a
   // snapshot that is still growing).
@@ -66,6 +75,7 @@ class VirtualCard {
   struct Shift {
     std::uint64_t frame;
     std::chrono::steady_clock::duration delay;
+    Underrun cause;
   };
   std::vector<Shift> shifts_;
   std::thread thread_;  // last: started once everything above exists

@@ -19,6 +19,7 @@
 #include "host/cli/play_view.hpp"
 #include "host/cli/song_options.hpp"
 #include "host/common/error.hpp"
+#include "host/common/process_memory.hpp"
 #include "host/config/config.hpp"
 #include "host/midi/gm.hpp"
 #include "host/player/device_link.hpp"
@@ -277,6 +278,7 @@ int run_play(const PlayOptions& o) {
     // The last song's notes, events and player are gone: hand the heap they took back to the system, so
     // that a long playlist's memory follows the song playing, not the biggest one so far.
     malloc_trim(0);
+    log.between_songs(resident_set_kib());
     std::optional<ReadySong> ready = std::move(first);
     first.reset();
     if (!ready) ready = run.read_current();
@@ -320,6 +322,7 @@ int run_play(const PlayOptions& o) {
   if (const audio::VirtualCard* card = audio.virtual_card()) {
     totals.audio_underruns = card->underruns();
     totals.audio_realtime = card->realtime();
+    totals.audio_underrun_list = card->underrun_list();
   }
   log.summary(run.total, totals);
   log.close();

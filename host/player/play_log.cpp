@@ -32,6 +32,12 @@ std::string song_end_line(std::size_t index, const std::string& path, double pla
   return nlohmann::json{{"song_end", j}}.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
+std::string between_songs_line(double wall_s, std::optional<std::uint64_t> rss_kib) {
+  return nlohmann::json{{"between_songs", {{"wall_s", std::round(wall_s * 10) / 10},
+                                           {"rss_kib", rss_kib ? nlohmann::json(*rss_kib) : nlohmann::json(nullptr)}}}}
+      .dump();
+}
+
 std::string summary_line(const Counters& c, const PlayLog::Totals& totals) {
   nlohmann::json j = counters_json(c);
   j["songs_played"] = totals.songs_played;
@@ -39,6 +45,14 @@ std::string summary_line(const Counters& c, const PlayLog::Totals& totals) {
   j["played_s"] = totals.played_s;
   j["audio_underruns"] = totals.audio_underruns ? nlohmann::json(*totals.audio_underruns) : nlohmann::json(nullptr);
   j["audio_realtime"] = totals.audio_realtime ? nlohmann::json(*totals.audio_realtime) : nlohmann::json(nullptr);
+  nlohmann::json list = nlohmann::json::array();
+  const auto rounded = [](double v) { return std::round(v * 1000) / 1000; };
+  for (std::size_t i = 0; i < totals.audio_underrun_list.size() && i < PlayLog::kUnderrunsListed; ++i) {
+    const audio::VirtualCard::Underrun& u = totals.audio_underrun_list[i];
+    list.push_back({{"at_s", rounded(u.at_s)}, {"short_ms", rounded(u.short_ms)},
+                    {"woke_late_ms", rounded(u.woke_late_ms)}, {"callback_ms", rounded(u.callback_ms)}});
+  }
+  j["audio_underrun_list"] = list;
   return nlohmann::json{{"summary", j}}.dump();
 }
 
@@ -54,6 +68,11 @@ void PlayLog::song_end(std::size_t index, const std::string& path, double played
   const std::chrono::duration<double> wall = std::chrono::steady_clock::now() - opened_;
   write(song_end_line(index, path, played_s, wall.count(), c));
   flush();
+}
+
+void PlayLog::between_songs(std::optional<std::uint64_t> rss_kib) {
+  const std::chrono::duration<double> wall = std::chrono::steady_clock::now() - opened_;
+  write(between_songs_line(wall.count(), rss_kib));
 }
 
 void PlayLog::summary(const Counters& c, const Totals& totals) {

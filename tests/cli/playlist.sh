@@ -11,7 +11,8 @@ pedal="$repo/examples/pedal-demo.mid"
 source "$(dirname "${BASH_SOURCE[0]}")/lib.bash"
 play=(play --device sim --audio-driver virtual --no-view --from 1 --to 1.6)
 
-# py LOG EXPR...: asserts on the log, read as `lines` (JSON), `ends` (song_end) and `summary`
+# py LOG EXPR...: asserts on the log, read as `lines` (JSON), `ends` (song_end), `between` (between_songs),
+# `started` and `summary`
 py() {
   local log="$1"; shift
   /usr/bin/python3 - "$log" "$@" <<'PY' || fail=1
@@ -20,6 +21,7 @@ lines = [json.loads(l) for l in open(sys.argv[1]) if l.strip()]
 ends = [l["song_end"] for l in lines if "song_end" in l]
 summary = [l["summary"] for l in lines if "summary" in l][-1]
 started = [l for l in lines if "scheduled_tick" in l]
+between = [l["between_songs"] for l in lines if "between_songs" in l]
 for expr in sys.argv[2:]:
     if not eval(expr):
         print(f"FAIL: {expr}: ends {ends} summary {summary}")
@@ -37,7 +39,10 @@ py "$tmp/two.jsonl" '[e["index"] for e in ends] == [0, 1]' \
   "ends[1]['path'].endswith('largo.mid')" 'summary["songs_played"] == 2 and summary["files_skipped"] == 0' \
   'summary["notes_played"] == sum(e["notes_played"] for e in ends) > 0' \
   'sorted({l["song"] for l in started}) == [0, 1]' 'summary["audio_underruns"] == 0' \
-  'all(0.5 < e["played_s"] < 5 for e in ends)'  # the passage, and its last note's end
+  'all(0.5 < e["played_s"] < 5 for e in ends)' \
+  'summary["audio_underrun_list"] == [] and isinstance(summary["audio_realtime"], bool)' \
+  'len(between) == 2 and all(b["rss_kib"] > 1000 for b in between)' \
+  'between[0]["wall_s"] <= ends[0]["wall_s"] <= between[1]["wall_s"] <= ends[1]["wall_s"]'  # before each song
 
 # --- a folder: .mid and .MIDI and a subfolder's, sorted by path; other files left out
 mkdir -p "$tmp/folder/sub" "$tmp/empty"

@@ -160,6 +160,44 @@ class SoakEvalTest(unittest.TestCase):
         self.assertAlmostEqual(r["rss_growth_kib_per_hour"], 2048 / (1500 / 3600), delta=1)
         self.assertFalse(r["goals"]["rss_growth_at_most_1_mib_per_hour"])
 
+    def between_songs_log(self, song_end_s, points):
+        """clean_log with the first song ending at song_end_s and between_songs lines [(wall_s, kib)...]
+        after it (and one before the first song, far lower: hmp before it loaded anything)."""
+        records = clean_log()
+        records[1000]["song_end"]["wall_s"] = song_end_s
+        lines = [{"between_songs": {"wall_s": 0.0, "rss_kib": 1000}}]
+        lines += [{"between_songs": {"wall_s": t, "rss_kib": kib}} for t, kib in points]
+        return lines + records
+
+    def test_growth_between_songs_ignores_the_song_playing(self):
+        # The samples climb 8 MiB while a big song plays and stay there; between songs (its memory handed
+        # back) the RSS is flat: no leak, and the samples' step must not count.
+        points = [(t, 50_000) for t in range(120, 1800, 120)]
+
+        def big_song(rss, _fds):
+            for p in rss:
+                p[1] += 8192 if p[0] >= 600 else 0
+        r = self.judge(self.between_songs_log(110.0, points), minutes=30, edit_samples=big_song)
+        self.assertEqual(r["rss_growth_from"], "between_songs")
+        self.assertEqual(r["rss_fit_from_s"], 120)
+        self.assertAlmostEqual(r["rss_growth_kib_per_hour"], 0, delta=1e-9)
+        self.assertTrue(r["goals"]["rss_growth_at_most_1_mib_per_hour"])
+
+    def test_growth_between_songs_of_2_mib_per_hour_fails(self):
+        points = [(t, 50_000 + 2048 * t / 3600) for t in range(120, 1800, 120)]
+        r = self.judge(self.between_songs_log(110.0, points), minutes=30)
+        self.assertEqual(r["rss_growth_from"], "between_songs")
+        self.assertAlmostEqual(r["rss_growth_kib_per_hour"], 2048, delta=1)
+        self.assertAlmostEqual(r["rss_slope_kib_per_hour"], 2048, delta=1)
+        self.assertFalse(r["goals"]["rss_growth_at_most_1_mib_per_hour"])
+
+    def test_too_few_points_between_songs_fall_back_to_the_samples(self):
+        # Two points 100 s apart cannot tell 1 MiB/h: the samples (growing 2 MiB/h) judge instead.
+        r = self.judge(self.between_songs_log(110.0, [(120, 50_000), (220, 50_000)]), minutes=30,
+                       kib_per_hour=2048)
+        self.assertEqual(r["rss_growth_from"], "samples")
+        self.assertFalse(r["goals"]["rss_growth_at_most_1_mib_per_hour"])
+
     def test_two_minute_run_leaves_the_rss_goal_unjudged(self):
         r = self.judge(clean_log(), minutes=2, kib_per_hour=100_000)
         self.assertIsNone(r["goals"]["rss_growth_at_most_1_mib_per_hour"])

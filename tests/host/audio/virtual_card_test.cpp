@@ -62,6 +62,14 @@ TEST(VirtualCard, ACallbackSlowerThanTheBufferIsAnUnderrunThatDelaysWhatFollows)
   const double nominal_gap = 256.0 / 48000 * 1e3;
   EXPECT_NEAR(ms_between(card.heard_at(2048), card.heard_at(1792)), nominal_gap, 1e-6);
   EXPECT_GT(ms_between(card.heard_at(2304), card.heard_at(2048)) - nominal_gap, 35.0);
+  // The first underrun is described as it happened: period 9's stream time, ~60 − 21 ms short, a
+  // callback of ≥ 60 ms: the cause, not the wake-up before it.
+  const std::vector<VirtualCard::Underrun> list = card.underrun_list();
+  ASSERT_EQ(list.size(), card.underruns());
+  EXPECT_DOUBLE_EQ(list[0].at_s, 2304 / 48000.0);
+  EXPECT_GE(list[0].callback_ms, 60.0);
+  EXPECT_GE(list[0].short_ms, 60.0 - 1024 / 48.0 - 1.0);
+  EXPECT_LT(list[0].woke_late_ms, list[0].callback_ms);
 }
 
 }  // namespace
