@@ -1,5 +1,6 @@
 #include "host/cli/song_options.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -108,12 +109,23 @@ void add_audio_options(CLI::App* cmd, AudioCliOptions& o) {
                   "pulseaudio, alsa, sdl2 that opens)")
       ->check(CLI::IsMember({"pulseaudio", "alsa", "sdl2", "jack", "oss", "pipewire", "virtual"}));
   cmd->add_option("--soundfont", o.soundfont, "SoundFont (.sf2/.sf3) for the song's audio (default: the GM one installed)");
+  // A busy machine can hold even a real-time audio thread off its core for tens of milliseconds; a
+  // longer buffer rides that out. Sound and vibration stay together either way (the latency is
+  // compensated); a longer buffer only makes pause and seek answer later.
+  cmd->add_option("--audio-buffer-ms", o.buffer_ms,
+                  "Audio output buffer in ms, rounded to whole 256-frame periods (default 21); raise it if "
+                  "the sound drops out on a busy machine")
+      ->check(CLI::Range(10.0, 1000.0));
 }
 
 audio::AudioOptions audio_options(const AudioCliOptions& o) {
   audio::AudioOptions a;
   a.enabled = !o.no_audio;
   if (o.driver) a.drivers = {*o.driver};
+  if (o.buffer_ms) {
+    const double period_ms = 1e3 * a.period_frames / a.synth.sample_rate;
+    a.periods = std::max(2, static_cast<int>(std::lround(*o.buffer_ms / period_ms)));
+  }
   if (o.soundfont) {
     check_input_file(*o.soundfont);  // a bad --soundfont is an error, not a silent song
     a.soundfont = *o.soundfont;

@@ -37,10 +37,12 @@ std::uint32_t default_haptic_track(const midi::Song& song);
 // `2 "Flute" (Flute)`
 std::string describe_track(const midi::Song& song, std::uint32_t index);
 
-// The song's audio on the command line (play, view, study): --no-audio, --audio-driver, --soundfont.
+// The song's audio on the command line (play, view, study): --no-audio, --audio-driver, --soundfont,
+// --audio-buffer-ms.
 struct AudioCliOptions {
   bool no_audio = false;
   std::optional<std::string> driver, soundfont;
+  std::optional<double> buffer_ms;
 };
 void add_audio_options(CLI::App* cmd, AudioCliOptions& o);
 audio::AudioOptions audio_options(const AudioCliOptions& o);

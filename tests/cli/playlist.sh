@@ -93,4 +93,11 @@ py "$tmp/loop.jsonl" 'len(ends) >= 3' 'all(e["index"] == 0 for e in ends)' 'summ
   'summary["files_skipped"] == 1'  # the empty file, skipped on every pass, is one file
 grep -q '^\[1/2 pass 3\] pedal-demo.mid: played' "$tmp/out" || { echo "FAIL: no third pass: $(cat "$tmp/out")"; fail=1; }
 
+# --- the audio buffer: whole periods of 256 frames at 48 kHz (19 × 5.33 ms for 100 ms), out of range refused
+run "${play[@]}" "$pedal" --audio-buffer-ms 100
+check "--audio-buffer-ms 100: exit" 0 "$rc"
+grep -q 'output latency 101.3 ms' <<<"$err" || { echo "FAIL: --audio-buffer-ms 100: $err"; fail=1; }
+expect_bad "audio-buffer-ms" play "$pedal" --audio-buffer-ms 5
+expect_bad "audio-buffer-ms" play "$pedal" --audio-buffer-ms ten
+
 exit $fail
