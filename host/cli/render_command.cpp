@@ -15,7 +15,7 @@
 #include "host/export/haptic_export.hpp"
 #include "host/midi/gm.hpp"
 #include "host/output/output_file.hpp"
-#include "host/output/signal_export.hpp"
+#include "host/export/signal_export.hpp"
 
 namespace hmp::cli {
 
@@ -41,7 +41,7 @@ int run_render(const RenderOptions& o) {
     return kExitOk;
   }
   if (o.track.empty()) throw BadInput("--track: which track to render (see hmp info), or --sound for the song's sound");
-  const output::SignalExport out{o.out, o.audible, o.force};
+  const exporting::SignalExport out{o.out, o.audible, o.force};
   const haptics::HapticOptions opts = resolve(o.haptic);
   const bool haptic_file = exporting::is_haptic_export(o.out);  // .ahap / .haptic (host/export/)
   if (is_video_export(o.out)) {  // .mp4 (host/video/)
@@ -55,7 +55,7 @@ int run_render(const RenderOptions& o) {
     if (o.audible) throw BadInput("--audible: only with --out FILE.wav");
     output::check_writable(o.out, o.force);
   } else {
-    output::check_export(out);  // fail before the work, not after
+    exporting::check_export(out);  // fail before the work, not after
   }
   const TrackWindow w = load_track_window(o.song, o.track, opts, o.from_s, o.to_s, warn_on_stderr);
   const midi::ReadResult& r = w.read;
@@ -92,7 +92,7 @@ int run_render(const RenderOptions& o) {
                            midi::gm_instrument_name(t.program(), t.channel()), mapping::name(opts.mapping), opts.envelope);
   spec.tick_hz = opts.tick_hz;
   spec.first_tick = first;
-  output::export_signal(out, samples, plot_notes, spec);
+  exporting::export_signal(out, samples, plot_notes, spec);
   return kExitOk;
 }
 

@@ -11,7 +11,7 @@
 #include "host/common/error.hpp"
 #include "host/haptics/adsr_option.hpp"
 #include "host/haptics/signal_renderer.hpp"
-#include "host/output/signal_export.hpp"
+#include "host/export/signal_export.hpp"
 #include "shared/synth/frequency.hpp"
 #include "shared/synth/tick_rate.hpp"
 
@@ -61,15 +61,15 @@ int run_tone(const ToneOptions& o) {
   haptics::RenderSettings settings;
   settings.synth.tick_hz = o.tick_hz;
   settings.synth.end_fade_ms = static_cast<float>(o.end_fade_ms);
-  const output::SignalExport out{o.out, false, o.force};
-  output::check_export(out);  // before the (possibly long) render
+  const exporting::SignalExport out{o.out, false, o.force};
+  exporting::check_export(out);  // before the (possibly long) render
   const auto samples = haptics::render_signal({&note, 1}, {&preset, 1}, settings, 0, n_ticks);
   output::PlotSpec spec;
   spec.title = fmt::format("hmp tone: {:g} Hz, amplitude {:g}, {:g} ms, envelope {}", o.freq_hz, o.amp, o.ms,
                            o.instrument ? *o.instrument : "--adsr " + *o.adsr);
   spec.tick_hz = o.tick_hz;
   const output::PlotNote plot_note{0.0, static_cast<double>(n_ticks) / o.tick_hz, 60};
-  output::export_signal(out, samples, {&plot_note, 1}, spec);
+  exporting::export_signal(out, samples, {&plot_note, 1}, spec);
   return kExitOk;
 }
 

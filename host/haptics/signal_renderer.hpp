@@ -2,7 +2,7 @@
 // Renders the haptic signal of a list of notes tick by tick with the same shared engine the firmware
 // runs (shared/synth/engine.hpp): notes start on their tick, voices mix under the polyphony policy and
 // the limiter. Used by `hmp tone` and `hmp render`.
-// Output formats: host/output/signal_export.hpp.
+// Output formats: host/export/signal_export.hpp.
 #include <cstdint>
 #include <functional>
 #include <span>

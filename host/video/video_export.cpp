@@ -19,7 +19,7 @@
 #include "host/haptics/signal_tail.hpp"
 #include "host/modules/module_loader.hpp"
 #include "host/output/output_file.hpp"
-#include "host/output/wav_file.hpp"
+#include "host/audio/wav_file.hpp"
 #include "host/video/video_backend.hpp"
 #include "host/video/yuv_convert.hpp"
 #include "host/view/view_backend.hpp"
@@ -188,7 +188,7 @@ VideoExportResult export_video(const std::string& path, const VideoExportSpec& s
     const auto notes = spec.haptic->device_notes();
     std::vector<float> signal =
         haptics::render_signal(notes, spec.haptic->uploads, haptics::render_settings(spec.haptic_options), first, end);
-    std::vector<float> audible = output::resample(signal, static_cast<int>(tick_hz), spec.encoding.sample_rate);
+    std::vector<float> audible = audio::resample(signal, static_cast<int>(tick_hz), spec.encoding.sample_rate);
     fit(audible, samples);
     streams.push_back(std::move(audible));
     channels.push_back(1);

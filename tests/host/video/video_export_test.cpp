@@ -17,7 +17,7 @@
 #include "host/audio/offline_render.hpp"
 #include "host/common/error.hpp"
 #include "host/haptics/signal_renderer.hpp"
-#include "host/output/wav_file.hpp"
+#include "host/audio/wav_file.hpp"
 #include "host/video/video_export.hpp"
 #include "host/view/roll_layout.hpp"
 #include "tests/e2e/play_harness.hpp"
@@ -195,7 +195,7 @@ TEST_F(VideoExport, TheHapticStreamIsTheTracksSignal) {
   settings.polyphony = options_.polyphony;
   const auto notes = spec_.haptic->device_notes();
   const std::vector<float> signal = haptics::render_signal(notes, spec_.haptic->uploads, settings, 0, 3 * options_.tick_hz);
-  const std::vector<float> reference = output::resample(signal, static_cast<int>(options_.tick_hz), 44100);
+  const std::vector<float> reference = audio::resample(signal, static_cast<int>(options_.tick_hz), 44100);
   EXPECT_EQ(best_lag(reference, decoded, 44100 * 95 / 100, 44100 * 16 / 10, 400), 0);
 }
 

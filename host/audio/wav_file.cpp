@@ -1,4 +1,4 @@
-#include "host/output/wav_file.hpp"
+#include "host/audio/wav_file.hpp"
 
 #include <algorithm>
 #include <stdexcept>
@@ -7,13 +7,13 @@
 #include "host/common/error.hpp"
 #include "host/output/output_file.hpp"
 
-namespace hmp::output {
+namespace hmp::audio {
 namespace {
 
-// libsndfile and libsamplerate live in the audio module.
-const audio::AudioBackend& backend_for(const std::string& what) {
+// libsndfile and libsamplerate live in the audio module, loaded on first use.
+const AudioBackend& backend_for(const std::string& what) {
   std::string why;
-  const audio::AudioBackend* backend = audio::audio_backend(&why);
+  const AudioBackend* backend = audio_backend(&why);
   if (backend == nullptr) throw BadInput(what + ": needs the audio module, which is not available (" + why + ")");
   return *backend;
 }
@@ -21,10 +21,10 @@ const audio::AudioBackend& backend_for(const std::string& what) {
 }  // namespace
 
 void write_wav(const std::string& path, std::span<const float> samples, int rate_hz, bool force) {
-  check_writable(path, force);
+  output::check_writable(path, force);
   const std::span<const float> channels[] = {samples};
-  const audio::AudioBackend& backend = backend_for(path);
-  StagedOutput staged(path);  // libsndfile writes PATH.part, renamed to PATH once whole
+  const AudioBackend& backend = backend_for(path);
+  output::StagedOutput staged(path);  // libsndfile writes PATH.part, renamed to PATH once whole
   if (const std::string error = backend.write_wav(staged.part(), rate_hz, channels); !error.empty()) {
     throw BadInput(path + ": cannot write WAV: " + error);
   }
@@ -39,4 +39,4 @@ std::vector<float> resample(std::span<const float> samples, int from_hz, int to_
   return out;
 }
 
-}  // namespace hmp::output
+}  // namespace hmp::audio

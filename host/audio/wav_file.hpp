@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-namespace hmp::output {
+namespace hmp::audio {
 
 inline constexpr int kAudibleRateHz = 44100;
 
@@ -15,4 +15,4 @@ void write_wav(const std::string& path, std::span<const float> samples, int rate
 // sinc filter at steps is clamped so a player never clips).
 std::vector<float> resample(std::span<const float> samples, int from_hz, int to_hz);
 
-}  // namespace hmp::output
+}  // namespace hmp::audio

@@ -1,15 +1,15 @@
-#include "host/output/signal_export.hpp"
+#include "host/export/signal_export.hpp"
 
 #include <cstdio>
 
 #include "host/common/error.hpp"
+#include "host/audio/wav_file.hpp"
 #include "host/output/output_file.hpp"
-#include "host/output/wav_file.hpp"
 
-namespace hmp::output {
+namespace hmp::exporting {
 
 namespace {
-std::string format_of(const SignalExport& e) { return e.path == "-" ? "csv" : extension_of(e.path); }
+std::string format_of(const SignalExport& e) { return e.path == "-" ? "csv" : output::extension_of(e.path); }
 
 void write_csv(std::FILE* out, std::span<const float> samples, std::uint64_t first_tick, std::uint32_t tick_hz) {
   std::fputs("t_s,value\n", out);
@@ -24,25 +24,26 @@ void check_export(const SignalExport& e) {
   const std::string fmt = format_of(e);
   if (fmt != "csv" && fmt != "wav" && fmt != "png") throw BadInput("--out " + e.path + ": use a .csv, .wav or .png file");
   if (e.audible && fmt != "wav") throw BadInput("--audible needs a .wav output");
-  check_writable(e.path, e.force);
+  output::check_writable(e.path, e.force);
 }
 
-void export_signal(const SignalExport& e, std::span<const float> samples, std::span<const PlotNote> notes,
-                   const PlotSpec& spec) {
+void export_signal(const SignalExport& e, std::span<const float> samples, std::span<const output::PlotNote> notes,
+                   const output::PlotSpec& spec) {
   const std::string fmt = format_of(e);
   if (fmt == "csv") {
-    FilePtr f = open_for_writing(e.path, e.force);
+    output::FilePtr f = output::open_for_writing(e.path, e.force);
     write_csv(f.get(), samples, spec.first_tick, spec.tick_hz);
-    close_output(f);
+    output::close_output(f);
   } else if (fmt == "wav") {
     if (e.audible) {
-      write_wav(e.path, resample(samples, static_cast<int>(spec.tick_hz), kAudibleRateHz), kAudibleRateHz, e.force);
+      audio::write_wav(e.path, audio::resample(samples, static_cast<int>(spec.tick_hz), audio::kAudibleRateHz),
+                       audio::kAudibleRateHz, e.force);
     } else {
-      write_wav(e.path, samples, static_cast<int>(spec.tick_hz), e.force);
+      audio::write_wav(e.path, samples, static_cast<int>(spec.tick_hz), e.force);
     }
   } else {
-    write_signal_png(e.path, samples, notes, spec, e.force);
+    output::write_signal_png(e.path, samples, notes, spec, e.force);
   }
 }
 
-}  // namespace hmp::output
+}  // namespace hmp::exporting

@@ -6,7 +6,7 @@
 
 #include "host/output/signal_plot.hpp"
 
-namespace hmp::output {
+namespace hmp::exporting {
 
 struct SignalExport {
   std::string path = "-";
@@ -16,7 +16,7 @@ struct SignalExport {
 
 // Throws BadInput for an unknown extension or --audible without .wav (call before long work).
 void check_export(const SignalExport& e);
-void export_signal(const SignalExport& e, std::span<const float> samples, std::span<const PlotNote> notes,
-                   const PlotSpec& spec);
+void export_signal(const SignalExport& e, std::span<const float> samples, std::span<const output::PlotNote> notes,
+                   const output::PlotSpec& spec);
 
-}  // namespace hmp::output
+}  // namespace hmp::exporting
