@@ -16,6 +16,7 @@ inline constexpr std::uint16_t kReportSize = protocol::kReportSize;
 inline constexpr std::uint8_t kInterval = 1;  // ms (full speed: frames)
 
 // Descriptor types (USB 2.0 Table 9-5, HID 1.11 §7.1).
+// clang-format off: descriptor bytes laid out as the USB tables list their fields
 enum DescriptorType : std::uint8_t {
   kDevice = 1, kConfiguration = 2, kString = 3, kInterface = 4, kEndpoint = 5, kDeviceQualifier = 6,
   kHid = 0x21, kHidReport = 0x22,
@@ -66,6 +67,7 @@ inline constexpr std::uint8_t kConfigurationDescriptor[9 + 9 + 9 + 7 + 7] = {
     7, kEndpoint, kEpIn, 0x03, lo(kReportSize), hi(kReportSize), kInterval,
     7, kEndpoint, kEpOut, 0x03, lo(kReportSize), hi(kReportSize), kInterval,
 };
+// clang-format on
 
 inline constexpr std::uint8_t kLangIdDescriptor[4] = {4, kString, 0x09, 0x04};  // English (United States)
 inline constexpr const char* kManufacturer = "Haptic Music Player project";

@@ -4,6 +4,7 @@ namespace hmp::midi {
 namespace {
 
 // GM1 sound set, program 0 … 127 (GM numbering 1 … 128).
+// clang-format off: the GM tables, a family to a line
 constexpr const char* kProgramNames[128] = {
     // Piano
     "Acoustic Grand Piano", "Bright Acoustic Piano", "Electric Grand Piano", "Honky-tonk Piano",
@@ -58,6 +59,7 @@ constexpr const char* kFamilyNames[16] = {
     "Piano", "Chromatic Percussion", "Organ", "Guitar", "Bass", "Strings", "Ensemble", "Brass",
     "Reed", "Pipe", "Synth Lead", "Synth Pad", "Synth Effects", "Ethnic", "Percussive", "Sound Effects",
 };
+// clang-format on
 
 }  // namespace
 

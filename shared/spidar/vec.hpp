@@ -6,6 +6,7 @@
 
 namespace hmp::spidar {
 
+// clang-format off: the componentwise operators, one to a line
 template <class T>
 struct Vec3 {
   T x{}, y{}, z{};
@@ -30,6 +31,7 @@ template <class T> T norm(const Vec3<T>& a) { return std::sqrt(norm2(a)); }
 template <class T> bool is_finite(const Vec3<T>& a) {
   return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z);
 }
+// clang-format on
 
 // Row-major 3×3 matrix; used for rotations (columns are the rotated basis vectors).
 template <class T>
