@@ -48,7 +48,7 @@ struct BoardSeam {
   void (*motor_output)(void* ctx, const float (&duty)[kMotorCount]) = nullptr;
 
   protocol::Board id = protocol::Board::sim;  // reported in HelloReply
-  std::uint8_t flags = 0;                      // protocol::BoardFlag bits, reported in HelloReply
+  std::uint8_t flags = 0;                     // protocol::BoardFlag bits, reported in HelloReply
 };
 
 }  // namespace hmp::fw

@@ -41,17 +41,17 @@ inline constexpr std::uint8_t kFirmwareMajor = version::kMajor, kFirmwareMinor =
 
 // Counters beyond the ones the Status report carries (all cumulative, wrapping).
 struct Stats {
-  std::uint32_t packets = 0;       // reports taken from the inbox
-  std::uint32_t rejected = 0;      // reports refused, each answered by an Error (= Status.rejected)
-  std::uint32_t queue_full = 0;    // of which note reports refused for lack of room (the host re-sends)
-  std::uint32_t inbox_full = 0;    // reports on_packet could not take (the transport lost them)
-  std::uint32_t late = 0;          // notes started after their scheduled tick
-  std::uint32_t started = 0;       // notes started
-  std::uint32_t engine_refused = 0;  // notes the engine would not start (counted in Status.rejected too)
-  std::uint32_t tx_dropped = 0;    // device reports not sent (no room in the outbox or at the board)
+  std::uint32_t packets = 0;           // reports taken from the inbox
+  std::uint32_t rejected = 0;          // reports refused, each answered by an Error (= Status.rejected)
+  std::uint32_t queue_full = 0;        // of which note reports refused for lack of room (the host re-sends)
+  std::uint32_t inbox_full = 0;        // reports on_packet could not take (the transport lost them)
+  std::uint32_t late = 0;              // notes started after their scheduled tick
+  std::uint32_t started = 0;           // notes started
+  std::uint32_t engine_refused = 0;    // notes the engine would not start (counted in Status.rejected too)
+  std::uint32_t tx_dropped = 0;        // device reports not sent (no room in the outbox or at the board)
   std::uint32_t prepare_requests = 0;  // notes handed to the background to prepare their voices
-  std::uint32_t started_in_tick = 0;  // of `started`, notes whose voice the tick set up itself (not prepared in time)
-  std::uint32_t drive_saturated = 0;      // drive ticks with a motor duty clamped to ±1
+  std::uint32_t started_in_tick = 0;   // of `started`, notes whose voice the tick set up itself (not prepared in time)
+  std::uint32_t drive_saturated = 0;   // drive ticks with a motor duty clamped to ±1
   std::uint32_t drive_not_converged = 0;  // drive ticks whose QP ran out of iterations (bounded answer)
   std::uint32_t drive_plan_late = 0;      // split drive: a plan was due but the last one was not done yet
 };
@@ -136,12 +136,12 @@ class Core {
   float last_output() const { return last_output_; }
   std::uint16_t queued_notes() const { return static_cast<std::uint16_t>(queue_.size() + prep_.pending()); }
   std::uint8_t prepared_pending() const { return prep_.pending(); }  // queued notes handed to the background
-  protocol::Status status() const;  // what a Status report sent now would carry
-  void write_status(protocol::Status& s) const;  // the same, into a report being built
+  protocol::Status status() const;                                   // what a Status report sent now would carry
+  void write_status(protocol::Status& s) const;                      // the same, into a report being built
   bool has_drive() const { return has_drive_; }
   const Drive& drive() const { return drive_; }
   const float (&duties() const)[kMotorCount] { return duty_; }  // the last ones sent to the board
-  std::uint16_t reports_sent() const { return tx_seq_; }  // device reports made so far (wrapping)
+  std::uint16_t reports_sent() const { return tx_seq_; }        // device reports made so far (wrapping)
 
  private:
   // core.cpp: the tick
@@ -189,8 +189,8 @@ class Core {
   OutputStage output_;
   SpscQueue<InboxEntry, kInboxCapacity> inbox_;
   SpscQueue<protocol::Message, kOutboxCapacity> outbox_;
-  std::uint32_t outbox_full_ = 0;                // reports the tick had no room for
-  std::atomic<std::uint32_t> send_failed_{0};   // written by the background only
+  std::uint32_t outbox_full_ = 0;              // reports the tick had no room for
+  std::atomic<std::uint32_t> send_failed_{0};  // written by the background only
   Drive drive_;
   // The split drive's hand-over (drive.hpp): the tick asks for a plan every ticks_per_plan() ticks with
   // the encoder counts; the background computes it into the buffer the tick is not reading and flips
@@ -215,15 +215,15 @@ class Core {
   std::atomic<bool> estop_pending_{false};
   std::atomic<bool> link_lost_{false};
   std::atomic<std::uint32_t> inbox_lost_{0};  // written by the transport context only
-  std::uint64_t last_host_tick_ = 0;       // arrival of the last well-formed host report (watchdog)
-  std::uint64_t song_tick_ = 0;            // last seek target (informational, logged)
+  std::uint64_t last_host_tick_ = 0;          // arrival of the last well-formed host report (watchdog)
+  std::uint64_t song_tick_ = 0;               // last seek target (informational, logged)
   std::uint32_t watchdog_ticks_ = 0;
   std::uint32_t status_period_playing_ = 1, status_period_idle_ = 1;
   std::uint32_t status_countdown_ = 1;  // ticks until the next Status (the next one included)
   std::uint32_t faults_ = protocol::fault_none;
   protocol::State state_ = protocol::State::idle;
-  std::uint16_t last_seq_ = 0;             // last well-formed host report processed (done or refused)
-  bool version_locked_ = false;            // a Hello of another version came last
+  std::uint16_t last_seq_ = 0;   // last well-formed host report processed (done or refused)
+  bool version_locked_ = false;  // a Hello of another version came last
   std::uint16_t tx_seq_ = 0;
   float last_output_ = 0.0f;
 };

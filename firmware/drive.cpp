@@ -17,7 +17,9 @@ constexpr Flags kQpBroken = flag::invalid_input | flag::ill_conditioned | flag::
 }  // namespace
 
 Drive::Drive(std::uint32_t tick_hz, const DriveParams& params)
-    : params_(params), tick_hz_(static_cast<float>(tick_hz != 0 ? tick_hz : synth::kNominalTickHz)), motor_(params.motor) {
+    : params_(params),
+      tick_hz_(static_cast<float>(tick_hz != 0 ? tick_hz : synth::kNominalTickHz)),
+      motor_(params.motor) {
   compensator_.configure(params_.plant, params_.motor, params_.compensator, static_cast<std::uint32_t>(tick_hz_));
   // The sensing runs once a tick, or once a plan in the split drive.
   const std::uint32_t whole = static_cast<std::uint32_t>(tick_hz_);
@@ -26,8 +28,8 @@ Drive::Drive(std::uint32_t tick_hz, const DriveParams& params)
   sense_hz_ = tick_hz_ / static_cast<float>(ticks_per_plan_);
   // No-load speed V/Ke in counts per sensing period, times the factor; never below 2 counts (quantisation).
   const float no_load = params_.motor.supply_voltage / params_.motor.torque_constant;
-  const float counts = params_.limits.jump_speed_factor * no_load *
-                       static_cast<float>(params_.motor.counts_per_rev) / kTwoPi / sense_hz_;
+  const float counts = params_.limits.jump_speed_factor * no_load * static_cast<float>(params_.motor.counts_per_rev) /
+                       kTwoPi / sense_hz_;
   jump_counts_ = counts > 2.0f ? static_cast<std::int32_t>(counts) : 2;
   const float persist = params_.limits.persist_ms * 1e-3f * sense_hz_;
   persist_ticks_ = persist > 1.0f ? static_cast<std::uint16_t>(persist) : 1;
@@ -95,8 +97,8 @@ std::uint32_t Drive::check_sensing(const std::int32_t (&counts)[kMotors], float 
   std::uint32_t faults = 0;
   for (int i = 0; i < kMotors; ++i) {
     // Wrap-around difference: counters may roll over.
-    const auto delta = static_cast<std::int32_t>(static_cast<std::uint32_t>(counts[i]) -
-                                                 static_cast<std::uint32_t>(last_counts_[i]));
+    const auto delta =
+        static_cast<std::int32_t>(static_cast<std::uint32_t>(counts[i]) - static_cast<std::uint32_t>(last_counts_[i]));
     last_counts_[i] = counts[i];
     if (delta > jump_counts_ || delta < -jump_counts_) {
       faults |= protocol::fault_encoder_jump;
@@ -154,8 +156,9 @@ DriveTick Drive::tick(float vibration, bool safe, const std::int32_t (&counts)[k
   const float requested = vibration * peak_n_;
   const float emphasised = compensator_.emphasise(requested);
   const spidar::StringGeometry<float>& strings = pose_.strings();
-  const spidar::TensionResult<float> qp = spidar::solve_tensions(
-      strings, emphasised * direction_, spidar::Vec3<float>{}, qp_, bank_.at(peak_n_ > 0.0f ? emphasised / peak_n_ : 0.0f));
+  const spidar::TensionResult<float> qp =
+      spidar::solve_tensions(strings, emphasised * direction_, spidar::Vec3<float>{}, qp_,
+                             bank_.at(peak_n_ > 0.0f ? emphasised / peak_n_ : 0.0f));
   out.flags = qp.flags;
   if (qp.flags & kQpBroken) {
     out.faults |= protocol::fault_qp_infeasible;

@@ -91,17 +91,17 @@ struct PlanInput {
 };
 
 struct DrivePlan {
-  std::uint32_t faults = 0;     // sensing or QP faults found by this plan
-  spidar::Flags flags = 0;      // pose and QP flags
-  bool hold = true;             // render holds the strings at t_min with stall duties
+  std::uint32_t faults = 0;  // sensing or QP faults found by this plan
+  spidar::Flags flags = 0;   // pose and QP flags
+  bool hold = true;          // render holds the strings at t_min with stall duties
   float hold_duty = 0.0f;
-  float force_max = 0.0f;       // N: the force of the `up`/`down` sets (0: no plan yet)
-  float base[spidar::kStrings]{};  // tensions of the bias (zero force)
-  float up[spidar::kStrings]{};    // tensions for +force_max along the direction, minus base
-  float down[spidar::kStrings]{};  // tensions for −force_max, minus base
+  float force_max = 0.0f;                        // N: the force of the `up`/`down` sets (0: no plan yet)
+  float base[spidar::kStrings]{};                // tensions of the bias (zero force)
+  float up[spidar::kStrings]{};                  // tensions for +force_max along the direction, minus base
+  float down[spidar::kStrings]{};                // tensions for −force_max, minus base
   float applied_up = 0.0f, applied_down = 0.0f;  // the force those make along the direction, beyond the bias
-  float along[spidar::kStrings]{};  // u_i · d
-  float speed[spidar::kStrings]{};  // winding speed measured over the last plan period (rad/s)
+  float along[spidar::kStrings]{};               // u_i · d
+  float speed[spidar::kStrings]{};               // winding speed measured over the last plan period (rad/s)
   GripReading grip;
 };
 
@@ -147,7 +147,7 @@ class Drive {
   void calibrate_once(const std::int32_t (&counts)[kMotors]);
   void apply_now(const protocol::Settings& settings);
   void take_staged_settings();
-  float hold_duty() const;                      // the stall duty of t_min
+  float hold_duty() const;                     // the stall duty of t_min
   void hold(float d, float (&duty)[kMotors]);  // the safe state: every motor at d, tensions at t_min
   void resume();
 

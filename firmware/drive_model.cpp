@@ -296,8 +296,8 @@ void DriveCompensator::advance(const float (&tension)[kStrings], float applied, 
                      sm.force_now * t + along[i] * grip_force;
     float next[3];
     for (int r = 0; r < 3; ++r) {
-      next[r] = sm.gamma_prev[r] * tp + sm.gamma_now[r] * t + sm.phi[r][0] * x[0] + sm.phi[r][1] * x[1] +
-                sm.phi[r][2] * x[2];
+      next[r] =
+          sm.gamma_prev[r] * tp + sm.gamma_now[r] * t + sm.phi[r][0] * x[0] + sm.phi[r][1] * x[1] + sm.phi[r][2] * x[2];
     }
     st.s[0] = next[0];
     st.s[1] = next[1];

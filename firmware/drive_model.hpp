@@ -126,7 +126,7 @@ class DriveCompensator {
   float last_applied_ = 0.0f;
   StringState strings_[kStrings];
   float alpha_ = 0.0f, last_request_ = 0.0f, chain_gain_ = 1.0f;
-  float blend_ = 1.0f;              // speed-correction low-pass coefficient per tick
+  float blend_ = 1.0f;  // speed-correction low-pass coefficient per tick
   float blend_hz_ = 0.0f, tick_hz_ = 1000.0f;
   std::uint32_t window_ticks_ = 0;
   float speed_per_metre_ = 200.0f;  // 1/r

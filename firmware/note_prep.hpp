@@ -63,7 +63,7 @@ class NotePrep {
     std::uint8_t slot = 0;
   };
   struct Slot {
-    synth::Voice voice;                    // written by the background only
+    synth::Voice voice;                   // written by the background only
     std::atomic<std::uint32_t> ready{0};  // generation of the request the voice was prepared for
   };
   static_assert(kSlots <= 16, "free_ is a 16-bit mask");
@@ -81,7 +81,7 @@ class NotePrep {
   std::uint8_t order_[kSlots]{};        // ring of the pending slots from head_, earliest note first
   std::uint8_t head_ = 0;
   std::uint8_t count_ = 0;
-  std::uint16_t free_ = 0xFFFF;         // bit i: slot i is free
+  std::uint16_t free_ = 0xFFFF;  // bit i: slot i is free
 };
 
 }  // namespace hmp::fw

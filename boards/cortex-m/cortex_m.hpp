@@ -19,7 +19,7 @@ inline constexpr std::uintptr_t kVtor = 0xE000ED08;
 inline constexpr std::uintptr_t kAircr = 0xE000ED0C;
 inline constexpr std::uintptr_t kShpr3 = 0xE000ED20;  // priorities of PendSV (bits 23:16) and SysTick (31:24)
 inline constexpr std::uintptr_t kShcsr = 0xE000ED24;
-inline constexpr std::uintptr_t kCfsr = 0xE000ED28;   // configurable fault status (MemManage, Bus, Usage)
+inline constexpr std::uintptr_t kCfsr = 0xE000ED28;  // configurable fault status (MemManage, Bus, Usage)
 inline constexpr std::uintptr_t kCpacr = 0xE000ED88;
 inline constexpr std::uint32_t kIcsrPendStSet = 1u << 26;  // SysTick exception pending
 // AIRCR writes need the key in the top half; SYSRESETREQ asks the chip for a system reset.

@@ -41,7 +41,7 @@ class SerialLink {
     std::uint32_t rx_overruns = 0;  // bytes the UART lost (cannot happen in QEMU: it waits for DATA reads)
     std::uint32_t rx_held = 0;      // times reception paused for a full inbox
     std::uint32_t tx_frames = 0;
-    std::uint32_t tx_dropped = 0;   // reports the queue had no room for
+    std::uint32_t tx_dropped = 0;  // reports the queue had no room for
   };
   static constexpr std::uint32_t kTxQueueReports = 16;  // a tick sends at most ~6 (Status, Started, Errors)
 

@@ -36,7 +36,7 @@ class An386Board {
   // Until tick `tick` the UART drops what it receives, as the UART of a board that is still starting
   // does (a real USART that is not enabled yet loses the bytes; this one would otherwise hold them).
   void listen_from_tick(std::uint32_t tick) { listen_from_tick_ = tick; }
-  void stop();        // no more ticks or UART interrupts
+  void stop();  // no more ticks or UART interrupts
 
   // Interrupt handlers.
   void on_tick();  // one device tick: core.on_tick(), then lets the UART take the next report

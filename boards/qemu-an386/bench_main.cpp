@@ -71,10 +71,10 @@ void set_counts(std::uint64_t tick, std::uint32_t tick_hz) {
 }
 
 // Envelopes with every phase (Table 1), cycled over the voices.
-constexpr hmp::envelope::Preset kPresets[] = {
-    hmp::envelope::Preset::violin, hmp::envelope::Preset::cello,  hmp::envelope::Preset::trumpet,
-    hmp::envelope::Preset::harpsichord, hmp::envelope::Preset::flute, hmp::envelope::Preset::organ,
-    hmp::envelope::Preset::guitar, hmp::envelope::Preset::contrabass};
+constexpr hmp::envelope::Preset kPresets[] = {hmp::envelope::Preset::violin,  hmp::envelope::Preset::cello,
+                                              hmp::envelope::Preset::trumpet, hmp::envelope::Preset::harpsichord,
+                                              hmp::envelope::Preset::flute,   hmp::envelope::Preset::organ,
+                                              hmp::envelope::Preset::guitar,  hmp::envelope::Preset::contrabass};
 
 // What else a tick did besides the voices (and the drive), as a set of bits: the heaviest tick of each
 // combination, so that a max can be traced to its cause (detail lines max_by_kind_…).
@@ -216,8 +216,14 @@ void details(const hmp::board::InstructionCounter& counter, std::uint32_t tick_h
   const std::int32_t sine_cost = counter.measure(&sine, nullptr);
   hmp::board::irq_restore(primask);
   // clang-format off: one log line, its fields side by side
-  Line().text("detail: envelope_start=").i32(env_start).text(" voice_start=").i32(voice_start_n)
-      .text(" sine=").i32(sine_cost).print();
+  Line()
+      .text("detail: envelope_start=")
+      .i32(env_start)
+      .text(" voice_start=")
+      .i32(voice_start_n)
+      .text(" sine=")
+      .i32(sine_cost)
+      .print();
   // clang-format on
   Line line;
   line.text("detail: envelope_at");
@@ -308,8 +314,20 @@ int main() {
     const Result r = run(counter, voices, opt.tick_hz);
     const float mean = static_cast<float>(r.sum) / static_cast<float>(r.ticks);
     // clang-format off: one log line, its fields side by side
-    Line().text("result voices=").u32(voices).text(" tick_hz=").u32(opt.tick_hz).text(" ticks=").u32(r.ticks)
-        .text(" mean=").fixed(mean, 1).text(" max=").i32(r.max).text(" min=").i32(r.min).print();
+    Line()
+        .text("result voices=")
+        .u32(voices)
+        .text(" tick_hz=")
+        .u32(opt.tick_hz)
+        .text(" ticks=")
+        .u32(r.ticks)
+        .text(" mean=")
+        .fixed(mean, 1)
+        .text(" max=")
+        .i32(r.max)
+        .text(" min=")
+        .i32(r.min)
+        .print();
     // clang-format on
     if (voices == 16) print_kinds("max_by_kind_16_voices", r);
   }
@@ -317,8 +335,16 @@ int main() {
 
   const hmp::fw::Stats& s = g_board->core().stats();
   // clang-format off: one log line, its fields side by side
-  Line().text("core: started=").u32(s.started).text(" late=").u32(s.late).text(" rejected=").u32(s.rejected)
-      .text(" tx_dropped=").u32(s.tx_dropped).print();
+  Line()
+      .text("core: started=")
+      .u32(s.started)
+      .text(" late=")
+      .u32(s.late)
+      .text(" rejected=")
+      .u32(s.rejected)
+      .text(" tx_dropped=")
+      .u32(s.tx_dropped)
+      .print();
   // clang-format on
 
   // The same board with motors: a fresh board (and core) whose seam has encoders and motor outputs.
@@ -333,8 +359,20 @@ int main() {
     const Result r = run(counter, voices, opt.tick_hz);
     const float mean = static_cast<float>(r.sum) / static_cast<float>(r.ticks);
     // clang-format off: one log line, its fields side by side
-    Line().text("result drive=1 voices=").u32(voices).text(" tick_hz=").u32(opt.tick_hz).text(" ticks=").u32(r.ticks)
-        .text(" mean=").fixed(mean, 1).text(" max=").i32(r.max).text(" min=").i32(r.min).print();
+    Line()
+        .text("result drive=1 voices=")
+        .u32(voices)
+        .text(" tick_hz=")
+        .u32(opt.tick_hz)
+        .text(" ticks=")
+        .u32(r.ticks)
+        .text(" mean=")
+        .fixed(mean, 1)
+        .text(" max=")
+        .i32(r.max)
+        .text(" min=")
+        .i32(r.min)
+        .print();
     // clang-format on
     if (voices == 16) print_kinds("max_by_kind_16_voices_drive", r);
   }
@@ -353,14 +391,31 @@ int main() {
       const float mean = static_cast<float>(r.sum) / static_cast<float>(r.ticks);
       const float plan_mean = r.plans ? static_cast<float>(r.plan_sum) / static_cast<float>(r.plans) : 0.0f;
       // clang-format off: one log line, its fields side by side
-      Line().text("result drive=split voices=").u32(voices).text(" tick_hz=").u32(opt.tick_hz).text(" ticks=")
-          .u32(r.ticks).text(" mean=").fixed(mean, 1).text(" max=").i32(r.max).text(" min=").i32(r.min)
-          .text(" plans=").u32(r.plans).text(" plan_mean=").fixed(plan_mean, 1).text(" plan_max=").i32(r.plan_max)
+      Line()
+          .text("result drive=split voices=")
+          .u32(voices)
+          .text(" tick_hz=")
+          .u32(opt.tick_hz)
+          .text(" ticks=")
+          .u32(r.ticks)
+          .text(" mean=")
+          .fixed(mean, 1)
+          .text(" max=")
+          .i32(r.max)
+          .text(" min=")
+          .i32(r.min)
+          .text(" plans=")
+          .u32(r.plans)
+          .text(" plan_mean=")
+          .fixed(plan_mean, 1)
+          .text(" plan_max=")
+          .i32(r.plan_max)
           .print();
       // clang-format on
       if (voices == 16) print_kinds("max_by_kind_16_voices_split_drive", r);
     }
-    if (g_board->core().faults() != 0) Line().text("WARNING: split drive faults ").hex(g_board->core().faults()).print();
+    if (g_board->core().faults() != 0)
+      Line().text("WARNING: split drive faults ").hex(g_board->core().faults()).print();
   }
   return hmp::board::semihost::kExitOk;
 }

@@ -70,7 +70,8 @@ Options read_options() {
   static char cmdline[256];  // Options::error points into it
   semihost::get_cmdline(cmdline, sizeof cmdline);
   const Options opt = parse_options(cmdline);
-  if (opt.error != nullptr) Line().text("bad option: ").text(opt.error).text(" (hz=N trace exit-idle-ms=N listen-after-ms=N)").print();
+  if (opt.error != nullptr)
+    Line().text("bad option: ").text(opt.error).text(" (hz=N trace exit-idle-ms=N listen-after-ms=N)").print();
   return opt;
 }
 

@@ -13,10 +13,10 @@ struct Options {
 #else
   std::uint32_t tick_hz = synth::kNominalTickHz;
 #endif
-  bool trace = false;                   // trace: per-tick outputs and received reports on semihosting
-  std::uint32_t exit_idle_ms = 0;       // exit-idle-ms=N: exit 0 after N ms without a received byte (0: never)
-  std::uint32_t listen_after_ms = 0;    // listen-after-ms=N: the UART drops what it receives for N ms
-  const char* error = nullptr;          // the first word that could not be used (then the rest is unread)
+  bool trace = false;                 // trace: per-tick outputs and received reports on semihosting
+  std::uint32_t exit_idle_ms = 0;     // exit-idle-ms=N: exit 0 after N ms without a received byte (0: never)
+  std::uint32_t listen_after_ms = 0;  // listen-after-ms=N: the UART drops what it receives for N ms
+  const char* error = nullptr;        // the first word that could not be used (then the rest is unread)
 };
 
 // Parses a command line (modified in place: words are cut out with NULs).

@@ -36,7 +36,7 @@ class OutputTrace {
   };
   fw::SpscQueue<float, kOutputCapacity> outputs_;
   fw::SpscQueue<ReportRecord, kReportCapacity> reports_;
-  std::uint32_t written_ = 0;    // outputs written (main loop): the next one is tick written_ + 1
+  std::uint32_t written_ = 0;  // outputs written (main loop): the next one is tick written_ + 1
   std::uint32_t dropped_outputs_ = 0, dropped_reports_ = 0;
 };
 

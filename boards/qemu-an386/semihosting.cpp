@@ -39,9 +39,8 @@ void exit(int code) {
   const std::uint32_t block[2] = {kAdpStoppedApplicationExit, static_cast<std::uint32_t>(code)};
   call(kSysExitExtended, block);
   // Only reached if the host lacks SYS_EXIT_EXTENDED: report at least pass/fail.
-  call(kSysExit, reinterpret_cast<const void*>(
-                     static_cast<std::uintptr_t>(code == 0 ? kAdpStoppedApplicationExit
-                                                           : kAdpStoppedRunTimeErrorUnknown)));
+  call(kSysExit, reinterpret_cast<const void*>(static_cast<std::uintptr_t>(
+                     code == 0 ? kAdpStoppedApplicationExit : kAdpStoppedRunTimeErrorUnknown)));
   for (;;) asm volatile("bkpt 0");  // no host at all: stop here for a debugger
 }
 

@@ -8,8 +8,7 @@ namespace {
 constexpr std::uintptr_t kData = 0x000, kState = 0x004, kCtrl = 0x008, kIntStatus = 0x00C, kBaudDiv = 0x010;
 constexpr std::uint32_t kStateTxFull = 1u << 0, kStateRxFull = 1u << 1, kStateTxOverrun = 1u << 2,
                         kStateRxOverrun = 1u << 3;
-constexpr std::uint32_t kCtrlTxEnable = 1u << 0, kCtrlRxEnable = 1u << 1, kCtrlTxInt = 1u << 2,
-                        kCtrlRxInt = 1u << 3;
+constexpr std::uint32_t kCtrlTxEnable = 1u << 0, kCtrlRxEnable = 1u << 1, kCtrlTxInt = 1u << 2, kCtrlRxInt = 1u << 3;
 constexpr std::uint32_t kIntTx = 1u << 0, kIntRx = 1u << 1, kIntTxOverrun = 1u << 2, kIntRxOverrun = 1u << 3;
 constexpr std::uint32_t kMinBaudDiv = 16;
 

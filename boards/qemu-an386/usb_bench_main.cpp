@@ -51,7 +51,8 @@ p::Report g_notes;
 p::Report g_status;
 
 void setup_packet(std::uint8_t type, std::uint8_t req, std::uint16_t value) {
-  const std::uint8_t pkt[8] = {type, req, static_cast<std::uint8_t>(value), static_cast<std::uint8_t>(value >> 8), 0, 0, 0, 0};
+  const std::uint8_t pkt[8] = {type, req, static_cast<std::uint8_t>(value), static_cast<std::uint8_t>(value >> 8), 0, 0,
+                               0,    0};
   g_device->on_setup(pkt);
   g_device->on_xfer_complete(usb::kDirIn, 0);  // the status stage's ZLP
 }
@@ -118,9 +119,22 @@ int main() {
   hmp::board::irq_restore(primask);
   const hmp::fw::usb::DeviceStats& s = g_device->stats();
   // clang-format off: one log line, its fields side by side
-  Line().text("usb out=").i32(out).text(" out_stack=").i32(out - on_packet).text(" on_packet=").i32(on_packet)
-      .text(" queue=").i32(queue).text(" in_complete=").i32(in).text(" in=").i32(queue + in)
-      .text(" out_reports=").u32(s.out_reports).print();
+  Line()
+      .text("usb out=")
+      .i32(out)
+      .text(" out_stack=")
+      .i32(out - on_packet)
+      .text(" on_packet=")
+      .i32(on_packet)
+      .text(" queue=")
+      .i32(queue)
+      .text(" in_complete=")
+      .i32(in)
+      .text(" in=")
+      .i32(queue + in)
+      .text(" out_reports=")
+      .u32(s.out_reports)
+      .print();
   // clang-format on
   hmp::board::semihost::exit(0);
 }

@@ -87,7 +87,7 @@ class SimDevice {
   std::uint64_t tick() const { return core_.tick(); }
   float last_output() const { return last_output_; }
   const std::deque<std::string>& log() const { return log_; }  // the last kMaxLogLines lines
-  void set_log_echo(bool on) { echo_log_ = on; }                // also print log lines on stderr
+  void set_log_echo(bool on) { echo_log_ = on; }               // also print log lines on stderr
 
   // ---- the plant (null / no-ops without one) ----
   const plant::Plant* plant() const { return plant_.get(); }
@@ -96,7 +96,7 @@ class SimDevice {
     if (plant_) plant_->set_finger_anchor(anchor);
   }
   bool plant_unstable() const { return plant_ != nullptr && plant_->unstable(); }  // also logged once
-  const float (&duties() const)[fw::kMotorCount] { return duty_; }  // the last ones the core sent
+  const float (&duties() const)[fw::kMotorCount] { return duty_; }                 // the last ones the core sent
   // Called after every observed part of a tick (see PlantOptions::observe_substeps): plant time (s), output.
   using PlantObserver = std::function<void(double, const plant::PlantOutput&)>;
   void set_plant_observer(PlantObserver observer) { observer_ = std::move(observer); }

@@ -17,7 +17,7 @@ enum class ClockSource : std::uint8_t { hse_pll, hsi_pll, hsi, rcc_absent };
 
 struct Clocks {
   ClockSource source = ClockSource::hsi;
-  std::uint32_t core_hz = 16'000'000;      // HCLK: the core, SysTick
+  std::uint32_t core_hz = 16'000'000;        // HCLK: the core, SysTick
   std::uint32_t apb1_timer_hz = 16'000'000;  // TIM2–5, TIM12–14
   std::uint32_t apb2_timer_hz = 16'000'000;  // TIM1, TIM8–11
   std::uint32_t usart2_hz = 16'000'000;      // APB1

@@ -15,15 +15,15 @@ class Encoders {
  public:
   void init();
   void read(std::int32_t (&counts)[fw::kMotorCount]);  // tick context
-  void on_pin_edge(int encoder);                          // EXTI handlers: encoder 6 or 7 (0-based)
+  void on_pin_edge(int encoder);                       // EXTI handlers: encoder 6 or 7 (0-based)
   std::uint32_t missed() const { return missed_; }
 
   // The quadrature step from the previous (a, b) state to the present one: +1, −1, 0 (no change), or
   // kInvalid (both changed). State = a << 1 | b; forward is 00 → 01 → 11 → 10 → 00.
   static constexpr std::int8_t kInvalid = 2;
   static constexpr std::int8_t step(std::uint8_t from, std::uint8_t to) {
-    constexpr std::int8_t table[16] = {0, +1, -1, kInvalid, -1, 0, kInvalid, +1,
-                                       +1, kInvalid, 0, -1, kInvalid, -1, +1, 0};
+    constexpr std::int8_t table[16] = {0,  +1,       -1, kInvalid, -1,       0,  kInvalid, +1,
+                                       +1, kInvalid, 0,  -1,       kInvalid, -1, +1,       0};
     return table[(from & 3u) << 2 | (to & 3u)];
   }
 

@@ -16,7 +16,7 @@ class Motors {
   // Per-motor wiring sign: +1 when a positive duty (wind string in) is the bridge's forward direction.
   static constexpr std::int8_t kSign[fw::kMotorCount] = {1, 1, 1, 1, 1, 1, 1, 1};
 
-  void init(const Clocks& clocks);  // outputs at zero, enable low
+  void init(const Clocks& clocks);                 // outputs at zero, enable low
   void set(const float (&duty)[fw::kMotorCount]);  // tick context; ignored while disabled
   void enable(bool on);
   bool enabled() const { return enabled_; }

@@ -82,7 +82,7 @@ template <typename Io>
 class OtgFs {
  public:
   static constexpr std::uint32_t kPolls = 200'000;  // bound of every wait on the core
-  static constexpr std::uint32_t kTurnaround = 6;  // GUSBCFG.TRDT for an AHB clock ≥ 32 MHz
+  static constexpr std::uint32_t kTurnaround = 6;   // GUSBCFG.TRDT for an AHB clock ≥ 32 MHz
 
   explicit OtgFs(Io& io) : io_(io) {}
   OtgFs(const OtgFs&) = delete;
@@ -152,9 +152,7 @@ class OtgFs {
     const std::uint32_t dctl = io_.read(kDctl);
     io_.write(kDctl, on ? dctl & ~kDctlSdis : dctl | kDctlSdis);
   }
-  void set_address(std::uint8_t address) {
-    io_.write(kDcfg, (io_.read(kDcfg) & ~kDcfgDadMask) | dcfg_dad(address));
-  }
+  void set_address(std::uint8_t address) { io_.write(kDcfg, (io_.read(kDcfg) & ~kDcfgDadMask) | dcfg_dad(address)); }
   void ep_open(std::uint8_t ep_addr, fw::usb::EpType type, std::uint16_t max_packet) {
     const unsigned n = ep_addr & 0x7Fu;
     if (n == 0 || n >= kEndpoints) return;
@@ -245,7 +243,8 @@ class OtgFs {
   bool setup_fifos() {
     io_.write(kGrxfsiz, kFifoLayout.rx_words);
     io_.write(kDieptxf0, kFifoLayout.tx_words[0] << 16 | kFifoLayout.tx_start[0]);
-    for (unsigned i = 1; i < kEndpoints; ++i) io_.write(dieptxf(i), kFifoLayout.tx_words[i] << 16 | kFifoLayout.tx_start[i]);
+    for (unsigned i = 1; i < kEndpoints; ++i)
+      io_.write(dieptxf(i), kFifoLayout.tx_words[i] << 16 | kFifoLayout.tx_start[i]);
     io_.write(kGrstctl, kGrstctlTxfflsh | grstctl_txfnum(0x10));
     if (!wait(kGrstctl, kGrstctlTxfflsh, 0)) return false;
     io_.write(kGrstctl, kGrstctlRxfflsh);

@@ -6,15 +6,14 @@
 namespace hmp::board::stm32::otg {
 
 inline constexpr std::uintptr_t kBase = 0x50000000;
-inline constexpr unsigned kIrq = 67;  // OTG_FS global interrupt
-inline constexpr unsigned kEndpoints = 4;           // EP0 … EP3 in each direction
+inline constexpr unsigned kIrq = 67;                 // OTG_FS global interrupt
+inline constexpr unsigned kEndpoints = 4;            // EP0 … EP3 in each direction
 inline constexpr std::uint32_t kFifoRamWords = 320;  // 1.25 KB shared by the RX FIFO and every TX FIFO
 inline constexpr std::uint32_t kMinTxFifoWords = 16;
 
 // ---- global ----
-inline constexpr std::uint32_t kGahbcfg = 0x008, kGusbcfg = 0x00C, kGrstctl = 0x010, kGintsts = 0x014,
-                               kGintmsk = 0x018, kGrxstsp = 0x020, kGrxfsiz = 0x024, kDieptxf0 = 0x028,
-                               kGccfg = 0x038;
+inline constexpr std::uint32_t kGahbcfg = 0x008, kGusbcfg = 0x00C, kGrstctl = 0x010, kGintsts = 0x014, kGintmsk = 0x018,
+                               kGrxstsp = 0x020, kGrxfsiz = 0x024, kDieptxf0 = 0x028, kGccfg = 0x038;
 inline constexpr std::uint32_t dieptxf(unsigned ep) { return 0x104 + 4 * (ep - 1); }  // ep 1 … 3
 inline constexpr std::uint32_t kGahbcfgGintmsk = 1u << 0;
 inline constexpr std::uint32_t kGusbcfgPhysel = 1u << 6, kGusbcfgFdmod = 1u << 30;

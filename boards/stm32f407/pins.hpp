@@ -41,20 +41,20 @@ namespace pins {
 using namespace gpio;
 // Motor drivers: PWM magnitude, direction, and one enable for all eight H-bridges (external pull-down:
 // the bridges stay off while the pin floats, from power-up until the firmware drives it).
-inline constexpr PwmChannel kPwm[8] = {
-    {{kE, 5}, 3, tim::kTim9, 1},   {{kE, 6}, 3, tim::kTim9, 2},   {{kB, 8}, 3, tim::kTim10, 1},
-    {{kB, 9}, 3, tim::kTim11, 1},  {{kB, 14}, 9, tim::kTim12, 1}, {{kB, 15}, 9, tim::kTim12, 2},
-    {{kA, 6}, 9, tim::kTim13, 1},  {{kA, 7}, 9, tim::kTim14, 1}};
+inline constexpr PwmChannel kPwm[8] = {{{kE, 5}, 3, tim::kTim9, 1},   {{kE, 6}, 3, tim::kTim9, 2},
+                                       {{kB, 8}, 3, tim::kTim10, 1},  {{kB, 9}, 3, tim::kTim11, 1},
+                                       {{kB, 14}, 9, tim::kTim12, 1}, {{kB, 15}, 9, tim::kTim12, 2},
+                                       {{kA, 6}, 9, tim::kTim13, 1},  {{kA, 7}, 9, tim::kTim14, 1}};
 inline constexpr Pin kDirection[8] = {{kE, 7}, {kE, 8}, {kE, 10}, {kE, 12}, {kE, 13}, {kE, 14}, {kE, 15}, {kB, 12}};
 inline constexpr Pin kMotorEnable = {kD, 7};
 // The motor board ties this pin to 3.3 V; with the internal pull-down it reads low when no motor board
 // is plugged in, and the firmware then runs without the drive (HelloReply flag no_drive).
 inline constexpr Pin kMotorBoardPresent = {kD, 8};
 // Encoders (A, B): quadrature, 2048 counts per pulley turn after ×4 decoding.
-inline constexpr EncoderPins kEncoder[8] = {
-    {{kE, 9}, {kE, 11}, 1, tim::kTim1}, {{kA, 15}, {kB, 3}, 1, tim::kTim2}, {{kB, 4}, {kB, 5}, 2, tim::kTim3},
-    {{kB, 6}, {kB, 7}, 2, tim::kTim4},  {{kA, 0}, {kA, 1}, 2, tim::kTim5},  {{kC, 6}, {kC, 7}, 3, tim::kTim8},
-    {{kD, 0}, {kD, 1}, 0, 0},           {{kD, 2}, {kD, 3}, 0, 0}};
+inline constexpr EncoderPins kEncoder[8] = {{{kE, 9}, {kE, 11}, 1, tim::kTim1}, {{kA, 15}, {kB, 3}, 1, tim::kTim2},
+                                            {{kB, 4}, {kB, 5}, 2, tim::kTim3},  {{kB, 6}, {kB, 7}, 2, tim::kTim4},
+                                            {{kA, 0}, {kA, 1}, 2, tim::kTim5},  {{kC, 6}, {kC, 7}, 3, tim::kTim8},
+                                            {{kD, 0}, {kD, 1}, 0, 0},           {{kD, 2}, {kD, 3}, 0, 0}};
 // Emergency stop: a normally-closed switch to ground; the pin reads high when pressed or when a wire
 // breaks (internal pull-up), and either stops the motors.
 inline constexpr Pin kEstop = {kD, 6};

@@ -23,8 +23,7 @@ inline constexpr std::uintptr_t kCr = kBase + 0x00, kPllcfgr = kBase + 0x04, kCf
 inline constexpr std::uint32_t kHsiOn = 1u << 0, kHsiRdy = 1u << 1, kHseOn = 1u << 16, kHseRdy = 1u << 17,
                                kPllOn = 1u << 24, kPllRdy = 1u << 25;
 // PLLCFGR: VCO in = src / M (1–2 MHz), VCO = in · N (100–432 MHz), SYSCLK = VCO / P, USB = VCO / Q.
-inline constexpr std::uint32_t pllcfgr(std::uint32_t m, std::uint32_t n, std::uint32_t p, std::uint32_t q,
-                                       bool hse) {
+inline constexpr std::uint32_t pllcfgr(std::uint32_t m, std::uint32_t n, std::uint32_t p, std::uint32_t q, bool hse) {
   return m | n << 6 | ((p / 2 - 1) << 16) | (hse ? 1u << 22 : 0u) | q << 24;
 }
 // CFGR
@@ -48,8 +47,7 @@ inline constexpr std::uint32_t kLsiOn = 1u << 0, kRmvf = 1u << 24, kIwdgRstf = 1
 namespace flash {
 inline constexpr std::uintptr_t kAcr = 0x40023C00;
 // 168 MHz at 2.7–3.6 V needs 5 wait states (RM0090 table 10); prefetch and both caches hide most of them.
-inline constexpr std::uint32_t kLatencyMask = 0x7, kLatency5 = 5, kPrften = 1u << 8, kIcen = 1u << 9,
-                               kDcen = 1u << 10;
+inline constexpr std::uint32_t kLatencyMask = 0x7, kLatency5 = 5, kPrften = 1u << 8, kIcen = 1u << 9, kDcen = 1u << 10;
 }  // namespace flash
 
 namespace pwr {
@@ -58,10 +56,9 @@ inline constexpr std::uint32_t kVosScale1 = 1u << 14;  // regulator scale 1: nee
 }  // namespace pwr
 
 namespace gpio {
-inline constexpr std::uintptr_t kA = 0x40020000, kB = 0x40020400, kC = 0x40020800, kD = 0x40020C00,
-                                kE = 0x40021000;
-inline constexpr std::uintptr_t kModer = 0x00, kOtyper = 0x04, kOspeedr = 0x08, kPupdr = 0x0C, kIdr = 0x10,
-                                kOdr = 0x14, kBsrr = 0x18, kAfrl = 0x20, kAfrh = 0x24;
+inline constexpr std::uintptr_t kA = 0x40020000, kB = 0x40020400, kC = 0x40020800, kD = 0x40020C00, kE = 0x40021000;
+inline constexpr std::uintptr_t kModer = 0x00, kOtyper = 0x04, kOspeedr = 0x08, kPupdr = 0x0C, kIdr = 0x10, kOdr = 0x14,
+                                kBsrr = 0x18, kAfrl = 0x20, kAfrh = 0x24;
 inline constexpr std::uint32_t kModeInput = 0, kModeOutput = 1, kModeAf = 2;
 inline constexpr std::uint32_t kPullNone = 0, kPullUp = 1, kPullDown = 2;
 inline constexpr std::uint32_t kSpeedHigh = 2;
@@ -78,9 +75,9 @@ inline constexpr std::uintptr_t kCr1 = 0x00, kSmcr = 0x08, kDier = 0x0C, kSr = 0
 inline constexpr std::uint32_t kCen = 1u << 0, kArpe = 1u << 7, kUg = 1u << 0;
 inline constexpr std::uint32_t kSmsEncoder3 = 0x3;  // count on both edges of both inputs (×4)
 // CCMR1: channel 1 in bits 7:0, channel 2 in 15:8.
-inline constexpr std::uint32_t kCcInputTi = 0x1;                  // CCxS = 01: input on its own pin
+inline constexpr std::uint32_t kCcInputTi = 0x1;                           // CCxS = 01: input on its own pin
 inline constexpr std::uint32_t kOcPwm1 = 0x6u << 4, kOcPreload = 1u << 3;  // OCxM = 110, OCxPE
-inline constexpr std::uint32_t kIcFilter8 = 0x3u << 4;            // ICxF = 0011: 8 samples at f_CK_INT
+inline constexpr std::uint32_t kIcFilter8 = 0x3u << 4;                     // ICxF = 0011: 8 samples at f_CK_INT
 inline constexpr std::uint32_t kCc1e = 1u << 0, kCc2e = 1u << 4;
 inline constexpr std::uint32_t kMoe = 1u << 15;  // BDTR (TIM1/TIM8 only): main output enable
 }  // namespace tim

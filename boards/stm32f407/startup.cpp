@@ -30,8 +30,8 @@ namespace ex = board::exception;
 
 // The STM32F405/407 have 82 external interrupts (RM0090 table 61, positions 0–81).
 using VectorTable = board::VectorTable<82>;
-constexpr unsigned kIrqExti0 = 6, kIrqExti1 = 7, kIrqExti2 = 8, kIrqExti3 = 9, kIrqExti9_5 = 23,
-                   kIrqUsart2 = 38, kIrqOtgFs = 67;
+constexpr unsigned kIrqExti0 = 6, kIrqExti1 = 7, kIrqExti2 = 8, kIrqExti3 = 9, kIrqExti9_5 = 23, kIrqUsart2 = 38,
+                   kIrqOtgFs = 67;
 
 constexpr VectorTable make_vector_table() {
   VectorTable t{__stack_top, {}, {}};

@@ -61,9 +61,9 @@ enum class ControlOutcome : std::uint8_t {
 
 struct ControlResult {
   ControlOutcome outcome = ControlOutcome::done;
-  std::vector<std::uint8_t> data;       // IN: the data stage's bytes
-  std::vector<std::uint16_t> packets;   // IN: the size of each data packet (a ZLP shows as 0)
-  std::uint32_t cut_packets = 0;        // OUT: data packets larger than the room the stack armed (cut to it)
+  std::vector<std::uint8_t> data;      // IN: the data stage's bytes
+  std::vector<std::uint16_t> packets;  // IN: the size of each data packet (a ZLP shows as 0)
+  std::uint32_t cut_packets = 0;       // OUT: data packets larger than the room the stack armed (cut to it)
 };
 
 // The SETUP stage alone (tests also use it to start a transfer they then leave unfinished).

@@ -110,7 +110,8 @@ class UsbSim : private hmp::usb_host::Ep0 {
       device_.poll();
       if (Clock::now() >= next_tick) next_tick = Clock::now();
       pump();
-      if (usbredirparser_has_data_to_write(parser_) && usbredirparser_do_write(parser_) == usbredirparser_write_io_error) {
+      if (usbredirparser_has_data_to_write(parser_) &&
+          usbredirparser_do_write(parser_) == usbredirparser_write_io_error) {
         std::fprintf(stderr, "usb-sim: write to QEMU failed\n");
         return 0;
       }
@@ -320,7 +321,8 @@ class UsbSim : private hmp::usb_host::Ep0 {
       UsbSim& s = self(c);
       const std::uint8_t status = s.control(0x01, 11, h->alt, h->interface, 0, nullptr);
       s.send_interface_and_ep_info();
-      usb_redir_alt_setting_status_header r{status, h->interface, status == usb_redir_success ? h->alt : std::uint8_t(0)};
+      usb_redir_alt_setting_status_header r{status, h->interface,
+                                            status == usb_redir_success ? h->alt : std::uint8_t(0)};
       usbredirparser_send_alt_setting_status(s.parser_, id, &r);
     };
     p->get_alt_setting_func = [](void* c, std::uint64_t id, usb_redir_get_alt_setting_header* h) {
@@ -334,7 +336,8 @@ class UsbSim : private hmp::usb_host::Ep0 {
       UsbSim& s = self(c);
       const bool ok = h->endpoint == usb::kEpIn && s.device_.configuration() != 0;
       if (ok) s.interrupt_receiving_ = true;
-      usb_redir_interrupt_receiving_status_header r{ok ? std::uint8_t(usb_redir_success) : std::uint8_t(usb_redir_inval), h->endpoint};
+      usb_redir_interrupt_receiving_status_header r{
+          ok ? std::uint8_t(usb_redir_success) : std::uint8_t(usb_redir_inval), h->endpoint};
       usbredirparser_send_interrupt_receiving_status(s.parser_, id, &r);
     };
     p->stop_interrupt_receiving_func = [](void* c, std::uint64_t id, usb_redir_stop_interrupt_receiving_header* h) {
@@ -343,7 +346,8 @@ class UsbSim : private hmp::usb_host::Ep0 {
       usb_redir_interrupt_receiving_status_header r{usb_redir_success, h->endpoint};
       usbredirparser_send_interrupt_receiving_status(s.parser_, id, &r);
     };
-    p->control_packet_func = [](void* c, std::uint64_t id, usb_redir_control_packet_header* h, std::uint8_t* data, int len) {
+    p->control_packet_func = [](void* c, std::uint64_t id, usb_redir_control_packet_header* h, std::uint8_t* data,
+                                int len) {
       UsbSim& s = self(c);
       std::vector<std::uint8_t> in;
       usb_redir_control_packet_header r = *h;
@@ -353,12 +357,14 @@ class UsbSim : private hmp::usb_host::Ep0 {
         usbredirparser_send_control_packet(s.parser_, id, &r, in.data(), static_cast<int>(in.size()));
       } else {
         const bool whole = len == h->length;
-        r.status = whole ? s.control(h->requesttype, h->request, h->value, h->index, h->length, data) : std::uint8_t(usb_redir_inval);
+        r.status = whole ? s.control(h->requesttype, h->request, h->value, h->index, h->length, data)
+                         : std::uint8_t(usb_redir_inval);
         usbredirparser_send_control_packet(s.parser_, id, &r, nullptr, 0);
       }
       if (data) usbredirparser_free_packet_data(s.parser_, data);
     };
-    p->interrupt_packet_func = [](void* c, std::uint64_t id, usb_redir_interrupt_packet_header* h, std::uint8_t* data, int len) {
+    p->interrupt_packet_func = [](void* c, std::uint64_t id, usb_redir_interrupt_packet_header* h, std::uint8_t* data,
+                                  int len) {
       UsbSim& s = self(c);
       if (h->endpoint == usb::kEpOut && len >= 0) {
         s.held_out_.push_back(HeldOut{id, std::vector<std::uint8_t>(data, data + len)});  // answered when taken
@@ -429,7 +435,8 @@ class UsbSim : private hmp::usb_host::Ep0 {
     p->iso_packet_func = [](void* c, std::uint64_t, usb_redir_iso_packet_header*, std::uint8_t* data, int) {
       if (data) usbredirparser_free_packet_data(self(c).parser_, data);
     };
-    p->buffered_bulk_packet_func = [](void* c, std::uint64_t, usb_redir_buffered_bulk_packet_header*, std::uint8_t* data, int) {
+    p->buffered_bulk_packet_func = [](void* c, std::uint64_t, usb_redir_buffered_bulk_packet_header*,
+                                      std::uint8_t* data, int) {
       if (data) usbredirparser_free_packet_data(self(c).parser_, data);
     };
   }
@@ -471,14 +478,18 @@ int main(int argc, char** argv) {
     }
   }
   if (path.empty() || path.size() >= sizeof(sockaddr_un::sun_path)) {
-    std::fprintf(stderr, "error: --socket PATH is required (a path shorter than %zu bytes)\n", sizeof(sockaddr_un::sun_path));
+    std::fprintf(stderr, "error: --socket PATH is required (a path shorter than %zu bytes)\n",
+                 sizeof(sockaddr_un::sun_path));
     return 2;
   }
   struct sigaction sa {};
   sa.sa_handler = [](int sig) {
-    if (sig == SIGUSR1) g_unplug = 1;
-    else if (sig == SIGUSR2) g_replug = 1;
-    else g_stop = 1;
+    if (sig == SIGUSR1)
+      g_unplug = 1;
+    else if (sig == SIGUSR2)
+      g_replug = 1;
+    else
+      g_stop = 1;
   };
   for (int sig : {SIGUSR1, SIGUSR2, SIGTERM, SIGINT}) sigaction(sig, &sa, nullptr);
 
@@ -487,7 +498,8 @@ int main(int argc, char** argv) {
   addr.sun_family = AF_UNIX;
   std::memcpy(addr.sun_path, path.c_str(), path.size());
   ::unlink(path.c_str());
-  if (listener < 0 || ::bind(listener, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0 || ::listen(listener, 1) != 0) {
+  if (listener < 0 || ::bind(listener, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0 ||
+      ::listen(listener, 1) != 0) {
     std::fprintf(stderr, "error: cannot listen on %s: %s\n", path.c_str(), std::strerror(errno));
     return 1;
   }

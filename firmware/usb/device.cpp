@@ -10,8 +10,15 @@ constexpr std::uint8_t kRecipientMask = 0x1F, kToDevice = 0, kToInterface = 1, k
 
 // Standard requests (Table 9-4) and features (Table 9-6).
 enum : std::uint8_t {
-  kGetStatus = 0, kClearFeature = 1, kSetFeature = 3, kSetAddress = 5, kGetDescriptor = 6,
-  kGetConfiguration = 8, kSetConfiguration = 9, kGetInterface = 10, kSetInterface = 11,
+  kGetStatus = 0,
+  kClearFeature = 1,
+  kSetFeature = 3,
+  kSetAddress = 5,
+  kGetDescriptor = 6,
+  kGetConfiguration = 8,
+  kSetConfiguration = 9,
+  kGetInterface = 10,
+  kSetInterface = 11,
 };
 constexpr std::uint16_t kEndpointHalt = 0;
 
@@ -23,9 +30,7 @@ constexpr std::uint16_t le16(const std::uint8_t* p) { return static_cast<std::ui
 
 }  // namespace
 
-Setup Setup::parse(const std::uint8_t (&p)[8]) {
-  return Setup{p[0], p[1], le16(p + 2), le16(p + 4), le16(p + 6)};
-}
+Setup Setup::parse(const std::uint8_t (&p)[8]) { return Setup{p[0], p[1], le16(p + 2), le16(p + 4), le16(p + 6)}; }
 
 std::size_t string_descriptor(const char* text, std::uint8_t (&out)[128]) {
   std::size_t n = 2;
@@ -177,7 +182,8 @@ void Device::handle_standard(const Setup& s) {
     case kSetFeature: {
       // Only ENDPOINT_HALT on our two data endpoints (no remote wake-up, no test mode).
       const auto ep = static_cast<std::uint8_t>(s.index);
-      if (in || recipient != kToEndpoint || s.value != kEndpointHalt || !configured || (ep != kEpIn && ep != kEpOut)) break;
+      if (in || recipient != kToEndpoint || s.value != kEndpointHalt || !configured || (ep != kEpIn && ep != kEpOut))
+        break;
       set_halt(ep, s.request == kSetFeature);
       status_in();
       return;
@@ -194,8 +200,7 @@ void Device::handle_standard(const Setup& s) {
       set_halt(kEpOut, false);
       status_in();
       return;
-    default:
-      break;
+    default: break;
   }
   stall();
 }
@@ -261,8 +266,7 @@ void Device::handle_class(const Setup& s) {
       rx_done_ = 0;
       xfer(0x00, ctrl_, kEp0Size);
       return;
-    default:
-      break;
+    default: break;
   }
   stall();
 }
@@ -315,8 +319,7 @@ void Device::on_xfer_complete(std::uint8_t ep_addr, std::uint16_t bytes) {
       }
       start_in();
       return;
-    default:
-      return;
+    default: return;
   }
 }
 

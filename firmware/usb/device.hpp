@@ -28,15 +28,15 @@ struct Setup {
 
 struct DeviceStats {
   std::uint32_t setups = 0;
-  std::uint32_t stalls = 0;           // requests answered with STALL
-  std::uint32_t aborted = 0;          // control transfers cut short by a new SETUP
-  std::uint32_t out_reports = 0;      // reports handed to the core (interrupt OUT and SET_REPORT)
-  std::uint32_t out_bad_length = 0;   // OUT packets that were not 64 bytes (dropped, counted)
-  std::uint32_t out_held = 0;         // times the OUT endpoint stayed NAKing because the core was full
-  std::uint32_t out_lost = 0;         // reports the core refused after all (never, while the arming rule holds)
-  std::uint32_t in_reports = 0;       // reports the host has read
-  std::uint32_t in_refused = 0;       // queue_report calls refused: the queue was full
-  std::uint32_t xfer_refused = 0;     // ep_xfer calls the controller refused
+  std::uint32_t stalls = 0;          // requests answered with STALL
+  std::uint32_t aborted = 0;         // control transfers cut short by a new SETUP
+  std::uint32_t out_reports = 0;     // reports handed to the core (interrupt OUT and SET_REPORT)
+  std::uint32_t out_bad_length = 0;  // OUT packets that were not 64 bytes (dropped, counted)
+  std::uint32_t out_held = 0;        // times the OUT endpoint stayed NAKing because the core was full
+  std::uint32_t out_lost = 0;        // reports the core refused after all (never, while the arming rule holds)
+  std::uint32_t in_reports = 0;      // reports the host has read
+  std::uint32_t in_refused = 0;      // queue_report calls refused: the queue was full
+  std::uint32_t xfer_refused = 0;    // ep_xfer calls the controller refused
   std::uint32_t bus_resets = 0, suspends = 0, resumes = 0;
 };
 
@@ -105,13 +105,13 @@ class Device {
   std::uint8_t ctrl_[128]{};          // reply or OUT data of the control transfer in progress
   const std::uint8_t* tx_ = nullptr;  // the rest of the reply
   std::size_t tx_left_ = 0;
-  bool tx_zlp_ = false;               // a ZLP ends the data stage (reply a multiple of 64, shorter than wLength)
-  std::uint16_t rx_done_ = 0;         // OUT data stage bytes received
+  bool tx_zlp_ = false;        // a ZLP ends the data stage (reply a multiple of 64, shorter than wLength)
+  std::uint16_t rx_done_ = 0;  // OUT data stage bytes received
 
   // device state
   std::uint8_t address_ = 0;
   std::uint8_t configuration_ = 0;
-  std::uint8_t idle_rate_ = 0;        // SET_IDLE (kept for GET_IDLE; reports are sent when there are any)
+  std::uint8_t idle_rate_ = 0;  // SET_IDLE (kept for GET_IDLE; reports are sent when there are any)
   bool suspended_ = false;
   bool in_halted_ = false, out_halted_ = false;
 

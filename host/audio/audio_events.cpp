@@ -16,8 +16,12 @@ std::vector<AudioEvent> audio_events(const std::vector<midi::Note>& notes, const
   raw.reserve(notes.size() * 2 + controls.size());
   std::size_t control_hint = 0;
   for (const midi::Control& c : controls) {
-    AudioEvent e{tempo_map.micros(c.tick, control_hint), Kind::control, static_cast<std::uint8_t>(c.channel & 0x0F),
-                 c.number, 0, 0};
+    AudioEvent e{tempo_map.micros(c.tick, control_hint),
+                 Kind::control,
+                 static_cast<std::uint8_t>(c.channel & 0x0F),
+                 c.number,
+                 0,
+                 0};
     e.control = c.kind;
     e.value = c.value;
     raw.push_back(e);

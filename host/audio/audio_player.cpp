@@ -20,17 +20,15 @@ struct BusyFlag {
 
 }  // namespace
 
-AudioPlayer::AudioPlayer(const AudioOptions& options, WarningSink warn)
-    : options_(options), warn_(std::move(warn)) {
+AudioPlayer::AudioPlayer(const AudioOptions& options, WarningSink warn) : options_(options), warn_(std::move(warn)) {
   if (!options_.enabled) {
     go_silent("audio disabled (--no-audio)", false);
     return;
   }
   const std::optional<std::string> soundfont = find_soundfont(options_.soundfont);
   if (!soundfont) {
-    go_silent(options_.soundfont.empty()
-                  ? "no General MIDI SoundFont found (install fluid-soundfont-gm)"
-                  : "SoundFont " + options_.soundfont + " not found",
+    go_silent(options_.soundfont.empty() ? "no General MIDI SoundFont found (install fluid-soundfont-gm)"
+                                         : "SoundFont " + options_.soundfont + " not found",
               true);
     return;
   }
@@ -92,7 +90,8 @@ bool AudioPlayer::open_driver() {
     }
     tried += (tried.empty() ? "" : "; ") + name + (error.empty() ? "" : ": " + error);
   }
-  go_silent("no audio output could be opened (" + (tried.empty() ? std::string("no driver to try") : tried) + ")", true);
+  go_silent("no audio output could be opened (" + (tried.empty() ? std::string("no driver to try") : tried) + ")",
+            true);
   return false;
 }
 

@@ -1,10 +1,10 @@
 #pragma once
 // The song's audio during `hmp play` (design §14): FluidSynth with the GM SoundFont on the first audio
-// driver that opens (pulseaudio, alsa, sdl2; or "virtual", a simulated card: virtual_card.hpp), rendering from the audio callback, sample-accurately
-// against a song position it owns; a PlaybackClock tells the rest of the player which song time is
-// being heard. Without audio (`--no-audio`, no SoundFont, no sound device) the same clock runs on the
-// host clock and nothing is rendered: one warning says why (none for --no-audio), and nothing else of
-// FluidSynth's or ALSA's reaches stderr.
+// driver that opens (pulseaudio, alsa, sdl2; or "virtual", a simulated card: virtual_card.hpp), rendering from the
+// audio callback, sample-accurately against a song position it owns; a PlaybackClock tells the rest of the player which
+// song time is being heard. Without audio (`--no-audio`, no SoundFont, no sound device) the same clock runs on the host
+// clock and nothing is rendered: one warning says why (none for --no-audio), and nothing else of FluidSynth's or ALSA's
+// reaches stderr.
 #include <atomic>
 #include <chrono>
 #include <cstdint>
@@ -69,8 +69,8 @@ class AudioPlayer {
   std::uint64_t clock_restarts() const;  // times the clock's line started again (PlaybackClock::restarts)
 
   bool audible() const { return output_ != nullptr || card_ != nullptr; }  // a driver runs, a SoundFont is loaded
-  const std::string& driver_name() const { return driver_name_; }  // "pulseaudio", …, or "none"
-  const std::string& silence_reason() const { return silence_reason_; }  // empty when audible
+  const std::string& driver_name() const { return driver_name_; }          // "pulseaudio", …, or "none"
+  const std::string& silence_reason() const { return silence_reason_; }    // empty when audible
   std::uint64_t callbacks() const { return callbacks_.load(); }
   const VirtualCard* virtual_card() const { return card_.get(); }  // the "virtual" driver, else null
 
@@ -87,19 +87,19 @@ class AudioPlayer {
   const AudioBackend* backend_ = nullptr;  // the audio module; null when silent
   std::unique_ptr<Synth> synth_;           // null when silent
   std::unique_ptr<OutputStream> output_;   // a sound card's driver, or null
-  std::unique_ptr<VirtualCard> card_;  // instead of output_ for the "virtual" driver
+  std::unique_ptr<VirtualCard> card_;      // instead of output_ for the "virtual" driver
   std::string driver_name_ = "none";
   std::string silence_reason_;
 
   // synth_, clock_, playing_ between the control calls and the audio thread (which must not wait behind an
   // ordinary thread the load preempted: priority inheritance)
   mutable PiMutex mutex_;
-  PlaybackClock clock_;                  // in play time
+  PlaybackClock clock_;  // in play time
   double speed_ = 1.0;
-  std::vector<AudioEvent> events_;       // in song time
+  std::vector<AudioEvent> events_;  // in song time
   std::int64_t to_play(std::int64_t song_us) const;
   std::int64_t to_song(std::int64_t play_us) const;
-  void load_events();                    // events_ at the present speed into the synthesizer
+  void load_events();  // events_ at the present speed into the synthesizer
   void start_locked(std::int64_t song_us);
   bool playing_ = false;
   std::atomic<int> period_seen_{0};  // frames per callback the driver actually uses

@@ -54,7 +54,8 @@ RenderedAudio render_offline(const std::vector<AudioEvent>& events, std::int64_t
 void write_wav(const std::string& path, const RenderedAudio& audio) {
   std::string why;
   const AudioBackend* backend = audio_backend(&why);
-  if (backend == nullptr) throw std::runtime_error("cannot write " + path + ": the audio module is not available (" + why + ")");
+  if (backend == nullptr)
+    throw std::runtime_error("cannot write " + path + ": the audio module is not available (" + why + ")");
   const std::span<const float> channels[] = {audio.left, audio.right};
   if (const std::string error = backend->write_wav(path, audio.sample_rate, channels); !error.empty()) {
     throw std::runtime_error("cannot write " + path + ": " + error);

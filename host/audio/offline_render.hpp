@@ -13,7 +13,7 @@ namespace hmp::audio {
 
 struct RenderedAudio {
   int sample_rate = 0;
-  std::int64_t start_us = 0;     // song time of the first frame
+  std::int64_t start_us = 0;  // song time of the first frame
   std::vector<float> left, right;
   bool silent_fallback = false;  // no SoundFont: all zeros, and a warning was given
 };

@@ -6,9 +6,7 @@
 namespace hmp::audio {
 
 namespace {
-double micros(std::chrono::steady_clock::duration d) {
-  return std::chrono::duration<double, std::micro>(d).count();
-}
+double micros(std::chrono::steady_clock::duration d) { return std::chrono::duration<double, std::micro>(d).count(); }
 }  // namespace
 
 void PlaybackClock::restart_line(std::int64_t song_us, TimePoint heard_at) {
@@ -37,8 +35,8 @@ std::int64_t PlaybackClock::song_us(TimePoint t) const {
 
 PlaybackClock::TimePoint PlaybackClock::heard_at(std::int64_t song_us) const {
   const double x = (static_cast<double>(song_us - origin_song_) - offset_) / slope_;
-  return origin_time_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                            std::chrono::duration<double, std::micro>(x));
+  return origin_time_ +
+         std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double, std::micro>(x));
 }
 
 void PlaybackClock::observe(std::int64_t song_us, TimePoint heard_at) {

@@ -21,11 +21,11 @@ namespace hmp::audio {
 class PlaybackClock {
  public:
   using TimePoint = std::chrono::steady_clock::time_point;
-  static constexpr std::size_t kWindow = 1024;         // reports in the fit (5.5 s of 256-frame buffers at 48 kHz)
-  static constexpr std::size_t kMinFit = 32;           // reports before the fit replaces the nominal line
-  static constexpr double kMaxSpeedError = 1e-3;       // no sound card is off by more than 1000 ppm
-  static constexpr double kOffLineUs = 2'000;           // farther than this off the line: not in the fit
-  static constexpr double kDefaultBufferUs = 20'000;    // the card's buffer until set_buffer_us()
+  static constexpr std::size_t kWindow = 1024;        // reports in the fit (5.5 s of 256-frame buffers at 48 kHz)
+  static constexpr std::size_t kMinFit = 32;          // reports before the fit replaces the nominal line
+  static constexpr double kMaxSpeedError = 1e-3;      // no sound card is off by more than 1000 ppm
+  static constexpr double kOffLineUs = 2'000;         // farther than this off the line: not in the fit
+  static constexpr double kDefaultBufferUs = 20'000;  // the card's buffer until set_buffer_us()
 
   // Playback (re)starts: song time `song_us` is heard at `heard_at`, then time runs at the speed learnt
   // so far (1 at first).

@@ -18,11 +18,11 @@ bool readable_file(const std::string& path) {
 
 const std::vector<std::string>& standard_soundfont_paths() {
   static const std::vector<std::string> paths = {
-      "/usr/share/sounds/sf2/FluidR3_GM.sf2",    // fluid-soundfont-gm (Debian, Ubuntu)
-      "/usr/share/sounds/sf2/default-GM.sf2",    // Debian's alternatives link
-      "/usr/share/soundfonts/FluidR3_GM.sf2",    // Fedora, Arch
-      "/usr/share/soundfonts/default.sf2",       // Arch's default link
-      "/usr/share/sounds/sf3/default-GM.sf3",    // Debian's compressed-SoundFont alternative
+      "/usr/share/sounds/sf2/FluidR3_GM.sf2",  // fluid-soundfont-gm (Debian, Ubuntu)
+      "/usr/share/sounds/sf2/default-GM.sf2",  // Debian's alternatives link
+      "/usr/share/soundfonts/FluidR3_GM.sf2",  // Fedora, Arch
+      "/usr/share/soundfonts/default.sf2",     // Arch's default link
+      "/usr/share/sounds/sf3/default-GM.sf3",  // Debian's compressed-SoundFont alternative
   };
   return paths;
 }

@@ -26,7 +26,8 @@ void VirtualCard::stop() {
 }
 
 VirtualCard::TimePoint VirtualCard::heard_at(double frame) const {
-  const double seconds = (frame + static_cast<double>(settings_.period_frames) * settings_.periods) / frames_per_second();
+  const double seconds =
+      (frame + static_cast<double>(settings_.period_frames) * settings_.periods) / frames_per_second();
   std::chrono::steady_clock::duration delay{};
   {
     std::lock_guard lock(mutex_);
@@ -34,7 +35,8 @@ VirtualCard::TimePoint VirtualCard::heard_at(double frame) const {
       if (static_cast<double>(s.frame) <= frame) delay = s.delay;
     }
   }
-  return start_ + delay + std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(seconds));
+  return start_ + delay +
+         std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(seconds));
 }
 
 std::uint64_t VirtualCard::underruns() const {
@@ -71,8 +73,9 @@ void VirtualCard::run() {
   for (std::uint64_t n = 0;; ++n) {
     // Period n is asked for when the card starts playing frame n × period − latency: its first frame
     // is then heard exactly one latency later, as the audio player assumes of a real card.
-    const TimePoint due = delay + start_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                               std::chrono::duration<double>(static_cast<double>(n * period) / frames_per_second()));
+    const TimePoint due = delay + start_ +
+                          std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                              std::chrono::duration<double>(static_cast<double>(n * period) / frames_per_second()));
     {
       std::unique_lock lock(mutex_);
       if (stop_signal_.wait_until(lock, due, [this] { return stop_; })) return;
@@ -87,9 +90,13 @@ void VirtualCard::run() {
     std::lock_guard lock(mutex_);
     if (ready > needed) {  // the card ran dry: silence until now, the rest comes later
       delay += ready - needed;
-      const auto ms = [](std::chrono::steady_clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); };
-      shifts_.push_back({n * period, delay,
-                         {static_cast<double>(n * period) / frames_per_second(), ms(ready - needed), ms(woke - due), ms(ready - woke)}});
+      const auto ms = [](std::chrono::steady_clock::duration d) {
+        return std::chrono::duration<double, std::milli>(d).count();
+      };
+      shifts_.push_back({n * period,
+                         delay,
+                         {static_cast<double>(n * period) / frames_per_second(), ms(ready - needed), ms(woke - due),
+                          ms(ready - woke)}});
     }
     for (std::size_t i = 0; i < period && recording_.size() < settings_.record_frames; ++i) {
       recording_.push_back(std::fabs(left[i]) + std::fabs(right[i]));

@@ -3,9 +3,9 @@
 // of its own crystal (nominal rate × (1 + ppm)), and the first frame of each period is heard `periods`
 // periods after it was asked for (the output latency the audio player assumes of a real card). A
 // period that comes back after the card needed it is an underrun: the card plays silence until it
-// comes, and everything after is heard that much later. It can keep what it played. The audio–haptic skew is measured with it where there is no sound card
-// (tools/bench/e2e_timing.cpp): the audio player sees a card and its callbacks, the bench knows
-// exactly when every frame is heard. A real card adds the error of its driver's latency report.
+// comes, and everything after is heard that much later. It can keep what it played. The audio–haptic skew is measured
+// with it where there is no sound card (tools/bench/e2e_timing.cpp): the audio player sees a card and its callbacks,
+// the bench knows exactly when every frame is heard. A real card adds the error of its driver's latency report.
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -27,8 +27,8 @@ class VirtualCard {
     int sample_rate = 48000;
     int period_frames = 256;
     int periods = 4;
-    double ppm = 0.0;                // the card's crystal against the host clock: +100 = 100 ppm fast
-    std::size_t record_frames = 0;   // keep the first this many frames played (sum of |left| + |right|)
+    double ppm = 0.0;               // the card's crystal against the host clock: +100 = 100 ppm fast
+    std::size_t record_frames = 0;  // keep the first this many frames played (sum of |left| + |right|)
   };
 
   VirtualCard(const Settings& settings, Callback callback);

@@ -40,11 +40,12 @@ void check_options(const CalibrateOptions& o) {
     throw BadInput(fmt::format("--target-mm: must be in (0, {:g}] mm", kMaxTargetMm));
   }
   if (o.frequency_hz && !(*o.frequency_hz >= simulate::kBandLowHz && *o.frequency_hz <= simulate::kBandHighHz)) {
-    throw BadInput(fmt::format("--frequency: must be in the band {:g}–{:g} Hz", simulate::kBandLowHz,
-                               simulate::kBandHighHz));
+    throw BadInput(
+        fmt::format("--frequency: must be in the band {:g}–{:g} Hz", simulate::kBandLowHz, simulate::kBandHighHz));
   }
   if (transport::parse_device_spec(o.device).kind != transport::DeviceSpec::Kind::sim) {
-    throw BadInput("--device " + o.device + ": only sim can be measured (a device reports its grip 100 times a "
+    throw BadInput("--device " + o.device +
+                   ": only sim can be measured (a device reports its grip 100 times a "
                    "second, too slowly for a 50–250 Hz vibration)");
   }
 }
@@ -143,8 +144,7 @@ void register_calibrate(CLI::App& app, Registry& registry) {
   cmd->add_option("--target-mm", o->target_mm, "Peak displacement of the grip in mm")->capture_default_str();
   cmd->add_option("--frequency", o->frequency_hz,
                   "Reference sine in Hz (50–250; default 100, and the whole band is reported)");
-  cmd->add_option("--device", o->device, "Device to measure on (only sim: the simulated plant)")
-      ->capture_default_str();
+  cmd->add_option("--device", o->device, "Device to measure on (only sim: the simulated plant)")->capture_default_str();
   cmd->add_option("--config", o->config_path, "Config file whose [device] peak_force_n is set (created if absent)");
   cmd->add_flag("-f,--force", o->force, "Replace the config file without asking");
   cmd->callback([o, &registry] { registry.set([o] { return run_calibrate(*o); }); });

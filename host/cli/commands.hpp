@@ -16,6 +16,7 @@ class Registry {
  public:
   void set(std::function<int()> action) { action_ = std::move(action); }
   int run() const;
+
  private:
   std::function<int()> action_;
 };

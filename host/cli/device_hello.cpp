@@ -22,7 +22,8 @@ protocol::HelloReply connect_and_describe(player::DeviceLink& link, const transp
   } catch (const player::LinkError& e) {
     // An emulated board that does not answer is most likely an image of something else.
     if (!opened.qemu) throw;
-    throw player::LinkError(fmt::format("{} (image {}: is it the qemu-an386 firmware?)", e.what(), opened.qemu->image()));
+    throw player::LinkError(
+        fmt::format("{} (image {}: is it the qemu-an386 firmware?)", e.what(), opened.qemu->image()));
   }
   std::fprintf(stderr, "device %s: board %s, firmware %s, %u Hz, %u voices\n", opened.transport->name().c_str(),
                transport::board_name(hello.board), transport::firmware_version(hello).c_str(), hello.tick_hz,

@@ -74,9 +74,14 @@ nlohmann::json to_json(const Probe& p) {
   j["preset_slots"] = h.preset_slots;
   j["board_flags"] = transport::board_flag_names(h.board_flags);
   if (const auto& s = p.identity->status) {
-    j["status"] = {{"state", transport::state_name(s->state)}, {"tick", s->tick},
-                   {"faults", transport::fault_names(s->faults)}, {"queue_free", s->queue_free},
-                   {"late", s->late}, {"stolen", s->stolen}, {"rejected", s->rejected}, {"started", s->started}};
+    j["status"] = {{"state", transport::state_name(s->state)},
+                   {"tick", s->tick},
+                   {"faults", transport::fault_names(s->faults)},
+                   {"queue_free", s->queue_free},
+                   {"late", s->late},
+                   {"stolen", s->stolen},
+                   {"rejected", s->rejected},
+                   {"started", s->started}};
   }
   return j;
 }
@@ -131,7 +136,9 @@ int run_devices(const DevicesOptions& o) {
     nlohmann::json flashable = nlohmann::json::array();
     for (const transport::FoundProbe& f : usb.found) {
       flashable.push_back({{"kind", f.kind == transport::ProbeKind::stm32_dfu ? "stm32_dfu" : "stlink"},
-                           {"name", f.name}, {"bus", f.bus}, {"address", f.address}});
+                           {"name", f.name},
+                           {"bus", f.bus},
+                           {"address", f.address}});
     }
     nlohmann::json out{{"id", transport::to_string(id)}, {"devices", list}, {"flashable", flashable}};
     if (!usb.unavailable.empty()) out["usb_scan_error"] = usb.unavailable;

@@ -64,8 +64,9 @@ void write_presets(const std::string& path, bool force, const std::vector<measur
     const envelope::Adsr& a = m.preset;
     text += fmt::format("\n[presets.{}]  # {}: RMS error {:.3f} of full scale\n", preset_name(m.program),
                         midi::gm_program_name(m.program), m.rms_error);
-    text += fmt::format("attack_ms = {:.1f}\ndecay_ms = {:.1f}\nrelease_ms = {:.1f}\nsustain_pct = {:.2f}\nfinal_pct = {:.2f}\n",
-                        a.attack_ms, a.decay_ms, a.release_ms, 100.0 * double(a.sustain), 100.0 * double(a.final_ratio));
+    text += fmt::format(
+        "attack_ms = {:.1f}\ndecay_ms = {:.1f}\nrelease_ms = {:.1f}\nsustain_pct = {:.2f}\nfinal_pct = {:.2f}\n",
+        a.attack_ms, a.decay_ms, a.release_ms, 100.0 * double(a.sustain), 100.0 * double(a.final_ratio));
   }
   text += "\n[measured]\n";
   for (const measure::Measured& m : ms) {
@@ -101,9 +102,12 @@ int run_measure(const EnvelopeOptions& o) {
   mo.key = static_cast<std::uint8_t>(o.key.value_or(60));
   mo.key_fallback = !o.key;
   mo.velocity = static_cast<std::uint8_t>(o.velocity);
-  if (o.program) mo.programs = {static_cast<std::uint8_t>(*o.program)};
-  else if (o.all) for (int p = 0; p < 128; ++p) mo.programs.push_back(static_cast<std::uint8_t>(p));
-  else for (const midi::Table1Instrument& i : midi::kTable1Instruments) mo.programs.push_back(i.typical);
+  if (o.program)
+    mo.programs = {static_cast<std::uint8_t>(*o.program)};
+  else if (o.all)
+    for (int p = 0; p < 128; ++p) mo.programs.push_back(static_cast<std::uint8_t>(p));
+  else
+    for (const midi::Table1Instrument& i : midi::kTable1Instruments) mo.programs.push_back(i.typical);
   // FluidSynth would play some other preset for a program the SoundFont lacks: those are left out.
   const std::set<std::uint8_t> present = audio::soundfont_programs(mo.soundfont);
   std::string absent;
@@ -129,8 +133,10 @@ int run_measure(const EnvelopeOptions& o) {
   std::string silent;
   int sounded = 0;
   for (const measure::Measured& m : ms) {
-    if (m.stages.sounded) ++sounded;
-    else silent += (silent.empty() ? "" : ", ") + std::to_string(m.program);
+    if (m.stages.sounded)
+      ++sounded;
+    else
+      silent += (silent.empty() ? "" : ", ") + std::to_string(m.program);
   }
   if (sounded == 0 || (o.program && !silent.empty())) {
     throw BadInput(fmt::format("program {}: the note (key {}, velocity {}) never sounds in {}", silent, mo.key,
@@ -145,15 +151,19 @@ int run_measure(const EnvelopeOptions& o) {
     if (!m.stages.sounded) continue;
     const measure::Stages& s = m.stages;
     const envelope::Adsr& a = m.preset;
-    fmt::print("{:>4}  {:<20.20} {:>3} {:>6} {:>6} {:>6} {:>6} {:>6.3f} {:>6} | {:>6.1f} {:>6.1f} {:>5.1f} {:>6.1f} {:>4.1f} {:>6.3f}\n",
-               m.program, midi::gm_program_name(m.program), m.key, seconds(s.delay_s), seconds(s.attack_s),
-               seconds(s.hold_s), seconds(s.decay_s), s.sustain, seconds(s.release_s), a.attack_ms, a.decay_ms,
-               100.0 * double(a.sustain), a.release_ms, 100.0 * double(a.final_ratio), m.rms_error);
+    fmt::print(
+        "{:>4}  {:<20.20} {:>3} {:>6} {:>6} {:>6} {:>6} {:>6.3f} {:>6} | {:>6.1f} {:>6.1f} {:>5.1f} {:>6.1f} {:>4.1f} "
+        "{:>6.3f}\n",
+        m.program, midi::gm_program_name(m.program), m.key, seconds(s.delay_s), seconds(s.attack_s), seconds(s.hold_s),
+        seconds(s.decay_s), s.sustain, seconds(s.release_s), a.attack_ms, a.decay_ms, 100.0 * double(a.sustain),
+        a.release_ms, 100.0 * double(a.final_ratio), m.rms_error);
   }
-  fmt::print("Left: FluidSynth's stages in s (decay, release: the time to fall 96 dB; sustain: level/peak).\n"
-             "Right: the paper's Eq. 9-10 fitted; RMS: its error against the sound, full scale = the peak.\n");
+  fmt::print(
+      "Left: FluidSynth's stages in s (decay, release: the time to fall 96 dB; sustain: level/peak).\n"
+      "Right: the paper's Eq. 9-10 fitted; RMS: its error against the sound, full scale = the peak.\n");
   if (!absent.empty()) std::fprintf(stderr, "warning: not in this SoundFont, left out: program %s\n", absent.c_str());
-  if (!silent.empty()) std::fprintf(stderr, "warning: never sounds in this SoundFont, left out: program %s\n", silent.c_str());
+  if (!silent.empty())
+    std::fprintf(stderr, "warning: never sounds in this SoundFont, left out: program %s\n", silent.c_str());
   if (o.out) {
     write_presets(*o.out, o.force, ms, mo);
     std::fprintf(stderr, "wrote %s (%d preset(s))\n", o.out->c_str(), sounded);
@@ -179,7 +189,8 @@ void register_envelope(CLI::App& app, Registry& registry) {
   m->add_option("--program", o->program, "One GM program 0-127 (default: Table 1's eight instruments)")
       ->check(CLI::Range(0, 127));
   m->add_flag("--all", o->all, "All 128 GM programs");
-  m->add_option("--key", o->key, "MIDI key of the note (default 60, middle C; 1-2 octaves away where it is silent)")->check(CLI::Range(0, 127));
+  m->add_option("--key", o->key, "MIDI key of the note (default 60, middle C; 1-2 octaves away where it is silent)")
+      ->check(CLI::Range(0, 127));
   m->add_option("--velocity", o->velocity, "Velocity 1-127 (default 100)")->check(CLI::Range(1, 127));
   m->add_option("--out", o->out, "Write the presets as TOML that --config reads");
   m->add_option("--plot", o->plot_dir, "Folder for one PNG per program: the sound's envelope over the fit");

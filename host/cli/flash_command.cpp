@@ -2,8 +2,8 @@
 // hmp flash --install-udev-rule | --print-udev-rule
 // Writes the board's firmware with a Debian tool (host/flash/flash_plan.hpp), building the image first
 // when it is missing or older than its sources (host/flash/firmware_image.hpp), then waits for the board
-// to come back as our HID device and prints its `hmp devices` line (design §3, §13; docs/flashing.md). Tool or board missing: one line
-// saying what to install or how to enter DFU mode, exit 1; bad options: exit 2.
+// to come back as our HID device and prints its `hmp devices` line (design §3, §13; docs/flashing.md). Tool or board
+// missing: one line saying what to install or how to enter DFU mode, exit 1; bad options: exit 2.
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -124,7 +124,8 @@ fs::path choose_image(const FlashOptions& o, Method method, std::string& build) 
     const fs::path given = o.firmware;
     check_input_file(o.firmware);  // "FILE: no such file", "FILE: is a directory", as every file read
     const std::string ext = given.extension().string();
-    if (ext != ".elf" && ext != ".bin") throw BadInput(fmt::format("--firmware {}: expected a .elf or .bin image", o.firmware));
+    if (ext != ".elf" && ext != ".bin")
+      throw BadInput(fmt::format("--firmware {}: expected a .elf or .bin image", o.firmware));
     if (ext == want) return given;
     fs::path sibling = given;
     sibling.replace_extension(want);
@@ -133,8 +134,9 @@ fs::path choose_image(const FlashOptions& o, Method method, std::string& build) 
                                flash::method_name(method), want, sibling.string()));
   }
   if (!fs::is_directory(source_dir() / "boards" / "stm32f407")) {
-    throw BadInput(fmt::format("no firmware image: give --firmware FILE, or HMP_SOURCE_DIR=<source tree> ({} is not one)",
-                               source_dir().string()));
+    throw BadInput(
+        fmt::format("no firmware image: give --firmware FILE, or HMP_SOURCE_DIR=<source tree> ({} is not one)",
+                    source_dir().string()));
   }
   fs::path image = flash::default_image(source_dir(), flash::wants_elf(method));
   if (const flash::Freshness f = flash::image_freshness(image, source_dir()); f.stale) build = f.why;
@@ -172,7 +174,9 @@ int run_flash(const FlashOptions& o) {
     }
     return false;
   };
-  if (!method) method = !found(transport::ProbeKind::stm32_dfu) && found(transport::ProbeKind::stlink) ? Method::stlink : Method::dfu;
+  if (!method)
+    method =
+        !found(transport::ProbeKind::stm32_dfu) && found(transport::ProbeKind::stlink) ? Method::stlink : Method::dfu;
 
   std::string build;  // why the image is built first; empty: it is not
   const fs::path image = choose_image(o, *method, build);
@@ -237,13 +241,16 @@ int run_flash(const FlashOptions& o) {
 
 void register_flash(CLI::App& app, Registry& registry) {
   auto opts = std::make_shared<FlashOptions>();
-  CLI::App* cmd = app.add_subcommand("flash", "Write the firmware to a controller board (dfu-util, st-flash or openocd)");
+  CLI::App* cmd =
+      app.add_subcommand("flash", "Write the firmware to a controller board (dfu-util, st-flash or openocd)");
   cmd->add_option("--board", opts->board, "Board to flash")->capture_default_str();
   cmd->add_option("--method", opts->method, "dfu (ROM bootloader), stlink or openocd; default: what is plugged in");
-  cmd->add_option("--firmware", opts->firmware, "Image to write (.elf or .bin); default: the source tree's, built if needed");
+  cmd->add_option("--firmware", opts->firmware,
+                  "Image to write (.elf or .bin); default: the source tree's, built if needed");
   cmd->add_flag("--dry-run", opts->dry_run, "Print the command only");
   cmd->add_option("--timeout-s", opts->timeout_s, "How long to wait for the board to come back")->capture_default_str();
-  cmd->add_flag("--install-udev-rule", opts->install_rule, "Install the udev rule (asks; uses sudo) so no root is needed");
+  cmd->add_flag("--install-udev-rule", opts->install_rule,
+                "Install the udev rule (asks; uses sudo) so no root is needed");
   cmd->add_flag("--print-udev-rule", opts->print_rule, "Print the udev rule");
   cmd->callback([opts, &registry] { registry.set([opts] { return run_flash(*opts); }); });
 }

@@ -90,8 +90,10 @@ nlohmann::json track_json(const midi::Song& s, const midi::Track& t, const hapti
   }
   nlohmann::json programs = nlohmann::json::array();
   for (const midi::ProgramUse& p : t.programs) {
-    programs.push_back({{"channel", p.channel + 1}, {"program", p.program},
-                        {"name", midi::gm_instrument_name(p.program, p.channel)}, {"notes", p.notes}});
+    programs.push_back({{"channel", p.channel + 1},
+                        {"program", p.program},
+                        {"name", midi::gm_instrument_name(p.program, p.channel)},
+                        {"notes", p.notes}});
   }
   const FrequencySpan span = frequency_span(s, t, opts, song_keys);
   return {{"index", t.index},
@@ -126,10 +128,12 @@ int run_info(const InfoOptions& o) {
     nlohmann::json j;
     j["file"] = o.song;
     j["format"] = s.format;
-    j["division"] = s.division.smpte ? nlohmann::json{{"smpte_fps", s.division.fps}, {"ticks_per_frame", s.division.ticks_per_frame}}
-                                     : nlohmann::json{{"ticks_per_quarter", s.division.ticks_per_quarter}};
+    j["division"] = s.division.smpte
+                        ? nlohmann::json{{"smpte_fps", s.division.fps}, {"ticks_per_frame", s.division.ticks_per_frame}}
+                        : nlohmann::json{{"ticks_per_quarter", s.division.ticks_per_quarter}};
     j["duration_s"] = s.duration_s();
-    j["mapping"] = {{"mode", mapping::name(opts.mapping)}, {"key_scope", scope},
+    j["mapping"] = {{"mode", mapping::name(opts.mapping)},
+                    {"key_scope", scope},
                     {"freq_range_hz", {opts.ranges.f_min_hz, opts.ranges.f_max_hz}}};
     j["song_keys"] = {{"key_min", song_keys.min()}, {"key_max", song_keys.max()}, {"distinct_keys", song_keys.count()}};
     j["tracks"] = nlohmann::json::array();
@@ -143,8 +147,12 @@ int run_info(const InfoOptions& o) {
     if (o.notes) {
       j["notes"] = nlohmann::json::array();
       for (const midi::Note& n : s.notes) {
-        j["notes"].push_back({{"track", n.track}, {"channel", n.channel + 1}, {"key", n.key}, {"velocity", n.velocity},
-                              {"start_s", s.start_s(n)}, {"end_s", s.end_s(n)}});
+        j["notes"].push_back({{"track", n.track},
+                              {"channel", n.channel + 1},
+                              {"key", n.key},
+                              {"velocity", n.velocity},
+                              {"start_s", s.start_s(n)},
+                              {"end_s", s.end_s(n)}});
       }
     }
     fmt::print("{}\n", j.dump());
@@ -157,9 +165,10 @@ int run_info(const InfoOptions& o) {
                               : fmt::format("{} ticks per quarter", s.division.ticks_per_quarter),
              s.duration_s(), s.tracks.size(), s.notes.size());
   fmt::print("  pitched keys of the song: {}, kε {} (GM channel 10's drum keys left out)\n",
-             song_keys.count() ? key_name(song_keys.min()) + "–" + key_name(song_keys.max()) : "none", song_keys.count());
-  fmt::print("  mapping {}, keys of the {}: {:g}–{:g} Hz\n", mapping::name(opts.mapping), scope,
-             opts.ranges.f_min_hz, opts.ranges.f_max_hz);
+             song_keys.count() ? key_name(song_keys.min()) + "–" + key_name(song_keys.max()) : "none",
+             song_keys.count());
+  fmt::print("  mapping {}, keys of the {}: {:g}–{:g} Hz\n", mapping::name(opts.mapping), scope, opts.ranges.f_min_hz,
+             opts.ranges.f_max_hz);
   fmt::print("\n  {:>3}  {:<24} {:<8} {:<26} {:>6}  {:<9} {:>4}  {:<12} {:>9}  {:>8}\n", "#", "name", "channel",
              "instrument (GM program)", "notes", "keys", "kε", "envelope", "felt Hz", "JND/step");
   for (const midi::Track& t : s.tracks) {
@@ -168,8 +177,7 @@ int run_info(const InfoOptions& o) {
     const std::string keys = t.note_count ? key_name(t.key_min()) + "–" + key_name(t.key_max()) : "-";
     fmt::print("  {:>3}  {:<24.24} {:<8} {:<26.26} {:>6}  {:<9} {:>4}  {:<12} {:>9}  {:>8.2f}\n", t.index, t.name,
                channels_text(t), instrument, t.note_count, keys, t.distinct_keys(),
-               t.note_count ? envelope_of(t, opts) : "-",
-               span_text(frequency_span(s, t, opts, song_keys)),
+               t.note_count ? envelope_of(t, opts) : "-", span_text(frequency_span(s, t, opts, song_keys)),
                t.distinct_keys() > 1 ? rank_jnd_steps(t) / (t.distinct_keys() - 1) : 0.0);
   }
   bool any_controller = false;
@@ -195,10 +203,13 @@ int run_info(const InfoOptions& o) {
     fmt::print("\n  {} warning(s):\n", r.warnings.size());
     for (const midi::Warning& w : r.warnings) fmt::print("    {}\n", w.message);
   }
-  fmt::print("\n  felt Hz: the frequencies the mapping gives the track's pitched keys (drums, and --mapping constant: one frequency).\n");
-  fmt::print("  JND/step: frequency just-noticeable differences (18 %) between adjacent keys under --mapping rank\n"
-             "  (below 1: neighbouring keys feel alike; the full 50–250 Hz range spans {:.1f} JND).\n",
-             std::log(250.0 / 50.0) / std::log(1.18));
+  fmt::print(
+      "\n  felt Hz: the frequencies the mapping gives the track's pitched keys (drums, and --mapping constant: one "
+      "frequency).\n");
+  fmt::print(
+      "  JND/step: frequency just-noticeable differences (18 %) between adjacent keys under --mapping rank\n"
+      "  (below 1: neighbouring keys feel alike; the full 50–250 Hz range spans {:.1f} JND).\n",
+      std::log(250.0 / 50.0) / std::log(1.18));
   return kExitOk;
 }
 

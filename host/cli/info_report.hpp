@@ -14,7 +14,7 @@ inline constexpr const char* kInfoNotesFlag = "--notes";
 struct InfoOptions {
   std::string song;
   bool json = false;
-  bool notes = false;  // with json: every note of every track
+  bool notes = false;       // with json: every note of every track
   HapticCliOptions haptic;  // the mapping whose frequencies the table shows, the config's GM table
 };
 

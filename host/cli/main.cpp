@@ -14,11 +14,11 @@ struct Command {
 };
 
 constexpr Command kCommands[] = {
-    {"info", hmp::cli::register_info},       {"render", hmp::cli::register_render},
-    {"tone", hmp::cli::register_tone},       {"devices", hmp::cli::register_devices},
-    {"flash", hmp::cli::register_flash},     {"play", hmp::cli::register_play},
-    {"sim", hmp::cli::register_sim},         {"study", hmp::cli::register_study},
-    {"view", hmp::cli::register_view},       {"calibrate", hmp::cli::register_calibrate},
+    {"info", hmp::cli::register_info},         {"render", hmp::cli::register_render},
+    {"tone", hmp::cli::register_tone},         {"devices", hmp::cli::register_devices},
+    {"flash", hmp::cli::register_flash},       {"play", hmp::cli::register_play},
+    {"sim", hmp::cli::register_sim},           {"study", hmp::cli::register_study},
+    {"view", hmp::cli::register_view},         {"calibrate", hmp::cli::register_calibrate},
     {"envelope", hmp::cli::register_envelope},
 };
 

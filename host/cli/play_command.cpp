@@ -94,16 +94,17 @@ ReadySong ready_song(const PlayOptions& o, const std::string& path, bool alone) 
   return out;
 }
 
-void print_summary(const player::Counters& c, const player::Snapshot& s, std::size_t window_notes, const std::string& device) {
-  std::printf("%s\n",
-              fmt::format("{}played {} of {} notes sent ({} in the window) of track {} \"{}\" on {}: late {}, stolen {}, "
-                          "rejected {}{}{}; stopped at {}",
-                          s.song_label.empty() ? "" : s.song_label + ": ", c.notes_played, c.notes_sent, window_notes,
-                          s.track, s.track_name, device, c.late, c.stolen, c.rejected,
-                          c.skipped ? fmt::format(", skipped {}", c.skipped) : "",
-                          c.recoveries ? fmt::format(", recovered {} time(s)", c.recoveries) : "",
-                          format_time(s.song_us))
-                  .c_str());
+void print_summary(const player::Counters& c, const player::Snapshot& s, std::size_t window_notes,
+                   const std::string& device) {
+  std::printf(
+      "%s\n",
+      fmt::format("{}played {} of {} notes sent ({} in the window) of track {} \"{}\" on {}: late {}, stolen {}, "
+                  "rejected {}{}{}; stopped at {}",
+                  s.song_label.empty() ? "" : s.song_label + ": ", c.notes_played, c.notes_sent, window_notes, s.track,
+                  s.track_name, device, c.late, c.stolen, c.rejected,
+                  c.skipped ? fmt::format(", skipped {}", c.skipped) : "",
+                  c.recoveries ? fmt::format(", recovered {} time(s)", c.recoveries) : "", format_time(s.song_us))
+          .c_str());
   std::fflush(stdout);
 }
 
@@ -182,7 +183,9 @@ struct PlaylistRun {
       const std::string title = po.song_label.empty() ? list.current() : po.song_label;
       window = open_play_view(song, player, audio, strip,
                               {fmt::format("hmp — {}", title), opened.transport->name(), o.fullscreen}, why);
-      if (!window) std::fprintf(stderr, "warning: no animation window: %s; the song plays on without it (--no-view: do not try)\n", why.c_str());
+      if (!window)
+        std::fprintf(stderr, "warning: no animation window: %s; the song plays on without it (--no-view: do not try)\n",
+                     why.c_str());
     }
     player::Outcome outcome;
     try {
@@ -251,8 +254,9 @@ int run_play(const PlayOptions& o) {
   player::StatusLine status(tty);
   player::install_stop_signals();
   if (keys.active()) {
-    status.message(fmt::format("keys: space pause/resume, ←/→ seek 5 s, t/T track, e envelope, m mapping, [/] speed, {}q quit",
-                               alone ? "" : "n/p song, "));
+    status.message(
+        fmt::format("keys: space pause/resume, ←/→ seek 5 s, t/T track, e envelope, m mapping, [/] speed, {}q quit",
+                    alone ? "" : "n/p song, "));
   }
 
   player::PlayerOptions po;
@@ -262,7 +266,8 @@ int run_play(const PlayOptions& o) {
     const config::Config cfg = config::load(path);
     if (cfg.peak_force_n) po.settings.peak_force_n = static_cast<float>(*cfg.peak_force_n);
     if (cfg.direction) {
-      for (int i = 0; i < 3; ++i) po.settings.direction[i] = static_cast<float>((*cfg.direction)[static_cast<std::size_t>(i)]);
+      for (int i = 0; i < 3; ++i)
+        po.settings.direction[i] = static_cast<float>((*cfg.direction)[static_cast<std::size_t>(i)]);
     }
   }
   po.from_us = o.from_s ? std::llround(*o.from_s * 1e6) : 0;
@@ -328,11 +333,12 @@ int run_play(const PlayOptions& o) {
   log.close();
   if (!alone) {
     const player::Counters& t = run.total;
-    std::printf("%s\n", fmt::format("playlist: {} song(s) played, {} file(s) skipped; notes played {} of {} sent, late {}, "
-                                    "stolen {}, rejected {}",
-                                    totals.songs_played, totals.files_skipped, t.notes_played, t.notes_sent, t.late,
-                                    t.stolen, t.rejected)
-                            .c_str());
+    std::printf("%s\n",
+                fmt::format("playlist: {} song(s) played, {} file(s) skipped; notes played {} of {} sent, late {}, "
+                            "stolen {}, rejected {}",
+                            totals.songs_played, totals.files_skipped, t.notes_played, t.notes_sent, t.late, t.stolen,
+                            t.rejected)
+                    .c_str());
   }
   if (outcome == player::Outcome::interrupted) return 128 + player::stop_signal();  // as shells report a signal
   if (!run.skipped_files.empty()) return kExitBadInput;
@@ -344,15 +350,18 @@ int run_play(const PlayOptions& o) {
 void register_play(CLI::App& app, Registry& registry) {
   auto o = std::make_shared<PlayOptions>();
   CLI::App* cmd = app.add_subcommand("play", "Play a song with one track felt on the haptic device (the main job)");
-  cmd->add_option("SONG", o->songs, "MIDI files or folders (their .mid/.midi files, sorted), played in order")->required();
-  cmd->add_option("--track", o->track,
-                  "Haptic track: index, or part of its name or instrument (default: the first with a Table 1 instrument)");
+  cmd->add_option("SONG", o->songs, "MIDI files or folders (their .mid/.midi files, sorted), played in order")
+      ->required();
+  cmd->add_option(
+      "--track", o->track,
+      "Haptic track: index, or part of its name or instrument (default: the first with a Table 1 instrument)");
   cmd->add_option("--device", o->device, "auto (HID, else the simulated device), sim, qemu, hid[:VID:PID], serial:PATH")
       ->capture_default_str();
   add_audio_options(cmd, o->audio);
   cmd->add_flag("--no-view", o->no_view, "No animation window");
   cmd->add_flag("--fullscreen", o->fullscreen, "The animation window fills the screen (f toggles)");
-  cmd->add_option("--speed", o->speed, "Playback speed 0.5–2 (sound and device follow; [ and ] change it while playing)")
+  cmd->add_option("--speed", o->speed,
+                  "Playback speed 0.5–2 (sound and device follow; [ and ] change it while playing)")
       ->capture_default_str();
   cmd->add_option("--from", o->from_s, "Start of the passage in seconds of the song");
   cmd->add_option("--to", o->to_s, "End of the passage in seconds of the song");

@@ -13,15 +13,16 @@ namespace hmp::cli {
 std::vector<std::string> legend_labels(const midi::Song& song) {
   std::vector<std::string> labels;
   for (const midi::Track& t : song.tracks) {
-    labels.push_back(t.note_count == 0 ? "" : fmt::format("{} {} ({})", t.index, t.name.empty() ? "—" : t.name,
-                                                           midi::gm_instrument_name(t.program(), t.channel())));
+    labels.push_back(t.note_count == 0 ? ""
+                                       : fmt::format("{} {} ({})", t.index, t.name.empty() ? "—" : t.name,
+                                                     midi::gm_instrument_name(t.program(), t.channel())));
   }
   return labels;
 }
 
-std::unique_ptr<view::LiveView> open_play_view(const midi::Song& song, player::Player& player, audio::AudioPlayer& audio,
-                                               const haptics::HapticOptions& haptic, const PlayViewSetup& setup,
-                                               std::string& error) {
+std::unique_ptr<view::LiveView> open_play_view(const midi::Song& song, player::Player& player,
+                                               audio::AudioPlayer& audio, const haptics::HapticOptions& haptic,
+                                               const PlayViewSetup& setup, std::string& error) {
   view::LiveViewOptions options;
   options.setup.title = setup.title;
   options.setup.fullscreen = setup.fullscreen;
@@ -45,10 +46,11 @@ std::unique_ptr<view::LiveView> open_play_view(const midi::Song& song, player::P
     st.begin_us = s.begin_us;
     st.end_us = s.end_us;
     st.grip_m = s.grip_m;
-    st.overlay = fmt::format("{}{}  {} / {}{}   track {} \"{}\"   envelope {}   mapping {}   {}   late {}  stolen {}   (h: help)",
-                             s.song_label.empty() ? "" : s.song_label + "   ", player::state_word(s), format_time(s.song_us), format_time(s.end_us),
-                             s.speed != 1.0 ? fmt::format("   speed {:g}×", s.speed) : "", s.track, s.track_name,
-                             s.envelope, s.mapping, device, s.counters.late, s.counters.stolen);
+    st.overlay = fmt::format(
+        "{}{}  {} / {}{}   track {} \"{}\"   envelope {}   mapping {}   {}   late {}  stolen {}   (h: help)",
+        s.song_label.empty() ? "" : s.song_label + "   ", player::state_word(s), format_time(s.song_us),
+        format_time(s.end_us), s.speed != 1.0 ? fmt::format("   speed {:g}×", s.speed) : "", s.track, s.track_name,
+        s.envelope, s.mapping, device, s.counters.late, s.counters.stolen);
     return st;
   };
   hooks.key = [&player](char k) {
@@ -60,7 +62,8 @@ std::unique_ptr<view::LiveView> open_play_view(const midi::Song& song, player::P
   hooks.vibration = [&player, strip, haptic](std::int64_t song_us, float* out, int max) {
     const std::shared_ptr<const haptics::HapticTrack> now = player.snapshot().haptic;
     std::lock_guard lock(strip->mutex);
-    if (!strip->tail || strip->tail->track() != now.get()) strip->tail = std::make_unique<haptics::SignalTail>(now, haptic);
+    if (!strip->tail || strip->tail->track() != now.get())
+      strip->tail = std::make_unique<haptics::SignalTail>(now, haptic);
     return strip->tail->samples(song_us, out, max);
   };
   return view::LiveView::open(song, std::move(options), std::move(hooks), error);

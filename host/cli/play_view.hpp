@@ -20,9 +20,9 @@ struct PlayViewSetup {
 };
 
 // `hmp play`: keys, clicks and the cursor go to the player; the overlay shows its snapshot.
-std::unique_ptr<view::LiveView> open_play_view(const midi::Song& song, player::Player& player, audio::AudioPlayer& audio,
-                                               const haptics::HapticOptions& haptic, const PlayViewSetup& setup,
-                                               std::string& error);
+std::unique_ptr<view::LiveView> open_play_view(const midi::Song& song, player::Player& player,
+                                               audio::AudioPlayer& audio, const haptics::HapticOptions& haptic,
+                                               const PlayViewSetup& setup, std::string& error);
 
 // The legend's lines: "2 Flute (Flute)" per track with notes, "" for the others.
 std::vector<std::string> legend_labels(const midi::Song& song);

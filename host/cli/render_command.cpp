@@ -44,7 +44,7 @@ int run_render(const RenderOptions& o) {
   const exporting::SignalExport out{o.out, o.audible, o.force};
   const haptics::HapticOptions opts = resolve(o.haptic);
   const bool haptic_file = exporting::is_haptic_export(o.out);  // .ahap / .haptic (host/export/)
-  if (is_video_export(o.out)) {  // .mp4 (host/video/)
+  if (is_video_export(o.out)) {                                 // .mp4 (host/video/)
     if (o.audible) throw BadInput("--audible: only with --out FILE.wav (a video takes --haptic-audio)");
     output::check_writable(o.out, o.force);
     const TrackWindow w = load_track_window(o.song, o.track, opts, o.from_s, o.to_s, warn_on_stderr);
@@ -88,8 +88,9 @@ int run_render(const RenderOptions& o) {
   for (const haptics::HapticNote& n : ht.notes) plot_notes.push_back({n.start_s, n.end_s, n.key});
   const midi::Track& t = r.song.tracks[track];
   output::PlotSpec spec;
-  spec.title = fmt::format("{} — track {} \"{}\" ({}), mapping {}, envelope {}", o.song, track, t.name,
-                           midi::gm_instrument_name(t.program(), t.channel()), mapping::name(opts.mapping), opts.envelope);
+  spec.title =
+      fmt::format("{} — track {} \"{}\" ({}), mapping {}, envelope {}", o.song, track, t.name,
+                  midi::gm_instrument_name(t.program(), t.channel()), mapping::name(opts.mapping), opts.envelope);
   spec.tick_hz = opts.tick_hz;
   spec.first_tick = first;
   exporting::export_signal(out, samples, plot_notes, spec);
@@ -100,15 +101,21 @@ int run_render(const RenderOptions& o) {
 
 void register_render(CLI::App& app, Registry& registry) {
   auto o = std::make_shared<RenderOptions>();
-  CLI::App* cmd = app.add_subcommand("render", "Render one track's haptic signal (CSV, WAV, PNG plot, AHAP, .haptic), the song's sound (--sound) or the animation as MP4 video");
+  CLI::App* cmd = app.add_subcommand("render",
+                                     "Render one track's haptic signal (CSV, WAV, PNG plot, AHAP, .haptic), the song's "
+                                     "sound (--sound) or the animation as MP4 video");
   cmd->add_option("SONG", o->song, "MIDI file")->required();
-  cmd->add_option("--track", o->track, "Track index, or part of its name or instrument (see hmp info); not with --sound");
-  cmd->add_option("--out", o->out, "Output: FILE.csv (t_s,value), FILE.wav (float, tick rate), FILE.png, FILE.ahap, FILE.haptic, FILE.mp4 (the animation with sound), '-' = CSV to stdout")
+  cmd->add_option("--track", o->track,
+                  "Track index, or part of its name or instrument (see hmp info); not with --sound");
+  cmd->add_option("--out", o->out,
+                  "Output: FILE.csv (t_s,value), FILE.wav (float, tick rate), FILE.png, FILE.ahap, FILE.haptic, "
+                  "FILE.mp4 (the animation with sound), '-' = CSV to stdout")
       ->capture_default_str();
   cmd->add_option("--from", o->from_s, "Start of the window in seconds of the song");
   cmd->add_option("--to", o->to_s, "End of the window in seconds of the song");
   cmd->add_flag("--audible", o->audible, "WAV resampled to 44.1 kHz so you can listen to it");
-  cmd->add_flag("--sound", o->sound, "The song's own sound instead (all tracks, controllers; FluidSynth, 44.1 kHz stereo WAV)");
+  cmd->add_flag("--sound", o->sound,
+                "The song's own sound instead (all tracks, controllers; FluidSynth, 44.1 kHz stereo WAV)");
   cmd->add_flag("-f,--force", o->force, "Overwrite an existing output file");
   add_haptic_options(cmd, o->haptic);
   add_video_options(cmd, o->video);

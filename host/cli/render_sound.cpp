@@ -29,10 +29,9 @@ void run_sound_render(const SoundRenderRequest& r) {
   options.synth.sample_rate = 44100;
   if (r.soundfont) options.soundfont = *r.soundfont;
   ProgressBar bar("rendering sound");
-  const audio::RenderedAudio sound =
-      audio::render_offline(audio::audio_events(read.song), static_cast<std::int64_t>(from * 1e6),
-                            static_cast<std::int64_t>(to * 1e6), options, warn_on_stderr,
-                            [&](std::uint64_t done, std::uint64_t total) { bar.update(done, total); });
+  const audio::RenderedAudio sound = audio::render_offline(
+      audio::audio_events(read.song), static_cast<std::int64_t>(from * 1e6), static_cast<std::int64_t>(to * 1e6),
+      options, warn_on_stderr, [&](std::uint64_t done, std::uint64_t total) { bar.update(done, total); });
   output::StagedOutput staged(r.out);  // written as OUT.part, renamed once whole
   audio::write_wav(staged.part(), sound);
   staged.commit();

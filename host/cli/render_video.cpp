@@ -16,15 +16,27 @@ namespace hmp::cli {
 
 void add_video_options(CLI::App* cmd, VideoCliOptions& o) {
   const char* group = "Video (--out FILE.mp4)";
-  cmd->add_option("--fps", o.fps, "Frames per second; must divide 44100 (25, 30, 50, 60 …)")->capture_default_str()->group(group);
-  cmd->add_option("--size", o.size, "Frame size WIDTHxHEIGHT in pixels (even numbers)")->capture_default_str()->group(group);
+  cmd->add_option("--fps", o.fps, "Frames per second; must divide 44100 (25, 30, 50, 60 …)")
+      ->capture_default_str()
+      ->group(group);
+  cmd->add_option("--size", o.size, "Frame size WIDTHxHEIGHT in pixels (even numbers)")
+      ->capture_default_str()
+      ->group(group);
   cmd->add_option("--zoom", o.zoom_s, "Seconds of song across the frame, as the window's + and - keys")
-      ->capture_default_str()->check(CLI::Range(1.0, 120.0))->group(group);
-  cmd->add_flag("--haptic-audio", o.haptic_audio, "A second audio stream: the haptic track's signal, listenable")->group(group);
+      ->capture_default_str()
+      ->check(CLI::Range(1.0, 120.0))
+      ->group(group);
+  cmd->add_flag("--haptic-audio", o.haptic_audio, "A second audio stream: the haptic track's signal, listenable")
+      ->group(group);
   cmd->add_flag("--no-audio", o.no_audio, "The song's audio stream silent (no SoundFont loaded)")->group(group);
-  cmd->add_option("--soundfont", o.soundfont, "SoundFont (.sf2/.sf3) for the song's sound (--sound, .mp4; default: the GM one installed)");
-  cmd->add_option("--video-preset", o.preset, "libx264 speed preset: ultrafast … veryslow")->capture_default_str()->group(group);
-  cmd->add_option("--crf", o.crf, "libx264 constant quality, 0..51 (lower: better and bigger)")->capture_default_str()->group(group);
+  cmd->add_option("--soundfont", o.soundfont,
+                  "SoundFont (.sf2/.sf3) for the song's sound (--sound, .mp4; default: the GM one installed)");
+  cmd->add_option("--video-preset", o.preset, "libx264 speed preset: ultrafast … veryslow")
+      ->capture_default_str()
+      ->group(group);
+  cmd->add_option("--crf", o.crf, "libx264 constant quality, 0..51 (lower: better and bigger)")
+      ->capture_default_str()
+      ->group(group);
 }
 
 bool is_video_export(const std::string& path) { return output::extension_of(path) == "mp4"; }
@@ -62,11 +74,11 @@ void run_video_export(const std::string& song_path, const TrackWindow& w, const 
   spec.encoding.crf = o.crf;
   spec.legend_labels = legend_labels(song);
   const std::string name = std::filesystem::path(song_path).filename().string();
-  spec.overlay_prefix = fmt::format("{}   track {} \"{}\"   envelope {}   mapping {}", name, w.track, t.name, opts.envelope,
-                                    mapping::name(opts.mapping));
+  spec.overlay_prefix = fmt::format("{}   track {} \"{}\"   envelope {}   mapping {}", name, w.track, t.name,
+                                    opts.envelope, mapping::name(opts.mapping));
   spec.encoding.title = name;
   spec.encoding.comment = fmt::format("hmp render: track {} \"{}\", mapping {}, envelope {}", w.track, t.name,
-                             mapping::name(opts.mapping), opts.envelope);
+                                      mapping::name(opts.mapping), opts.envelope);
   video::check_video_spec(spec);
   output::check_writable(out, force);
   if (out == "-") throw BadInput("--out -: a video needs a file name");
@@ -78,8 +90,8 @@ void run_video_export(const std::string& song_path, const TrackWindow& w, const 
   for (const int sig : {SIGINT, SIGTERM, SIGHUP}) sigaction(sig, &sa, nullptr);
   spec.cancel = &cancel;
   ProgressBar bar("rendering video");
-  const video::VideoExportResult r =
-      video::export_video(out, spec, [&](std::uint64_t d, std::uint64_t n) { bar.update(d, n); }, warn_on_stderr);
+  const video::VideoExportResult r = video::export_video(
+      out, spec, [&](std::uint64_t d, std::uint64_t n) { bar.update(d, n); }, warn_on_stderr);
   bar.update(r.frames, r.frames);
   std::fprintf(stderr, "%s: %llu frames, %.2f s of video in %.2f s (%.1fx real time): %s\n", out.c_str(),
                static_cast<unsigned long long>(r.frames), r.seconds, r.wall_s, r.seconds / r.wall_s, r.encoder.c_str());

@@ -19,7 +19,8 @@ std::string version_string() {
 }
 
 std::string host_version() {
-  return std::to_string(version::kMajor) + "." + std::to_string(version::kMinor) + "." + std::to_string(version::kPatch);
+  return std::to_string(version::kMajor) + "." + std::to_string(version::kMinor) + "." +
+         std::to_string(version::kPatch);
 }
 
 int run_command(const std::function<int()>& action) {

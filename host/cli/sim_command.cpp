@@ -51,7 +51,8 @@ struct SimCliOptions {
 // Longest passage --work-precision replays: the reference takes seconds per simulated second.
 constexpr double kMaxWorkPrecisionSeconds = 20.0;
 
-void write_csv(const SimCliOptions& o, const std::vector<simulate::ForceSample>& samples, double t0, std::uint32_t tick_hz) {
+void write_csv(const SimCliOptions& o, const std::vector<simulate::ForceSample>& samples, double t0,
+               std::uint32_t tick_hz) {
   output::FilePtr f = output::open_for_writing(o.out, o.force);
   std::fputs("t_s,commanded_n,actual_n,reported_n,min_tension_n,max_tension_n\n", f.get());
   for (std::size_t i = 0; i < samples.size(); ++i) {
@@ -65,9 +66,10 @@ void write_csv(const SimCliOptions& o, const std::vector<simulate::ForceSample>&
 
 void write_work_precision_csv(const SimCliOptions& o, const simulate::WorkPrecision& wp) {
   output::FilePtr f = output::open_for_writing(o.out, o.force);
-  std::fputs("integrator,steps_per_tick,rtol,default,ok,force_error_rel,finger_force_error_rel,band_force_error_rel,"
-             "realtime_factor,reference_convergence_force,reference_convergence_finger,reference_convergence_band\n",
-             f.get());
+  std::fputs(
+      "integrator,steps_per_tick,rtol,default,ok,force_error_rel,finger_force_error_rel,band_force_error_rel,"
+      "realtime_factor,reference_convergence_force,reference_convergence_finger,reference_convergence_band\n",
+      f.get());
   // A value not measured (the band of a method other than the default) is an empty field.
   const auto value = [](double v, const char* format) {
     return std::isfinite(v) ? fmt::format(fmt::runtime(format), v) : std::string();
@@ -84,11 +86,12 @@ void write_work_precision_csv(const SimCliOptions& o, const simulate::WorkPrecis
 void print_work_precision(const simulate::WorkPrecision& wp) {
   std::printf("reference: cvode, its change on halving the tolerance %.2g (string force), %.2g (finger force)\n",
               wp.reference_convergence.force, wp.reference_convergence.finger_force);
-  std::printf("%-22s %9s %14s %14s %14s %10s\n", "integrator", "steps/tick", "string force", "finger force",
-              "< 1 kHz", "x realtime");
+  std::printf("%-22s %9s %14s %14s %14s %10s\n", "integrator", "steps/tick", "string force", "finger force", "< 1 kHz",
+              "x realtime");
   for (const simulate::WorkPrecisionPoint& p : wp.points) {
     const std::string name = p.integrator + (p.is_default ? " (default)" : "");
-    const std::string steps = p.integrator == "cvode" ? fmt::format("rtol {:g}", p.rtol) : std::to_string(p.steps_per_tick);
+    const std::string steps =
+        p.integrator == "cvode" ? fmt::format("rtol {:g}", p.rtol) : std::to_string(p.steps_per_tick);
     if (!p.ok) {
       std::printf("%-22s %9s %14s\n", name.c_str(), steps.c_str(), "unstable");
       continue;
@@ -219,10 +222,11 @@ int run_sim(const SimCliOptions& o) {
   }
   host.collect();
   if (dev.plant_unstable()) {
-    throw std::runtime_error(fmt::format("the plant simulation went unstable at {:.3f} s: integrator {} is past its "
-                                         "stable step (use {})", static_cast<double>(samples.size()) / opts.tick_hz,
-                                         sim::plant::method_name(so.plant->params.stepper.method),
-                                         sim::plant::method_name(simulate::default_method())));
+    throw std::runtime_error(fmt::format(
+        "the plant simulation went unstable at {:.3f} s: integrator {} is past its "
+        "stable step (use {})",
+        static_cast<double>(samples.size()) / opts.tick_hz, sim::plant::method_name(so.plant->params.stepper.method),
+        sim::plant::method_name(simulate::default_method())));
   }
   const midi::Track& t = r.song.tracks[track];
   if (o.work_precision) {
@@ -238,11 +242,14 @@ int run_sim(const SimCliOptions& o) {
     };
     const simulate::WorkPrecision wp = simulate::work_precision(replay, wo);
     wp_bar.update(total_runs, total_runs);
-    if (o.out == "-") print_work_precision(wp);
-    else if (fmt_out == "csv") write_work_precision_csv(o, wp);
+    if (o.out == "-")
+      print_work_precision(wp);
+    else if (fmt_out == "csv")
+      write_work_precision_csv(o, wp);
     else {
-      draw_work_precision(o, wp, fmt::format("{} — track {} \"{}\": plant integrators on this passage (k = {:g} N/m)",
-                                             o.song, track, t.name, so.plant->params.string.stiffness));
+      draw_work_precision(o, wp,
+                          fmt::format("{} — track {} \"{}\": plant integrators on this passage (k = {:g} N/m)", o.song,
+                                      track, t.name, so.plant->params.string.stiffness));
     }
     return kExitOk;
   }

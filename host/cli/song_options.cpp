@@ -42,7 +42,8 @@ void add_haptic_options(CLI::App* cmd, HapticCliOptions& o) {
   cmd->add_option("--freq-range", o.freq_range, "Haptic frequency range MIN:MAX in Hz (default 50:250)");
   cmd->add_option("--amp-range-db", o.amp_range_db, "Amplitude range MIN:MAX in dB, MAX = full scale (default 7.5:30)");
   cmd->add_option("--envelope", o.envelope,
-                  "auto (the instrument's own, = analogue), measured (fitted to the SoundFont by hmp envelope measure), square, triangle, or any preset name");
+                  "auto (the instrument's own, = analogue), measured (fitted to the SoundFont by hmp envelope "
+                  "measure), square, triangle, or any preset name");
   cmd->add_option("--polyphony", o.polyphony, "Overlapping notes: sum (default), highest, latest");
   cmd->add_option("--end-fade-ms", o.end_fade_ms, "Fade at each note's end in ms (default 2, 0 = paper-exact)");
   cmd->add_flag("--pedal", o.pedal, "A note released under the sustain pedal (CC64) lasts until the pedal lifts");
@@ -63,7 +64,8 @@ haptics::HapticOptions resolve(const HapticCliOptions& o) {
   }
   if (o.key_scope) {
     haptics::KeyScope scope;
-    if (!haptics::find_key_scope(*o.key_scope, scope)) throw BadInput("--key-scope " + *o.key_scope + ": unknown (song, track)");
+    if (!haptics::find_key_scope(*o.key_scope, scope))
+      throw BadInput("--key-scope " + *o.key_scope + ": unknown (song, track)");
     h.key_scope = scope;
   }
   if (o.mapping && h.mapping == mapping::Mode::legacy2013 && !o.freq_range) {
@@ -108,7 +110,8 @@ void add_audio_options(CLI::App* cmd, AudioCliOptions& o) {
                   "Audio output: pulseaudio, alsa, sdl2, jack, oss, pipewire or virtual (default: the first of "
                   "pulseaudio, alsa, sdl2 that opens)")
       ->check(CLI::IsMember({"pulseaudio", "alsa", "sdl2", "jack", "oss", "pipewire", "virtual"}));
-  cmd->add_option("--soundfont", o.soundfont, "SoundFont (.sf2/.sf3) for the song's audio (default: the GM one installed)");
+  cmd->add_option("--soundfont", o.soundfont,
+                  "SoundFont (.sf2/.sf3) for the song's audio (default: the GM one installed)");
   // A busy machine can hold even a real-time audio thread off its core for tens of milliseconds; a
   // longer buffer rides that out. Sound and vibration stay together either way (the latency is
   // compensated); a longer buffer only makes pause and seek answer later.

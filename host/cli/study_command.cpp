@@ -65,9 +65,7 @@ struct AnalyzeOptions {
   bool force = false;
 };
 
-double unix_now() {
-  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
-}
+double unix_now() { return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count(); }
 
 // A session's own file: none yet is nullopt; anything else there (a directory, say) is refused as every
 // file the user names is (host/common/input_file.hpp).
@@ -84,7 +82,8 @@ void append_text(const std::string& path, const std::string& text) {
   const ssize_t n = ::write(fd, text.data(), text.size());
   const bool synced = ::fsync(fd) == 0;
   ::close(fd);
-  if (n != static_cast<ssize_t>(text.size()) || !synced) throw std::runtime_error(fmt::format("{}: write failed", path));
+  if (n != static_cast<ssize_t>(text.size()) || !synced)
+    throw std::runtime_error(fmt::format("{}: write failed", path));
 }
 
 // The session journal: the seed and experiments, written before the first round so that a session
@@ -130,7 +129,8 @@ struct StudySong {
   std::map<std::string, std::uint32_t> tracks;
 };
 template <std::size_t N>
-StudySong load_study_song(const std::string& option, const std::string& path, const std::array<const char*, N>& instruments) {
+StudySong load_study_song(const std::string& option, const std::string& path,
+                          const std::array<const char*, N>& instruments) {
   StudySong s{path, {}, {}};
   try {
     s.song = midi::load_song(path).song;
@@ -149,7 +149,9 @@ StudySong load_study_song(const std::string& option, const std::string& path, co
 
 // The player's name of a study envelope, and its place in the player's `e` cycle (auto → square →
 // triangle): the study switches by posting that many cycle commands, the same path as the `e` key.
-const char* player_envelope(study::Envelope e) { return e == study::Envelope::analogue ? "auto" : study::envelope_name(e); }
+const char* player_envelope(study::Envelope e) {
+  return e == study::Envelope::analogue ? "auto" : study::envelope_name(e);
+}
 int cycle_index(study::Envelope e) { return e == study::Envelope::analogue ? 0 : e == study::Envelope::square ? 1 : 2; }
 
 // Keys from the terminal (raw mode), or from a pipe: scripted participants type through the same path.
@@ -191,9 +193,10 @@ const study::ParticipantTexts kParticipantOptions{"--age", "--sex", "--handednes
 // for the participant's data: refused rather than dropped.
 void check_room_for(const study::ParticipantData& given, study::Columns columns, const std::string& results_path) {
   if (columns == study::Columns::with_participant || given == study::ParticipantData{}) return;
-  throw BadInput(fmt::format("{}: written before the age, sex and handedness columns; record {}, {} and {} in a new --out "
-                             "directory", printable(results_path), kParticipantOptions[0], kParticipantOptions[1],
-                             kParticipantOptions[2]));
+  throw BadInput(
+      fmt::format("{}: written before the age, sex and handedness columns; record {}, {} and {} in a new --out "
+                  "directory",
+                  printable(results_path), kParticipantOptions[0], kParticipantOptions[1], kParticipantOptions[2]));
 }
 
 // The round in a few words, for the window's top line (the prompt follows it there).
@@ -207,13 +210,14 @@ std::string round_title(const study::Round& r, std::size_t index, std::size_t to
     return fmt::format("Practice {} of 2: {} alone (mapping {}). Feel keys 0, 1, 2; rank them A (best), B, C; Enter.",
                        r.position, r.instrument, study::mapping_of_experiment(r.experiment));
   }
-  return fmt::format("Round {} of {} — experiment {} ({} mapping), instrument {} of 4: {}", index + 1, total, r.experiment,
-                     study::mapping_of_experiment(r.experiment), r.position, r.instrument);
+  return fmt::format("Round {} of {} — experiment {} ({} mapping), instrument {} of 4: {}", index + 1, total,
+                     r.experiment, study::mapping_of_experiment(r.experiment), r.position, r.instrument);
 }
 
 int run_study(const StudyOptions& o) {
   if (!o.participant || !study::valid_participant_id(*o.participant)) {
-    throw BadInput(fmt::format("--participant {}: 1–64 letters, digits, '_', '-' or '.' (required)", o.participant.value_or("")));
+    throw BadInput(
+        fmt::format("--participant {}: 1–64 letters, digits, '_', '-' or '.' (required)", o.participant.value_or("")));
   }
   const std::string& participant = *o.participant;
   std::vector<int> experiments = experiments_of(o.experiment);
@@ -225,7 +229,8 @@ int run_study(const StudyOptions& o) {
   const StudySong main_song = load_study_song("--song", o.song, study::kInstruments);
   const StudySong practice_song = load_study_song("--practice-song", o.practice_song, study::kPracticeInstruments);
   struct stat st {};
-  if (::stat(o.out.c_str(), &st) != 0 || !S_ISDIR(st.st_mode)) throw BadInput(fmt::format("--out {}: not a directory", o.out));
+  if (::stat(o.out.c_str(), &st) != 0 || !S_ISDIR(st.st_mode))
+    throw BadInput(fmt::format("--out {}: not a directory", o.out));
   const std::string results_path = o.out + "/study-results.csv";
   const std::string journal_path = o.out + "/study-" + participant + ".journal";
 
@@ -234,18 +239,20 @@ int run_study(const StudyOptions& o) {
   std::vector<study::ResultRow> existing;
   const auto results_text = read_text(results_path);
   if (results_text) existing = study::parse_results(*results_text, results_path);
-  const study::Columns columns = results_text ? study::results_columns(*results_text) : study::Columns::with_participant;
+  const study::Columns columns =
+      results_text ? study::results_columns(*results_text) : study::Columns::with_participant;
   check_room_for(given, columns, results_path);
 
   std::uint64_t seed = 0;
   const auto journal = read_journal(journal_path);
   if (journal) {
     if (o.seed && *o.seed != journal->seed) {
-      throw BadInput(fmt::format("{}: participant {} began with seed {}, not {} (another id starts afresh)", journal_path,
-                                 participant, journal->seed, *o.seed));
+      throw BadInput(fmt::format("{}: participant {} began with seed {}, not {} (another id starts afresh)",
+                                 journal_path, participant, journal->seed, *o.seed));
     }
     if (journal->experiments != o.experiment) {
-      throw BadInput(fmt::format("{}: participant {} began with --experiment {}", journal_path, participant, journal->experiments));
+      throw BadInput(fmt::format("{}: participant {} began with --experiment {}", journal_path, participant,
+                                 journal->experiments));
     }
     seed = journal->seed;
   } else {
@@ -254,10 +261,12 @@ int run_study(const StudyOptions& o) {
   study::Session session({participant, seed, experiments, version_string(), given}, existing);
   // Said once the session is accepted: a refused one gets its error as the only line.
   if (journal) {
-    std::fprintf(stderr, "resuming participant %s (seed %llu)\n", participant.c_str(), static_cast<unsigned long long>(seed));
+    std::fprintf(stderr, "resuming participant %s (seed %llu)\n", participant.c_str(),
+                 static_cast<unsigned long long>(seed));
   }
   if (session.done()) {
-    std::printf("participant %s: all %zu rounds are done (%s)\n", participant.c_str(), session.plan().size(), results_path.c_str());
+    std::printf("participant %s: all %zu rounds are done (%s)\n", participant.c_str(), session.plan().size(),
+                results_path.c_str());
     return kExitOk;
   }
 
@@ -272,11 +281,14 @@ int run_study(const StudyOptions& o) {
     window = StudyWindow::open(s.song, audio, fmt::format("hmp study — participant {} — {}", participant, s.path), why);
     if (window) return;
     if (o.window) throw BadInput(fmt::format("--window: no animation window: {}", why));
-    std::fprintf(stderr, "warning: no animation window: %s; the study goes on in the terminal (--no-view: do not try)\n",
+    std::fprintf(stderr,
+                 "warning: no animation window: %s; the study goes on in the terminal (--no-view: do not try)\n",
                  why.c_str());
     want_window = false;
   };
-  const auto song_of = [&](const study::Round& r) -> const StudySong& { return r.practice ? practice_song : main_song; };
+  const auto song_of = [&](const study::Round& r) -> const StudySong& {
+    return r.practice ? practice_song : main_song;
+  };
   if (want_window) open_window(song_of(session.plan()[session.rounds_done()]));
 
   haptics::HapticOptions haptic;
@@ -292,7 +304,8 @@ int run_study(const StudyOptions& o) {
   const bool scripted = !isatty(STDIN_FILENO);
   player::install_stop_signals();
   std::printf("participant %s, seed %llu: %zu of %zu rounds done; results go to %s\n", participant.c_str(),
-              static_cast<unsigned long long>(seed), session.rounds_done(), session.plan().size(), results_path.c_str());
+              static_cast<unsigned long long>(seed), session.rounds_done(), session.plan().size(),
+              results_path.c_str());
   std::fflush(stdout);
 
   std::size_t round_index = session.rounds_done();
@@ -312,7 +325,8 @@ int run_study(const StudyOptions& o) {
     const std::string label = window_label(plan, round_index, session.plan().size());
     if (window) window->show(track, label + "     " + round.prompt());
     // Practice rounds: the instrument alone; the others' sound is left out.
-    audio.set_events(plan.practice ? audio::audio_events(song.track_notes(track), song.tempo_map) : audio::audio_events(song));
+    audio.set_events(plan.practice ? audio::audio_events(song.track_notes(track), song.tempo_map)
+                                   : audio::audio_events(song));
 
     bool round_over = false, interrupted = false;
     while (!round_over && !interrupted) {  // the song loops until the round is ranked
@@ -364,7 +378,8 @@ int run_study(const StudyOptions& o) {
           if (reply.envelope_changed) {
             const study::Envelope next = session.current()->selected_envelope();
             if (scripted) std::fprintf(stderr, "study: key %d\n", session.current()->selected_key());
-            for (int n = (cycle_index(next) - cycle_index(in_player) + 3) % 3; n > 0; --n) running->post(player::Command::cycle_envelope);
+            for (int n = (cycle_index(next) - cycle_index(in_player) + 3) % 3; n > 0; --n)
+              running->post(player::Command::cycle_envelope);
             in_player = next;
             break;  // the player switches before the next key is read
           }
@@ -381,15 +396,17 @@ int run_study(const StudyOptions& o) {
     }
     if (interrupted) {
       keys.restore();
-      std::fprintf(stderr, "study interrupted in round %zu of %zu; the finished rounds are in %s. Run the same command "
-                   "again to resume.\n", round_index + 1, session.plan().size(), results_path.c_str());
+      std::fprintf(stderr,
+                   "study interrupted in round %zu of %zu; the finished rounds are in %s. Run the same command "
+                   "again to resume.\n",
+                   round_index + 1, session.plan().size(), results_path.c_str());
       return 128 + (player::stop_signal() != 0 ? player::stop_signal() : 2);
     }
     ++round_index;
   }
   keys.restore();
-  std::printf("\nthank you: participant %s has finished all %zu rounds (%s)\n", participant.c_str(), session.plan().size(),
-              results_path.c_str());
+  std::printf("\nthank you: participant %s has finished all %zu rounds (%s)\n", participant.c_str(),
+              session.plan().size(), results_path.c_str());
   return kExitOk;
 }
 
@@ -423,17 +440,20 @@ int run_analyze(const AnalyzeOptions& o) {
 void register_study(CLI::App& app, Registry& registry) {
   auto o = std::make_shared<StudyOptions>();
   CLI::App* cmd = app.add_subcommand(
-      "study", "Run the paper's user study for one participant (keys 0/1/2 switch, a/b/c rank, u undo, Enter next); "
-               "`study analyze` evaluates results");
-  cmd->add_option("--participant", o->participant, "Participant id (letters, digits, _ - .); required to run a session");
+      "study",
+      "Run the paper's user study for one participant (keys 0/1/2 switch, a/b/c rank, u undo, Enter next); "
+      "`study analyze` evaluates results");
+  cmd->add_option("--participant", o->participant,
+                  "Participant id (letters, digits, _ - .); required to run a session");
   cmd->add_option("--experiment", o->experiment, "1 (mapping paper), 2 (mapping constant) or both")
       ->check(CLI::IsMember({"1", "2", "both"}))
       ->capture_default_str();
   const std::array<const char*, study::kParticipantFields> what{"The participant's age", "The participant's sex",
-                                                                 "The participant's handedness"};
+                                                                "The participant's handedness"};
   for (std::size_t i = 0; i < study::kParticipantFields; ++i) {
-    cmd->add_option(kParticipantOptions[i], o->participant_data[i],
-                    fmt::format("{}: {} (optional; kept in every row of the results)", what[i], study::participant_allowed(i)));
+    cmd->add_option(
+        kParticipantOptions[i], o->participant_data[i],
+        fmt::format("{}: {} (optional; kept in every row of the results)", what[i], study::participant_allowed(i)));
   }
   cmd->add_option("--seed", o->seed, "Seed of the random orders (default: random; stored with the results)");
   cmd->add_option("--song", o->song, "The song of the main rounds (default: the demo)")->capture_default_str();
@@ -442,13 +462,16 @@ void register_study(CLI::App& app, Registry& registry) {
       ->capture_default_str();
   cmd->add_option("--out", o->out, "Directory of study-results.csv and the session journals")->capture_default_str();
   cmd->add_flag("--no-view", o->no_view, "No animation window: the terminal only");
-  cmd->add_flag("--window", o->window, "The animation window or nothing: without a display, exit 2 before anything is written");
-  cmd->add_option("--device", o->device, "sim (default), qemu, auto, hid[:VID:PID], serial:PATH")->capture_default_str();
+  cmd->add_flag("--window", o->window,
+                "The animation window or nothing: without a display, exit 2 before anything is written");
+  cmd->add_option("--device", o->device, "sim (default), qemu, auto, hid[:VID:PID], serial:PATH")
+      ->capture_default_str();
   add_audio_options(cmd, o->audio);
 
   auto a = std::make_shared<AnalyzeOptions>();
   CLI::App* analyze = cmd->add_subcommand(
-      "analyze", "Per experiment and instrument: first-place votes, pairwise majorities, Copeland winners, Friedman, Kendall's W");
+      "analyze",
+      "Per experiment and instrument: first-place votes, pairwise majorities, Copeland winners, Friedman, Kendall's W");
   analyze->add_option("FILES", a->files, "Results files (study-results.csv)")->required();
   analyze->add_flag("--json", a->json, "JSON instead of the table");
   analyze->add_option("--out", a->figure, "PNG like the paper's Figure 3");

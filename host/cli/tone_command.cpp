@@ -35,8 +35,8 @@ int run_tone(const ToneOptions& o) {
   if (!std::isfinite(o.freq_hz) || o.freq_hz <= 0) throw BadInput("--freq: must be a positive number of Hz");
   const double alias_limit = 0.45 * o.tick_hz;
   if (o.freq_hz >= alias_limit) {
-    throw BadInput(fmt::format("--freq {:g}: must be below 0.45 × tick rate = {:g} Hz (aliasing)", o.freq_hz,
-                               alias_limit));
+    throw BadInput(
+        fmt::format("--freq {:g}: must be below 0.45 × tick rate = {:g} Hz (aliasing)", o.freq_hz, alias_limit));
   }
   if (o.freq_hz > synth::kFreqMaxHz) throw BadInput("--freq: above the device's top frequency 4096 Hz");
   if (!std::isfinite(o.amp) || o.amp <= 0 || o.amp > 1) throw BadInput("--amp: must be in (0, 1]");
@@ -81,14 +81,16 @@ void register_tone(CLI::App& app, Registry& registry) {
   cmd->add_option("--freq", opts->freq_hz, "Frequency in Hz (below 0.45 × tick rate)")->required();
   cmd->add_option("--amp", opts->amp, "Peak amplitude, linear in (0, 1] of full scale")->required();
   cmd->add_option("--ms", opts->ms, "Note duration in ms")->required();
-  auto* inst = cmd->add_option("--instrument", opts->instrument,
-                               "Envelope preset: " + haptics::builtin_names());
-  auto* adsr = cmd->add_option("--adsr", opts->adsr,
-                               "Custom envelope: attack=MS,decay=MS,sustain=PCT,release=MS,final=PCT");
+  auto* inst = cmd->add_option("--instrument", opts->instrument, "Envelope preset: " + haptics::builtin_names());
+  auto* adsr =
+      cmd->add_option("--adsr", opts->adsr, "Custom envelope: attack=MS,decay=MS,sustain=PCT,release=MS,final=PCT");
   inst->excludes(adsr);
-  cmd->add_option("--out", opts->out, "Output: FILE.csv, FILE.wav (float, tick rate) or FILE.png (plot); '-' = CSV on stdout")->capture_default_str();
+  cmd->add_option("--out", opts->out,
+                  "Output: FILE.csv, FILE.wav (float, tick rate) or FILE.png (plot); '-' = CSV on stdout")
+      ->capture_default_str();
   cmd->add_option("--tick-hz", opts->tick_hz, "Device tick rate in Hz")
-      ->capture_default_str()->check(CLI::Range(100u, 100000u));
+      ->capture_default_str()
+      ->check(CLI::Range(100u, 100000u));
   cmd->add_option("--end-fade-ms", opts->end_fade_ms, "Fade at the note's end in ms (0 = paper-exact)")
       ->capture_default_str();
   cmd->add_flag("-f,--force", opts->force, "Overwrite an existing output file");

@@ -25,7 +25,6 @@ namespace hmp::cli {
 
 namespace {
 
-
 struct ViewOptions {
   std::string song;
   std::optional<std::string> track;
@@ -57,15 +56,18 @@ int run_view(const ViewOptions& o) {
   }
   const std::int64_t begin_us = o.from_s ? std::llround(*o.from_s * 1e6) : 0;
   const std::int64_t end_us = o.to_s ? std::llround(*o.to_s * 1e6) : std::llround(song.duration_s() * 1e6);
-  if (begin_us >= end_us) throw BadInput(fmt::format("--from/--to: empty window (the song ends at {:.3f} s)", song.duration_s()));
+  if (begin_us >= end_us)
+    throw BadInput(fmt::format("--from/--to: empty window (the song ends at {:.3f} s)", song.duration_s()));
   std::uint32_t track = o.track ? select_track(song, *o.track) : default_haptic_track(song);
 
   audio::AudioPlayer audio(audio_opts);
   audio.set_events(audio::audio_events(song));
 
   std::mutex strip_mutex;  // the haptic track whose signal the strip shows
-  auto build = [&](std::uint32_t t) { return std::make_shared<haptics::SignalTail>(
-                                          std::make_shared<const haptics::HapticTrack>(haptics::build_haptic_track(song, t, haptic)), haptic); };
+  auto build = [&](std::uint32_t t) {
+    return std::make_shared<haptics::SignalTail>(
+        std::make_shared<const haptics::HapticTrack>(haptics::build_haptic_track(song, t, haptic)), haptic);
+  };
   std::shared_ptr<haptics::SignalTail> strip = build(track);
   std::atomic<std::uint32_t> shown_track{track};
   std::atomic<bool> paused{false};
@@ -86,9 +88,10 @@ int run_view(const ViewOptions& o) {
     st.end_us = end_us;
     const midi::Track& t = song.tracks[st.haptic_track];
     const double speed = audio.speed();
-    st.overlay = fmt::format("{}  {} / {}{}   track {} \"{}\"   audio {}   no device   (h: help)", st.paused ? "paused" : "playing",
-                             format_time(audio.song_time_us()), format_time(end_us),
-                             speed != 1.0 ? fmt::format("   speed {:g}×", speed) : "", t.index, t.name, audio.driver_name());
+    st.overlay =
+        fmt::format("{}  {} / {}{}   track {} \"{}\"   audio {}   no device   (h: help)",
+                    st.paused ? "paused" : "playing", format_time(audio.song_time_us()), format_time(end_us),
+                    speed != 1.0 ? fmt::format("   speed {:g}×", speed) : "", t.index, t.name, audio.driver_name());
     return st;
   };
   hooks.key = [&](char k) {
@@ -119,7 +122,8 @@ int run_view(const ViewOptions& o) {
     std::fprintf(stderr, "error: no animation window: %s\n", why.c_str());
     return kExitFailure;
   }
-  std::fprintf(stderr, "view: %s, audio %s; h in the window lists the keys\n", window->renderer().c_str(), audio.driver_name().c_str());
+  std::fprintf(stderr, "view: %s, audio %s; h in the window lists the keys\n", window->renderer().c_str(),
+               audio.driver_name().c_str());
 
   player::RawKeys keys;
   player::install_stop_signals();
@@ -159,7 +163,10 @@ int run_view(const ViewOptions& o) {
       using player::Command;
       switch (const Command c = player::command_for(k)) {
         case Command::toggle_pause:
-          if (paused.exchange(!paused.load())) audio.resume(); else audio.pause();
+          if (paused.exchange(!paused.load()))
+            audio.resume();
+          else
+            audio.pause();
           break;
         case Command::seek_back: seek(audio.song_time_us() - 5'000'000); break;
         case Command::seek_forward: seek(audio.song_time_us() + 5'000'000); break;

@@ -11,11 +11,11 @@
 namespace hmp {
 
 struct ChildSetup {
-  std::vector<std::string> argv;  // argv[0] is the program's name as it sees it
-  std::string program;            // the file run; "" looks argv[0] up in PATH
-  std::string cwd;                // "" the caller's
+  std::vector<std::string> argv;                     // argv[0] is the program's name as it sees it
+  std::string program;                               // the file run; "" looks argv[0] up in PATH
+  std::string cwd;                                   // "" the caller's
   std::string stdin_path, stdout_path, stderr_path;  // "" inherit; stdout and stderr are truncated
-  bool own_process_group = false;  // the terminal's Ctrl-C is not sent to it (the caller stops it)
+  bool own_process_group = false;                    // the terminal's Ctrl-C is not sent to it (the caller stops it)
 };
 
 // The child's process id, or −1 with `error` saying why it could not start.

@@ -12,10 +12,14 @@ std::size_t sequence_length(std::string_view s, std::size_t i) {
   if (b < 0x80) return 1;
   std::size_t n = 0;
   std::uint32_t cp = 0;
-  if (b >= 0xC2 && b <= 0xDF) n = 2, cp = b & 0x1Fu;
-  else if (b >= 0xE0 && b <= 0xEF) n = 3, cp = b & 0x0Fu;
-  else if (b >= 0xF0 && b <= 0xF4) n = 4, cp = b & 0x07u;
-  else return 0;  // a continuation byte, or a lead byte that can only start an overlong or too large form
+  if (b >= 0xC2 && b <= 0xDF)
+    n = 2, cp = b & 0x1Fu;
+  else if (b >= 0xE0 && b <= 0xEF)
+    n = 3, cp = b & 0x0Fu;
+  else if (b >= 0xF0 && b <= 0xF4)
+    n = 4, cp = b & 0x07u;
+  else
+    return 0;  // a continuation byte, or a lead byte that can only start an overlong or too large form
   if (i + n > s.size()) return 0;
   for (std::size_t k = 1; k < n; ++k) {
     if ((byte(i + k) & 0xC0) != 0x80) return 0;

@@ -143,7 +143,8 @@ Config load(const std::string& path) {
     r.only(t, "device", {"tick_hz", "peak_force_n", "direction"});
     if (auto* v = t.get("tick_hz")) {
       const double hz = r.number(*v, "device.tick_hz");
-      if (hz < 100 || hz > 100000 || hz != std::floor(hz)) r.fail("'device.tick_hz' must be an integer in [100, 100000]");
+      if (hz < 100 || hz > 100000 || hz != std::floor(hz))
+        r.fail("'device.tick_hz' must be an integer in [100, 100000]");
       c.tick_hz = static_cast<std::uint32_t>(hz);
     }
     if (auto* v = t.get("peak_force_n")) c.peak_force_n = r.number(*v, "device.peak_force_n");
@@ -152,11 +153,14 @@ Config load(const std::string& path) {
   if (const toml::node* n = root.get("plant")) {
     const auto& t = r.table(*n, "plant");
     PlantConfig& p = c.plant;
-    const std::pair<const char*, std::optional<double>*> values[] = {
-        {"string_stiffness", &p.string_stiffness}, {"string_damping", &p.string_damping},
-        {"grip_mass", &p.grip_mass},               {"motor_inertia", &p.motor_inertia},
-        {"motor_inductance", &p.motor_inductance}, {"finger_stiffness", &p.finger_stiffness},
-        {"finger_damping", &p.finger_damping},     {"max_step", &p.max_step}};
+    const std::pair<const char*, std::optional<double>*> values[] = {{"string_stiffness", &p.string_stiffness},
+                                                                     {"string_damping", &p.string_damping},
+                                                                     {"grip_mass", &p.grip_mass},
+                                                                     {"motor_inertia", &p.motor_inertia},
+                                                                     {"motor_inductance", &p.motor_inductance},
+                                                                     {"finger_stiffness", &p.finger_stiffness},
+                                                                     {"finger_damping", &p.finger_damping},
+                                                                     {"max_step", &p.max_step}};
     std::set<std::string> keys{"integrator"};
     for (const auto& [key, out] : values) keys.emplace(key);
     r.only(t, "plant", keys);

@@ -30,9 +30,8 @@ json event(double time_s, double duration_s, double intensity, double sharpness)
            {{"Time", time_s},
             {"EventType", "HapticContinuous"},
             {"EventDuration", duration_s},
-            {"EventParameters",
-             json::array({{{"ParameterID", "HapticIntensity"}, {"ParameterValue", intensity}},
-                          {{"ParameterID", "HapticSharpness"}, {"ParameterValue", sharpness}}})}}}};
+            {"EventParameters", json::array({{{"ParameterID", "HapticIntensity"}, {"ParameterValue", intensity}},
+                                             {{"ParameterID", "HapticSharpness"}, {"ParameterValue", sharpness}}})}}}};
 }
 
 // The ticks (from the window's start) where the curve c = √M needs a point: every step, both sides of each
@@ -75,7 +74,8 @@ json ahap_json(const ExportSpec& spec) {
   json pattern = json::array();
 
   // The events, and per tick the summed envelope and the summed amplitude of the sounding notes.
-  const std::size_t ticks = spec.end_tick > spec.first_tick ? static_cast<std::size_t>(spec.end_tick - spec.first_tick) : 0;
+  const std::size_t ticks =
+      spec.end_tick > spec.first_tick ? static_cast<std::size_t>(spec.end_tick - spec.first_tick) : 0;
   std::vector<double> sum_env(ticks, 0.0), sum_amp(ticks, 0.0);
   std::vector<bool> jump(ticks + 1, false);
   for (const ExportNote& n : export_notes(spec)) {
@@ -118,12 +118,15 @@ json ahap_json(const ExportSpec& spec) {
         points.push_back({{"Time", static_cast<double>(pts[k]) * T - t0}, {"ParameterValue", c[pts[k]]}});
       }
       pattern.push_back({{"ParameterCurve",
-                          {{"ParameterID", "HapticIntensityControl"}, {"Time", t0}, {"ParameterCurveControlPoints", std::move(points)}}}});
+                          {{"ParameterID", "HapticIntensityControl"},
+                           {"Time", t0},
+                           {"ParameterCurveControlPoints", std::move(points)}}}});
       i = end - 1;
     }
   }
   return {{"Version", 1.0},
-          {"Metadata", {{"Project", "Haptic Music Player"}, {"Description", export_description(spec)}, {"Created", "hmp render"}}},
+          {"Metadata",
+           {{"Project", "Haptic Music Player"}, {"Description", export_description(spec)}, {"Created", "hmp render"}}},
           {"Pattern", std::move(pattern)}};
 }
 

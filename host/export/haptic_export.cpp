@@ -18,7 +18,6 @@ namespace hmp::exporting {
 
 namespace {
 
-
 envelope::Adsr preset_of(const haptics::HapticTrack& t, std::uint8_t slot) {
   if (slot < envelope::kBuiltinCount) return envelope::builtin(static_cast<envelope::Preset>(slot));
   for (const haptics::UserPreset& u : t.uploads)
@@ -28,8 +27,7 @@ envelope::Adsr preset_of(const haptics::HapticTrack& t, std::uint8_t slot) {
 
 }  // namespace
 
-envelope::Envelope note_envelope(const haptics::HapticTrack& t, const haptics::HapticOptions& o,
-                                 const synth::Note& n) {
+envelope::Envelope note_envelope(const haptics::HapticTrack& t, const haptics::HapticOptions& o, const synth::Note& n) {
   envelope::Envelope env;
   env.start(preset_of(t, n.preset), static_cast<float>(n.amp_q16) / 65535.0f, n.duration_ticks,
             static_cast<float>(o.tick_hz), static_cast<float>(o.end_fade_ms));
@@ -58,9 +56,7 @@ std::vector<ExportNote> export_notes(const ExportSpec& spec) {
   return out;
 }
 
-std::string song_file_name(const ExportSpec& spec) {
-  return std::filesystem::path(spec.song).filename().string();
-}
+std::string song_file_name(const ExportSpec& spec) { return std::filesystem::path(spec.song).filename().string(); }
 
 std::string export_description(const ExportSpec& spec) {
   const std::string name = song_file_name(spec);
@@ -80,7 +76,8 @@ void write_haptic_export(const std::string& path, bool force, const ExportSpec& 
     // Nothing would play: an .ahap with an empty Pattern, a .haptic of silence. Say so instead.
     const double hz = static_cast<double>(spec.opts->tick_hz);
     throw BadInput(fmt::format("--from/--to: no note of the track sounds in {:.3f}–{:.3f} s; nothing written to {}",
-                               static_cast<double>(spec.first_tick) / hz, static_cast<double>(spec.end_tick) / hz, path));
+                               static_cast<double>(spec.first_tick) / hz, static_cast<double>(spec.end_tick) / hz,
+                               path));
   }
   nlohmann::json j;
   if (ext == "ahap") {
@@ -90,7 +87,8 @@ void write_haptic_export(const std::string& path, bool force, const ExportSpec& 
   }
   const std::string text = j.dump(1) + "\n";
   output::FilePtr f = output::open_for_writing(path, force);
-  if (std::fwrite(text.data(), 1, text.size(), f.get()) != text.size()) throw BadInput("--out " + path + ": write failed");
+  if (std::fwrite(text.data(), 1, text.size(), f.get()) != text.size())
+    throw BadInput("--out " + path + ": write failed");
   output::close_output(f);
 }
 

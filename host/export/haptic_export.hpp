@@ -36,8 +36,7 @@ std::string song_file_name(const ExportSpec& spec);
 std::string export_description(const ExportSpec& spec);
 
 // The note's envelope as the device evaluates it (its preset: built-in, or the user preset of its slot).
-envelope::Envelope note_envelope(const haptics::HapticTrack& t, const haptics::HapticOptions& o,
-                                 const synth::Note& n);
+envelope::Envelope note_envelope(const haptics::HapticTrack& t, const haptics::HapticOptions& o, const synth::Note& n);
 
 // Writes path (.ahap or .haptic, chosen by extension); throws BadInput for another extension, and for a
 // window in which no note of the track sounds (nothing would play: refused, nothing written).

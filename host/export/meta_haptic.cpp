@@ -29,7 +29,8 @@ nlohmann::json meta_haptic_json(const ExportSpec& spec) {
     const envelope::Envelope env = note_envelope(*spec.track, o, n);
     const double sharp = span_hz > 0 ? std::clamp((hn.freq_hz - o.ranges.f_min_hz) / span_hz, 0.0, 1.0) : 0.5;
     const std::uint64_t a = std::max(n.start_tick, first), b = std::min(ne, end);
-    for (std::size_t s = static_cast<std::size_t>(std::lower_bound(at.begin(), at.end(), a) - at.begin()); s < at.size() && at[s] < b; ++s) {
+    for (std::size_t s = static_cast<std::size_t>(std::lower_bound(at.begin(), at.end(), a) - at.begin());
+         s < at.size() && at[s] < b; ++s) {
       const double v = static_cast<double>(env.at(static_cast<std::uint32_t>(at[s] - n.start_tick)));
       amp[s] += v;
       if (v > loudest[s]) {
@@ -54,8 +55,12 @@ nlohmann::json meta_haptic_json(const ExportSpec& spec) {
   return {{"version", {{"major", 1}, {"minor", 0}, {"patch", 0}}},
           // Meta's spec asks authoring tools for editor, source (what the clip was made from: the song's
           // file) and description; names only, not the paths they were typed with.
-          {"metadata", {{"editor", "hmp render"}, {"source", song_file_name(spec)}, {"project", ""},
-                        {"tags", json::array()}, {"description", export_description(spec)}}},
+          {"metadata",
+           {{"editor", "hmp render"},
+            {"source", song_file_name(spec)},
+            {"project", ""},
+            {"tags", json::array()},
+            {"description", export_description(spec)}}},
           {"signals", {{"continuous", {{"envelopes", {{"amplitude", std::move(am)}, {"frequency", std::move(fr)}}}}}}}};
 }
 

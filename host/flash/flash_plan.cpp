@@ -36,8 +36,7 @@ std::vector<std::string> command_line(Method m, const std::string& image) {
     case Method::dfu:
       // Alternate setting 0 is the internal flash; ":leave" starts the new firmware when done.
       return {"dfu-util", "-d", "0483:df11", "-a", "0", "-s", "0x08000000:leave", "-D", image};
-    case Method::stlink:
-      return {"st-flash", "--reset", "write", image, "0x8000000"};
+    case Method::stlink: return {"st-flash", "--reset", "write", image, "0x8000000"};
     case Method::openocd:
       return {"openocd", "-f", "board/stm32f4discovery.cfg", "-c", "program " + image + " verify reset exit"};
   }
@@ -48,8 +47,9 @@ std::string shell_line(const std::vector<std::string>& argv) {
   std::string out;
   for (const std::string& a : argv) {
     if (!out.empty()) out += ' ';
-    const bool plain = !a.empty() && a.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
-                                                         "0123456789-_./:=@%+,") == std::string::npos;
+    const bool plain = !a.empty() && a.find_first_not_of(
+                                         "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                         "0123456789-_./:=@%+,") == std::string::npos;
     if (plain) {
       out += a;
       continue;

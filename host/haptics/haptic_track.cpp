@@ -131,7 +131,8 @@ void validate(const HapticOptions& o) {
     throw BadInput("--amp-range-db: need finite min ≤ max");
   }
   if (!(o.end_fade_ms >= 0 && o.end_fade_ms <= 1000)) throw BadInput("--end-fade-ms: must be in [0, 1000]");
-  if (!(o.speed >= 0.5 && o.speed <= 2.0)) throw BadInput(fmt::format("--speed: must be in [0.5, 2] (got {:g})", o.speed));
+  if (!(o.speed >= 0.5 && o.speed <= 2.0))
+    throw BadInput(fmt::format("--speed: must be in [0.5, 2] (got {:g})", o.speed));
   for (const auto* table : {&o.gm_presets, &o.measured_presets}) {
     for (const auto& [program, name] : *table) {
       envelope::Preset p;
@@ -142,8 +143,9 @@ void validate(const HapticOptions& o) {
     }
   }
   if (o.envelope == "measured" && o.measured_presets.empty()) {
-    throw BadInput("--envelope measured: no measured presets configured (write them with "
-                   "`hmp envelope measure --all --out FILE.toml`, then give --config FILE.toml)");
+    throw BadInput(
+        "--envelope measured: no measured presets configured (write them with "
+        "`hmp envelope measure --all --out FILE.toml`, then give --config FILE.toml)");
   }
   if (!is_auto(o.envelope) && o.envelope != "measured") {
     envelope::Preset p;
@@ -181,9 +183,10 @@ std::string auto_preset_name(const HapticOptions& opts, std::uint8_t program, st
 std::string measured_preset_name(const HapticOptions& opts, std::uint8_t program, std::uint8_t channel) {
   if (channel == midi::kDrumChannel) return auto_preset_name(opts, program, channel);
   if (auto it = opts.measured_presets.find(program); it != opts.measured_presets.end()) return it->second;
-  throw BadInput(fmt::format("--envelope measured: no measured preset for program {} ({}) in the config "
-                             "(hmp envelope measure --program {} --out FILE.toml)",
-                             program, midi::gm_program_name(program), program));
+  throw BadInput(
+      fmt::format("--envelope measured: no measured preset for program {} ({}) in the config "
+                  "(hmp envelope measure --program {} --out FILE.toml)",
+                  program, midi::gm_program_name(program), program));
 }
 
 std::string note_preset_name(const HapticOptions& opts, std::uint8_t program, std::uint8_t channel) {
@@ -221,7 +224,8 @@ HapticTrack build_haptic_track(const midi::Song& song, std::uint32_t track, cons
   const auto play_us = [&](std::int64_t us) {
     return opts.speed == 1.0 ? us : std::llround(static_cast<double>(us) / opts.speed);
   };
-  const std::vector<std::uint64_t> pedal_ends = opts.pedal ? pedal_end_ticks(song, notes) : std::vector<std::uint64_t>{};
+  const std::vector<std::uint64_t> pedal_ends =
+      opts.pedal ? pedal_end_ticks(song, notes) : std::vector<std::uint64_t>{};
   for (std::size_t i = 0; i < notes.size(); ++i) {
     const midi::Note& n = notes[i];
     HapticNote h;
@@ -241,7 +245,8 @@ HapticTrack build_haptic_track(const midi::Song& song, std::uint32_t track, cons
     const std::uint64_t start = seconds_to_tick(play_us(start_us), opts.tick_hz);
     const std::uint64_t end = seconds_to_tick(play_us(end_us), opts.tick_hz);
     h.note.start_tick = start;
-    h.note.duration_ticks = static_cast<std::uint32_t>(std::clamp<std::uint64_t>(end > start ? end - start : 1, 1, UINT32_MAX));
+    h.note.duration_ticks =
+        static_cast<std::uint32_t>(std::clamp<std::uint64_t>(end > start ? end - start : 1, 1, UINT32_MAX));
     h.note.freq_q20 = synth::freq_to_q20(m.freq_hz);
     h.note.amp_q16 = synth::amp_to_q16(m.amplitude);
     h.note.preset = slots.slot(preset, out);

@@ -39,8 +39,8 @@ struct HapticOptions {
   // note lasts 1/speed as long on the device; the notes' start_s/end_s stay song time.
   double speed = 1.0;
   bool pedal = false;  // --pedal: notes released under the sustain pedal last until it lifts (sustain_pedal.hpp)
-  std::map<std::string, envelope::Adsr> user_presets;  // from the config
-  std::map<std::uint8_t, std::string> gm_presets;      // program → preset name, from the config
+  std::map<std::string, envelope::Adsr> user_presets;    // from the config
+  std::map<std::uint8_t, std::string> gm_presets;        // program → preset name, from the config
   std::map<std::uint8_t, std::string> measured_presets;  // program → preset fitted to its sound (config)
 };
 
@@ -53,24 +53,24 @@ void validate(const HapticOptions& opts);
 
 // One note on its way to the device, with where it came from.
 struct HapticNote {
-  synth::Note note;         // ticks, Q12.20 frequency, Q16 amplitude, preset slot
+  synth::Note note;  // ticks, Q12.20 frequency, Q16 amplitude, preset slot
   std::uint8_t key = 0;
   std::uint8_t channel = 0;
   std::uint8_t program = 0;  // the GM program it plays with (its sound's onset, audio_player.hpp)
-  double freq_hz = 0;       // mapped, before quantisation
-  double amplitude = 0;     // mapped, linear
+  double freq_hz = 0;        // mapped, before quantisation
+  double amplitude = 0;      // mapped, linear
   double start_s = 0, end_s = 0;
 };
 
 struct HapticTrack {
   std::uint32_t track = 0;
-  std::vector<HapticNote> notes;       // sorted by start tick
-  std::vector<UserPreset> uploads;     // user presets the notes use, with their slots
-  std::vector<std::string> slot_names; // preset name of every slot used (index = slot), "" if unused
-  mapping::KeySet keys;                // the keys that set the mapping's range (key_scope's)
+  std::vector<HapticNote> notes;        // sorted by start tick
+  std::vector<UserPreset> uploads;      // user presets the notes use, with their slots
+  std::vector<std::string> slot_names;  // preset name of every slot used (index = slot), "" if unused
+  mapping::KeySet keys;                 // the keys that set the mapping's range (key_scope's)
   KeyScope key_scope = KeyScope::song;
-  double jnd_steps = 0;                // of the range the track's own keys span
-  double speed = 1.0;                  // the options' speed: the notes' ticks are song time / speed
+  double jnd_steps = 0;  // of the range the track's own keys span
+  double speed = 1.0;    // the options' speed: the notes' ticks are song time / speed
 
   std::vector<synth::Note> device_notes() const;
 };

@@ -5,12 +5,13 @@
 namespace hmp::haptics {
 
 std::vector<float> render_signal(std::span<const synth::Note> notes, std::span<const UserPreset> presets,
-                                 const RenderSettings& settings, std::uint64_t first_tick,
-                                 std::uint64_t end_tick, const Progress& progress) {
+                                 const RenderSettings& settings, std::uint64_t first_tick, std::uint64_t end_tick,
+                                 const Progress& progress) {
   synth::Engine engine(settings.synth);
   engine.set_polyphony(settings.polyphony);
   for (const UserPreset& p : presets) {
-    if (!engine.set_preset(p.slot, p.adsr)) throw BadInput("invalid envelope preset for slot " + std::to_string(p.slot));
+    if (!engine.set_preset(p.slot, p.adsr))
+      throw BadInput("invalid envelope preset for slot " + std::to_string(p.slot));
   }
   std::vector<float> out;
   if (end_tick <= first_tick) return out;

@@ -30,7 +30,7 @@ using Progress = std::function<void(std::uint64_t, std::uint64_t)>;
 // before first_tick is started at its own tick and advanced silently, so a window shows exactly what
 // the full render would.
 std::vector<float> render_signal(std::span<const synth::Note> notes, std::span<const UserPreset> presets,
-                                 const RenderSettings& settings, std::uint64_t first_tick,
-                                 std::uint64_t end_tick, const Progress& progress = {});
+                                 const RenderSettings& settings, std::uint64_t first_tick, std::uint64_t end_tick,
+                                 const Progress& progress = {});
 
 }  // namespace hmp::haptics

@@ -46,7 +46,8 @@ std::vector<std::uint64_t> pedal_end_ticks(const midi::Song& song, const std::ve
     ends[i] = n.end_tick;
     const std::vector<Held>& held = spans[n.channel & 0x0F];
     // The span holding the release: the last one that went down at or before it.
-    auto it = std::upper_bound(held.begin(), held.end(), n.end_tick, [](std::uint64_t t, const Held& h) { return t < h.down; });
+    auto it = std::upper_bound(held.begin(), held.end(), n.end_tick,
+                               [](std::uint64_t t, const Held& h) { return t < h.down; });
     if (it == held.begin()) continue;
     --it;
     if (n.end_tick >= it->up) continue;  // the pedal was up again by the release

@@ -48,7 +48,8 @@ std::uint32_t select_track(const midi::Song& song, const std::string& query) {
   }
   if (matches.size() == 1) return matches.front()->index;
   std::string list;
-  for (const midi::Track* t : matches.empty() ? std::vector<const midi::Track*>{} : matches) list += "; " + describe(*t);
+  for (const midi::Track* t : matches.empty() ? std::vector<const midi::Track*>{} : matches)
+    list += "; " + describe(*t);
   if (matches.empty()) {
     for (const midi::Track& t : song.tracks) {
       if (t.note_count > 0) list += "; " + describe(t);

@@ -18,11 +18,11 @@ namespace hmp::haptics {
 std::uint32_t select_track(const midi::Song& song, const std::string& query);
 
 struct TrackWindow {
-  midi::ReadResult read;            // the song and the reader's warnings
+  midi::ReadResult read;  // the song and the reader's warnings
   std::uint32_t track = 0;
   HapticTrack haptic;
-  std::uint64_t first_tick = 0;     // --from (default: the start)
-  std::uint64_t end_tick = 0;       // --to (default: the song's end or the last note's end, whichever is later)
+  std::uint64_t first_tick = 0;  // --from (default: the start)
+  std::uint64_t end_tick = 0;    // --to (default: the song's end or the last note's end, whichever is later)
 };
 
 // Where the reader's warnings go, one line each (the command prints them as "warning: …").

@@ -10,8 +10,8 @@ namespace hmp::measure {
 namespace {
 
 constexpr int kRate = 48000;
-constexpr int kBlock = 64;                 // FluidSynth's block: events land on its boundaries
-constexpr double kLoudAtRelease = 0.1;     // a second render releases the note at −20 dB
+constexpr int kBlock = 64;              // FluidSynth's block: events land on its boundaries
+constexpr double kLoudAtRelease = 0.1;  // a second render releases the note at −20 dB
 
 struct Note {
   std::uint8_t program;
@@ -54,9 +54,9 @@ std::vector<SoundEnvelope> render(const MeasureOptions& o, const std::vector<Not
   options.synth.chorus = false;
   options.synth.onset_compensation = false;  // notes start at their own time: the delay is measured
   std::string warning;
-  const audio::RenderedAudio audio = audio::render_offline(
-      events, 0, std::llround(slot_s * static_cast<double>(notes.size()) * 1e6), options,
-      [&](const std::string& w) { warning = w; });
+  const audio::RenderedAudio audio =
+      audio::render_offline(events, 0, std::llround(slot_s * static_cast<double>(notes.size()) * 1e6), options,
+                            [&](const std::string& w) { warning = w; });
   if (audio.silent_fallback) throw BadInput(o.soundfont + ": " + warning);
   std::vector<SoundEnvelope> out;
   const auto slot_frames = static_cast<std::size_t>(std::llround(slot_s * kRate));
@@ -98,7 +98,8 @@ std::vector<Measured> measure_programs(const MeasureOptions& o,
     if (silent.empty() || key < 0 || key > 127) continue;
     std::vector<Note> retry;
     for (std::size_t i : silent) retry.push_back({held[i].program, static_cast<std::uint8_t>(key), held[i].off_s});
-    if (progress) progress("rendering " + std::to_string(retry.size()) + " silent note(s) at key " + std::to_string(key));
+    if (progress)
+      progress("rendering " + std::to_string(retry.size()) + " silent note(s) at key " + std::to_string(key));
     const std::vector<SoundEnvelope> again = render(o, retry);
     for (std::size_t k = 0; k < silent.size(); ++k) {
       Measured& m = out[silent[k]];

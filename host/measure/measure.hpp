@@ -13,22 +13,22 @@
 namespace hmp::measure {
 
 struct MeasureOptions {
-  std::string soundfont;             // a path (checked by the caller)
+  std::string soundfont;  // a path (checked by the caller)
   std::vector<std::uint8_t> programs;
-  std::uint8_t key = 60;             // middle C
-  bool key_fallback = true;          // a program silent at `key` is tried 1–2 octaves away
+  std::uint8_t key = 60;     // middle C
+  bool key_fallback = true;  // a program silent at `key` is tried 1–2 octaves away
   std::uint8_t velocity = 100;
-  double hold_s = 2.5;               // note-on to note-off
-  double release_window_s = 2.5;     // measured after the note-off
+  double hold_s = 2.5;            // note-on to note-off
+  double release_window_s = 2.5;  // measured after the note-off
 };
 
 struct Measured {
   std::uint8_t program = 0;
-  std::uint8_t key = 0;              // the key it sounded at
-  SoundEnvelope held;                // the note held for hold_s
+  std::uint8_t key = 0;  // the key it sounded at
+  SoundEnvelope held;    // the note held for hold_s
   Stages stages;
-  envelope::Adsr preset;             // Eq. 9–10 fitted
-  double rms_error = 0;              // of the preset against the sound, full scale = the sound's peak
+  envelope::Adsr preset;  // Eq. 9–10 fitted
+  double rms_error = 0;   // of the preset against the sound, full scale = the sound's peak
   bool release_from_second_render = false;
 };
 

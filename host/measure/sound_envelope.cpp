@@ -9,10 +9,10 @@ namespace hmp::measure {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr double kFluidSpanDb = 96.0;    // FluidSynth's decay and release "time" spans 96 dB (960 cB)
-constexpr double kSilentPeak = 1e-5;     // −100 dB of the render's full scale: no sound
-constexpr double kFloorDb = -70.0;       // below this the fits stop (reverb-free renders stay clean)
-constexpr double kReleaseRatio = 0.01;   // Eq. 10's r for measured presets: the release spans 40 dB
+constexpr double kFluidSpanDb = 96.0;   // FluidSynth's decay and release "time" spans 96 dB (960 cB)
+constexpr double kSilentPeak = 1e-5;    // −100 dB of the render's full scale: no sound
+constexpr double kFloorDb = -70.0;      // below this the fits stop (reverb-free renders stay clean)
+constexpr double kReleaseRatio = 0.01;  // Eq. 10's r for measured presets: the release spans 40 dB
 
 double db(double level) { return level > 0 ? 20.0 * std::log10(level) : -400.0; }
 
@@ -60,7 +60,8 @@ SoundEnvelope envelope_of(const float* left, const float* right, std::size_t fra
     const auto l = static_cast<double>(left[i]), r = static_cast<double>(right[i]);
     power[i + 1] = power[i] + 0.5 * (l * l + r * r);
   }
-  const auto window = std::max<std::size_t>(8, static_cast<std::size_t>(std::lround(2.0 * sample_rate / fundamental_hz)));
+  const auto window =
+      std::max<std::size_t>(8, static_cast<std::size_t>(std::lround(2.0 * sample_rate / fundamental_hz)));
   const auto points = static_cast<std::size_t>(static_cast<double>(frames) / (step_s * sample_rate));
   e.amplitude.resize(points);
   for (std::size_t k = 0; k < points; ++k) {
@@ -92,7 +93,8 @@ Stages fit_stages(const SoundEnvelope& e) {
   Stages s;
   const std::size_t off = index_of(e, e.note_off_s);
   if (off < 10) return s;
-  const std::vector<double> smooth = smoothed(e.amplitude, 2 * static_cast<std::size_t>(std::lround(0.01 / e.step_s)) + 1);
+  const std::vector<double> smooth =
+      smoothed(e.amplitude, 2 * static_cast<std::size_t>(std::lround(0.01 / e.step_s)) + 1);
   s.peak = *std::max_element(e.amplitude.begin(), e.amplitude.begin() + static_cast<std::ptrdiff_t>(off));
   if (!(s.peak > kSilentPeak)) return s;
   s.sounded = true;
@@ -253,8 +255,10 @@ double least_error(double current, double lo, double hi, bool log_spaced, Error 
   constexpr double kGolden = 0.6180339887498949;
   for (int it = 0; it < 24; ++it) {
     const double x1 = x3 - kGolden * (x3 - x0), x2 = x0 + kGolden * (x3 - x0);
-    if (error(x1) < error(x2)) x3 = x2;
-    else x0 = x1;
+    if (error(x1) < error(x2))
+      x3 = x2;
+    else
+      x0 = x1;
   }
   if (const double err = error(0.5 * (x0 + x3)); err < best) {
     best = err;
@@ -287,12 +291,15 @@ envelope::Adsr fit_adsr(const SoundEnvelope& e, const Stages& s, double* rms) {
     return rms_error(e, s, t, duration);
   };
   for (int sweep = 0; sweep < 2; ++sweep) {
-    a.decay_ms = static_cast<float>(least_error(static_cast<double>(a.decay_ms), 0.5, held_ms, true,
-                                                [&](double v) { return with(&envelope::Adsr::decay_ms, v); }, best));
-    a.attack_ms = static_cast<float>(least_error(static_cast<double>(a.attack_ms), 0.5, held_ms, true,
-                                                 [&](double v) { return with(&envelope::Adsr::attack_ms, v); }, best));
-    a.sustain = static_cast<float>(least_error(static_cast<double>(a.sustain), 0.0, 1.0, false,
-                                               [&](double v) { return with(&envelope::Adsr::sustain, v); }, best));
+    a.decay_ms = static_cast<float>(least_error(
+        static_cast<double>(a.decay_ms), 0.5, held_ms, true,
+        [&](double v) { return with(&envelope::Adsr::decay_ms, v); }, best));
+    a.attack_ms = static_cast<float>(least_error(
+        static_cast<double>(a.attack_ms), 0.5, held_ms, true,
+        [&](double v) { return with(&envelope::Adsr::attack_ms, v); }, best));
+    a.sustain = static_cast<float>(least_error(
+        static_cast<double>(a.sustain), 0.0, 1.0, false, [&](double v) { return with(&envelope::Adsr::sustain, v); },
+        best));
   }
   if (rms) *rms = best;
   return a;

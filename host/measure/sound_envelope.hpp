@@ -18,8 +18,8 @@ namespace hmp::measure {
 // (a sine's peak).
 struct SoundEnvelope {
   double step_s = 0.001;
-  double note_off_s = 0;           // when the note was released
-  std::vector<double> amplitude;   // linear, the render's full scale
+  double note_off_s = 0;          // when the note was released
+  std::vector<double> amplitude;  // linear, the render's full scale
 };
 
 // `left`/`right` from the note-on on; the window is two periods of `fundamental_hz`.

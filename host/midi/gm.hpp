@@ -19,8 +19,8 @@ const char* gm_instrument_name(std::uint8_t program, std::uint8_t channel);
 // midi::auto_preset, midi::kTable1Instruments and midi::table1_instrument.
 using envelope::auto_preset;
 using envelope::kTable1Instruments;
-using envelope::Table1Instrument;
 using envelope::table1_instrument;
+using envelope::Table1Instrument;
 // design §6: drum notes (channel 10) are felt at a constant frequency rather than mapped from the key.
 inline bool auto_constant_frequency(std::uint8_t channel) { return channel == 9; }
 

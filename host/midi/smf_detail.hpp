@@ -46,7 +46,7 @@ struct ParseState {
   std::vector<TempoMap::Point> tempos;         // file order (format 2: patterns offset, resets added)
   std::vector<TimeSignature> time_signatures;  // file order
   WarningLog warnings;
-  std::optional<std::string> first_error;      // "track N at byte X: …" of the first error in a track
+  std::optional<std::string> first_error;  // "track N at byte X: …" of the first error in a track
 
   // FIFO of sounding notes per (channel, key) of the chunk being parsed: indices into notes, linked
   // through Note::end_tick (sounding_link). A slot is valid only when its generation is the current chunk's.
@@ -87,14 +87,14 @@ struct ChunkInput {
   std::size_t begin = 0;
   std::size_t end = 0;
   std::uint32_t chunk = 0;
-  std::uint64_t tick_offset = 0;    // format 2: where this pattern starts
-  bool split_by_channel = false;    // format 0
-  bool cut_by_eof = false;          // the declared length ran past the end of the file
+  std::uint64_t tick_offset = 0;  // format 2: where this pattern starts
+  bool split_by_channel = false;  // format 0
+  bool cut_by_eof = false;        // the declared length ran past the end of the file
 };
 
 struct ChunkResult {
-  std::uint64_t end_tick = 0;     // absolute: End-of-Track, or the last complete event
-  std::size_t stop = 0;           // file offset where reading stopped (just after End-of-Track if seen)
+  std::uint64_t end_tick = 0;  // absolute: End-of-Track, or the last complete event
+  std::size_t stop = 0;        // file offset where reading stopped (just after End-of-Track if seen)
   bool end_of_track = false;
 };
 

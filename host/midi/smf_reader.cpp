@@ -144,8 +144,8 @@ class SmfReader {
       if (std::memcmp(head, "MTrk", 4) == 0) {
         pos = read_track(pos, length, end);
       } else if (printable_id(head)) {
-        state_.warnings.add(-1, pos, "unknown chunk \"" + id_text(head) + "\" (" + std::to_string(length) +
-                                         " bytes) skipped");
+        state_.warnings.add(-1, pos,
+                            "unknown chunk \"" + id_text(head) + "\" (" + std::to_string(length) + " bytes) skipped");
         if (length > end - pos - 8) return;  // nothing after it
         pos += 8 + static_cast<std::size_t>(length);
       } else {

@@ -30,8 +30,8 @@ class ProgramLookup {
     const auto begin = changes_.begin() + static_cast<std::ptrdiff_t>(first_[channel]);
     const auto end = changes_.begin() + static_cast<std::ptrdiff_t>(first_[channel + 1u]);
     if (begin == end) return 0;
-    const auto it = std::upper_bound(begin, end, tick,
-                                     [](std::uint64_t t, const ProgramChange& pc) { return t < pc.tick; });
+    const auto it =
+        std::upper_bound(begin, end, tick, [](std::uint64_t t, const ProgramChange& pc) { return t < pc.tick; });
     return it == begin ? 0 : (it - 1)->program;
   }
 
@@ -101,7 +101,8 @@ void finish_song(ParseState& st, Song& song) {
     stats.add(song.tracks[n.track], n);
   }
   song.notes = std::move(st.notes);
-  std::stable_sort(st.controls.begin(), st.controls.end(), [](const Control& a, const Control& b) { return a.tick < b.tick; });
+  std::stable_sort(st.controls.begin(), st.controls.end(),
+                   [](const Control& a, const Control& b) { return a.tick < b.tick; });
   song.controls = std::move(st.controls);
 
   song.end_tick = 0;

@@ -28,8 +28,15 @@ std::string times(const char* what, std::uint64_t count) {
 class TrackParser {
  public:
   TrackParser(std::span<const std::uint8_t> file, const ChunkInput& in, ParseState& state)
-      : data_(file.data()), file_(file), in_(in), st_(state), p_(in.begin), end_(in.end),
-        tick_(in.tick_offset), last_tick_(in.tick_offset), first_note_(state.notes.size()),
+      : data_(file.data()),
+        file_(file),
+        in_(in),
+        st_(state),
+        p_(in.begin),
+        end_(in.end),
+        tick_(in.tick_offset),
+        last_tick_(in.tick_offset),
+        first_note_(state.notes.size()),
         base_track_(static_cast<std::uint32_t>(state.tracks.size())) {
     channel_track_.fill(kNone);
     ++st_.generation;  // forget the FIFOs of the previous chunk
@@ -115,7 +122,8 @@ class TrackParser {
         break;
       case 0xD: st_.controls.push_back({tick_, Control::Kind::pressure, channel, 0, d1}); break;
       case 0xE:
-        st_.controls.push_back({tick_, Control::Kind::pitch_bend, channel, 0, static_cast<std::uint16_t>(d1 | (d2 << 7))});
+        st_.controls.push_back(
+            {tick_, Control::Kind::pitch_bend, channel, 0, static_cast<std::uint16_t>(d1 | (d2 << 7))});
         break;
       default: break;
     }
@@ -227,9 +235,9 @@ class TrackParser {
   }
 
   void missing_end_of_track() {
-    st_.warnings.add(in_.chunk, end_,
-                     in_.cut_by_eof ? "the file ends before End-of-Track"
-                                    : "no End-of-Track before the end of the track data");
+    st_.warnings.add(
+        in_.chunk, end_,
+        in_.cut_by_eof ? "the file ends before End-of-Track" : "no End-of-Track before the end of the track data");
   }
 
   bool truncated(std::size_t event_at) {

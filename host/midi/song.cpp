@@ -53,10 +53,13 @@ bool is_sound_controller(std::uint8_t number) {
 
 std::string controller_name(std::uint8_t number) {
   switch (number) {
-    case 0: case 32: return "bank select";
+    case 0:
+    case 32: return "bank select";
     case 1: return "modulation";
-    case 6: case 38: return "data entry";
-    case 100: case 101: return "RPN";
+    case 6:
+    case 38: return "data entry";
+    case 100:
+    case 101: return "RPN";
     case 7: return "volume";
     case 10: return "pan";
     case 11: return "expression";
@@ -87,8 +90,10 @@ std::vector<std::string> controllers_used(const Song& song, std::uint32_t track)
       case Control::Kind::pressure: pressure = true; break;
       case Control::Kind::program: {
         int& first = first_program[c.channel & 0x0F];
-        if (first < 0) first = c.number;
-        else if (first != c.number) programs_changed[c.channel & 0x0F] = 1;
+        if (first < 0)
+          first = c.number;
+        else if (first != c.number)
+          programs_changed[c.channel & 0x0F] = 1;
         break;
       }
     }

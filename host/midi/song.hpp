@@ -41,18 +41,18 @@ struct Control {
   std::uint64_t tick = 0;
   Kind kind = Kind::controller;
   std::uint8_t channel = 0;
-  std::uint8_t number = 0;   // controller number; program number for `program`
-  std::uint16_t value = 0;   // 0–127; pitch bend 0–16383 (8192 = none)
+  std::uint8_t number = 0;  // controller number; program number for `program`
+  std::uint16_t value = 0;  // 0–127; pitch bend 0–16383 (8192 = none)
 };
 
 // The controllers the song's sound follows (CC numbers): the rest are read and dropped.
 inline constexpr std::uint8_t kSoundControllers[] = {
-    0, 32,               // bank select (FluidSynth picks the bank with them)
+    0,   32,             // bank select (FluidSynth picks the bank with them)
     1,                   // modulation
-    6, 38, 100, 101,     // data entry and RPN select (RPN 0: pitch bend range)
-    7, 10, 11,           // volume, pan, expression
-    64, 66, 67,          // sustain, sostenuto, soft pedals
-    91, 93,              // reverb and chorus sends
+    6,   38,  100, 101,  // data entry and RPN select (RPN 0: pitch bend range)
+    7,   10,  11,        // volume, pan, expression
+    64,  66,  67,        // sustain, sostenuto, soft pedals
+    91,  93,             // reverb and chorus sends
     120, 121, 123};      // all sound off, reset all controllers, all notes off
 bool is_sound_controller(std::uint8_t number);
 // "sustain", "volume", …, "CC 20" for the others.
@@ -66,14 +66,14 @@ struct ProgramUse {
 };
 
 struct Track {
-  std::uint32_t index = 0;   // logical index
-  std::uint32_t chunk = 0;   // the MTrk chunk it came from (0-based, file order; warnings use this)
-  std::string name;          // sequence/track name meta (or instrument name), valid UTF-8; may be empty
-  std::uint16_t channels = 0;              // bit c set: the track has notes on channel c
-  std::vector<ProgramUse> programs;        // in order of first use
+  std::uint32_t index = 0;           // logical index
+  std::uint32_t chunk = 0;           // the MTrk chunk it came from (0-based, file order; warnings use this)
+  std::string name;                  // sequence/track name meta (or instrument name), valid UTF-8; may be empty
+  std::uint16_t channels = 0;        // bit c set: the track has notes on channel c
+  std::vector<ProgramUse> programs;  // in order of first use
   std::uint32_t note_count = 0;
-  mapping::KeySet keys;                    // the keys the track uses
-  std::uint64_t end_tick = 0;              // End-of-Track (or last event read), absolute
+  mapping::KeySet keys;        // the keys the track uses
+  std::uint64_t end_tick = 0;  // End-of-Track (or last event read), absolute
   std::int64_t end_us = 0;
 
   bool has_channel(std::uint8_t c) const { return c < 16 && ((channels >> c) & 1u) != 0; }
@@ -102,16 +102,16 @@ struct Warning {
 };
 
 struct Song {
-  std::uint16_t format = 1;                 // as in the header (unknown formats are read as format 1)
+  std::uint16_t format = 1;  // as in the header (unknown formats are read as format 1)
   Division division;
   std::vector<Track> tracks;
-  std::vector<Note> notes;                  // grouped by chunk, in start order within a chunk
+  std::vector<Note> notes;  // grouped by chunk, in start order within a chunk
   TempoMap tempo_map;
-  std::vector<TempoChange> tempo_changes;   // the map's segments: [0] is the starting tempo at tick 0
+  std::vector<TempoChange> tempo_changes;  // the map's segments: [0] is the starting tempo at tick 0
   std::vector<TimeSignature> time_signatures;
-  std::vector<Control> controls;            // by tick (file order at equal ticks): the sound's controllers,
-                                            // pitch bends, channel pressure, program changes
-  std::uint64_t end_tick = 0;               // the latest track end
+  std::vector<Control> controls;  // by tick (file order at equal ticks): the sound's controllers,
+                                  // pitch bends, channel pressure, program changes
+  std::uint64_t end_tick = 0;     // the latest track end
   std::int64_t duration_us = 0;
 
   double duration_s() const { return static_cast<double>(duration_us) * 1e-6; }

@@ -39,8 +39,7 @@ TempoMap TempoMap::metrical(std::uint16_t ticks_per_quarter, std::vector<Point> 
   TempoMap map;
   map.den_ = ticks_per_quarter == 0 ? 1 : ticks_per_quarter;
   map.segments_.clear();
-  std::stable_sort(points.begin(), points.end(),
-                   [](const Point& a, const Point& b) { return a.tick < b.tick; });
+  std::stable_sort(points.begin(), points.end(), [](const Point& a, const Point& b) { return a.tick < b.tick; });
   map.segments_.reserve(points.size() + 1);
   map.segments_.push_back(Segment{0, 0, kDefaultTempo});
   for (const Point& p : points) {

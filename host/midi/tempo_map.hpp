@@ -60,8 +60,8 @@ class TempoMap {
  private:
   struct Segment {
     std::uint64_t tick = 0;
-    std::uint64_t scaled = 0;   // start time × den_ (µs·den); saturates
-    std::uint64_t rate = 0;     // µs·den per tick (the tempo in µs per quarter for metrical time)
+    std::uint64_t scaled = 0;  // start time × den_ (µs·den); saturates
+    std::uint64_t rate = 0;    // µs·den per tick (the tempo in µs per quarter for metrical time)
   };
   std::int64_t micros_in(const Segment& s, std::uint64_t tick) const;
 

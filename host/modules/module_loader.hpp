@@ -44,5 +44,5 @@ const Backend* backend(std::string* why = nullptr) {
 #define HMP_DEFINE_MODULE(Backend, Impl)                                                    \
   extern "C" __attribute__((visibility("default"))) const void* hmp_module_entry(int abi) { \
     static const Impl instance;                                                             \
-    return abi == Backend::kAbi ? static_cast<const Backend*>(&instance) : nullptr;        \
+    return abi == Backend::kAbi ? static_cast<const Backend*>(&instance) : nullptr;         \
   }

@@ -8,9 +8,9 @@
 namespace hmp::output {
 
 struct BarGroup {
-  std::string label;             // under the group
-  std::vector<double> values;    // one per series; empty: "no data"
-  std::vector<bool> marked;      // a star above the bar (as many as values, or empty)
+  std::string label;           // under the group
+  std::vector<double> values;  // one per series; empty: "no data"
+  std::vector<bool> marked;    // a star above the bar (as many as values, or empty)
 };
 
 struct BarPanel {
@@ -21,7 +21,7 @@ struct BarPanel {
 struct BarChartSpec {
   std::vector<std::string> series;  // the legend, in bar order (grey, light blue, dark blue, then again)
   std::string y_label;
-  std::string mark_note;            // the legend's line for the stars
+  std::string mark_note;  // the legend's line for the stars
 };
 
 // Throws BadInput if the file may not be written (see output_file.hpp).

@@ -73,7 +73,8 @@ void check_writable(const std::string& path, bool force) {
   const std::string shown = printable(path);
   if (fs::is_directory(p, ec)) throw BadInput(shown + ": is a directory");
   const fs::path parent = p.has_parent_path() ? p.parent_path() : fs::path(".");
-  if (!fs::is_directory(parent, ec)) throw BadInput(shown + ": folder " + printable(parent.string()) + " does not exist");
+  if (!fs::is_directory(parent, ec))
+    throw BadInput(shown + ": folder " + printable(parent.string()) + " does not exist");
   if (fs::exists(p, ec) && !force && !ask_yes(path, shown + " exists. Overwrite?")) {
     throw BadInput(shown + ": file exists (use --force to overwrite)");
   }

@@ -28,13 +28,15 @@ void write_png(const std::string& path, bool force, Draw draw) {
 const PlotBackend& plot_backend_for(const std::string& path) {
   std::string why;
   const PlotBackend* backend = modules::backend<PlotBackend>(&why);
-  if (backend == nullptr) throw BadInput(path + ": PNG plots need the plot module, which is not available (" + why + ")");
+  if (backend == nullptr)
+    throw BadInput(path + ": PNG plots need the plot module, which is not available (" + why + ")");
   return *backend;
 }
 
 void write_signal_png(const std::string& path, std::span<const float> samples, std::span<const PlotNote> notes,
                       const PlotSpec& spec, bool force) {
-  write_png(path, force, [&](const PlotBackend& b, const std::string& to) { return b.signal_png(to, samples, notes, spec); });
+  write_png(path, force,
+            [&](const PlotBackend& b, const std::string& to) { return b.signal_png(to, samples, notes, spec); });
 }
 
 void write_traces_png(const std::string& path, const std::vector<Trace>& traces, const TracePlotSpec& spec,
@@ -49,7 +51,8 @@ void write_loglog_png(const std::string& path, const std::vector<LogLogPanel>& p
 
 void write_bar_chart_png(const std::string& path, const std::vector<BarPanel>& panels, const BarChartSpec& spec,
                          bool force) {
-  write_png(path, force, [&](const PlotBackend& b, const std::string& to) { return b.bar_chart_png(to, panels, spec); });
+  write_png(path, force,
+            [&](const PlotBackend& b, const std::string& to) { return b.bar_chart_png(to, panels, spec); });
 }
 
 }  // namespace hmp::output

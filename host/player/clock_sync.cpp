@@ -57,7 +57,8 @@ void ClockSync::push(const SyncSample& s) {
 }
 
 std::size_t ClockSync::exact_samples() const {
-  return static_cast<std::size_t>(std::count_if(samples_.begin(), samples_.end(), [](const Point& p) { return !p.overdue; }));
+  return static_cast<std::size_t>(
+      std::count_if(samples_.begin(), samples_.end(), [](const Point& p) { return !p.overdue; }));
 }
 
 double ClockSync::miss_ticks(const Point& p) const {
@@ -133,10 +134,12 @@ void ClockSync::fit() {
   // Of those, the ones that crossed the link fastest: within a margin of the lower quartile of the
   // transits (at least min_samples). A busy host delays some exchanges by milliseconds, on either leg;
   // they stay out, so their one-sided errors cannot tilt the line.
-  std::sort(chosen.begin(), chosen.end(), [](const Point* a, const Point* b) { return a->transit_us() < b->transit_us(); });
+  std::sort(chosen.begin(), chosen.end(),
+            [](const Point* a, const Point* b) { return a->transit_us() < b->transit_us(); });
   const double quartile = chosen[(chosen.size() - 1) / 4]->transit_us();
   const std::size_t at_least = std::min(chosen.size(), options_.min_samples);
-  const double limit = std::max(quartile + std::max(options_.transit_margin_us, 0.25 * quartile), chosen[at_least - 1]->transit_us());
+  const double limit =
+      std::max(quartile + std::max(options_.transit_margin_us, 0.25 * quartile), chosen[at_least - 1]->transit_us());
   std::size_t keep = 0;
   while (keep < chosen.size() && chosen[keep]->transit_us() <= limit) ++keep;
   chosen.resize(keep);

@@ -32,8 +32,8 @@ class ClockSync {
 
   struct Options {
     std::uint32_t tick_hz = synth::kNominalTickHz;
-    std::size_t window = 64;          // most recent samples kept for the fit
-    std::size_t min_samples = 4;      // before this many, ready() is false
+    std::size_t window = 64;      // most recent samples kept for the fit
+    std::size_t min_samples = 4;  // before this many, ready() is false
     // The fit uses the samples whose transit is within max(this, 25 %) of the lower quartile of the
     // window's transits (at least min_samples of them): their arrival time is known best (a delay on one
     // leg of the trip shifts the estimate by half of it). A quartile, not the minimum: one lucky
@@ -42,7 +42,7 @@ class ClockSync {
     // Host timing noise that even the quickest exchange has (whole-µs timestamps, timer reads): the
     // floor of every sample's uncertainty, so that near-equal samples weigh near-equally.
     double timing_floor_us = 10.0;
-    double min_drift_span_s = 2.0;    // the slope is fitted only once the chosen samples span this much host time
+    double min_drift_span_s = 2.0;  // the slope is fitted only once the chosen samples span this much host time
     // |fitted rate / nominal − 1| beyond this: keep the nominal rate. Crystals are within 10⁻⁴, but an
     // emulated board (QEMU on a busy host) loses ticks and runs a few % slow.
     double max_drift = 0.05;

@@ -7,7 +7,8 @@
 namespace hmp::player {
 
 std::int64_t steady_us() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now().time_since_epoch()).count();
+  return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now().time_since_epoch())
+      .count();
 }
 
 DeviceLink::DeviceLink(transport::Transport& link, const Options& options)
@@ -23,15 +24,17 @@ protocol::HelloReply DeviceLink::greet() {
   }
   const auto id = transport::say_hello(*link_, hello_seq, options_.hello_timeout);
   if (!id) {
-    if (!link_->is_open()) throw DeviceLost(fmt::format("device {}: link closed ({})", link_->name(), link_->closed_reason()));
-    throw DeviceLost(fmt::format("device {}: no answer to Hello within {} ms (sent every {} ms)", link_->name(),
-                                options_.hello_timeout.count(),
-                                std::chrono::duration_cast<std::chrono::milliseconds>(transport::kHelloResend).count()));
+    if (!link_->is_open())
+      throw DeviceLost(fmt::format("device {}: link closed ({})", link_->name(), link_->closed_reason()));
+    throw DeviceLost(fmt::format(
+        "device {}: no answer to Hello within {} ms (sent every {} ms)", link_->name(), options_.hello_timeout.count(),
+        std::chrono::duration_cast<std::chrono::milliseconds>(transport::kHelloResend).count()));
   }
   if (!id->compatible()) {
-    throw LinkError(fmt::format("device {} speaks protocol version {}, this hmp speaks version {}: "
-                                "update the firmware or hmp so that both match",
-                                link_->name(), id->hello.protocol_version, protocol::kProtocolVersion));
+    throw LinkError(
+        fmt::format("device {} speaks protocol version {}, this hmp speaks version {}: "
+                    "update the firmware or hmp so that both match",
+                    link_->name(), id->hello.protocol_version, protocol::kProtocolVersion));
   }
   std::lock_guard lock(mutex_);
   ClockSync::Options c;
@@ -109,7 +112,8 @@ void DeviceLink::receive_loop() {
 void DeviceLink::on_report(const protocol::Message& m, std::int64_t now) {
   switch (m.type) {
     case protocol::Type::sync_reply: {
-      const SyncSample s{static_cast<std::int64_t>(m.sync_reply.host_time_us), now, m.sync_reply.tick, m.sync_reply.subtick};
+      const SyncSample s{static_cast<std::int64_t>(m.sync_reply.host_time_us), now, m.sync_reply.tick,
+                         m.sync_reply.subtick};
       if (s.sent_us > now) return;  // not one of ours
       if (clock_.add(s) == ClockSync::Verdict::reset) events_.restarted = true;
       return;
@@ -129,8 +133,7 @@ void DeviceLink::on_report(const protocol::Message& m, std::int64_t now) {
         events_.errors.push_back(m.error);
       }
       return;
-    default:
-      return;  // HelloReply outside a greeting, host types: nothing to do
+    default: return;  // HelloReply outside a greeting, host types: nothing to do
   }
 }
 
@@ -183,7 +186,8 @@ void DeviceLink::check() const {
   if (!dead_reason_.empty()) throw DeviceLost(fmt::format("device {}: link lost ({})", link_->name(), dead_reason_));
   const std::int64_t silent = steady_us() - last_report_us_;
   if (silent > std::chrono::duration_cast<std::chrono::microseconds>(options_.silence_limit).count()) {
-    throw DeviceLost(fmt::format("device {}: no report for {} ms: the device stopped answering", link_->name(), silent / 1000));
+    throw DeviceLost(
+        fmt::format("device {}: no report for {} ms: the device stopped answering", link_->name(), silent / 1000));
   }
 }
 

@@ -122,9 +122,9 @@ std::string format_status(const Snapshot& s) {
   const Counters& c = s.counters;
   return fmt::format("{}{} {}/{}{}  track {} \"{}\"  sent {} played {}  queue {}/{}  late {} stolen {}  env {} map {}",
                      s.song_label.empty() ? "" : s.song_label + "  ", state_word(s), format_time(s.song_us),
-                     format_time(s.end_us), s.speed != 1.0 ? fmt::format(" ×{:g}", s.speed) : "", s.track,
-                     s.track_name, c.notes_sent, c.notes_played, s.queue_capacity - s.queue_free, s.queue_capacity,
-                     c.late, c.stolen, s.envelope, s.mapping);
+                     format_time(s.end_us), s.speed != 1.0 ? fmt::format(" ×{:g}", s.speed) : "", s.track, s.track_name,
+                     c.notes_sent, c.notes_played, s.queue_capacity - s.queue_free, s.queue_capacity, c.late, c.stolen,
+                     s.envelope, s.mapping);
 }
 
 void StatusLine::draw() {

@@ -17,7 +17,18 @@
 namespace hmp::player {
 
 enum class Key {
-  space, left, right, next_track, previous_track, envelope, mapping, slower, faster, next_song, previous_song, quit
+  space,
+  left,
+  right,
+  next_track,
+  previous_track,
+  envelope,
+  mapping,
+  slower,
+  faster,
+  next_song,
+  previous_song,
+  quit
 };
 
 // The command a key stands for (design §14 keys: pause, seek, switch track/envelope/mapping, quit).
@@ -43,7 +54,7 @@ class RawKeys {
   RawKeys(const RawKeys&) = delete;
   RawKeys& operator=(const RawKeys&) = delete;
   bool active() const { return active_; }
-  std::optional<Key> poll();  // never blocks
+  std::optional<Key> poll();                 // never blocks
   std::optional<unsigned char> read_byte();  // one raw byte, undecoded (hmp study's keys); never blocks
   void restore();
 
@@ -61,7 +72,7 @@ class StatusLine {
   bool enabled() const { return enabled_; }
   void show(const Snapshot& s, bool force = false);
   void message(const std::string& text);  // a line of its own (works without a terminal too)
-  void close();                            // ends the line (the last status stays visible)
+  void close();                           // ends the line (the last status stays visible)
 
  private:
   void draw();

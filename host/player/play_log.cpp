@@ -22,7 +22,8 @@ std::string started_line(std::size_t song, const StartedNote& n) {
                      n.origin.track, n.origin.key, n.origin.start_s, n.scheduled_tick, n.actual_tick);
 }
 
-std::string song_end_line(std::size_t index, const std::string& path, double played_s, double wall_s, const Counters& c) {
+std::string song_end_line(std::size_t index, const std::string& path, double played_s, double wall_s,
+                          const Counters& c) {
   nlohmann::json j = counters_json(c);
   j["index"] = index;
   j["path"] = path;
@@ -33,8 +34,9 @@ std::string song_end_line(std::size_t index, const std::string& path, double pla
 }
 
 std::string between_songs_line(double wall_s, std::optional<std::uint64_t> rss_kib) {
-  return nlohmann::json{{"between_songs", {{"wall_s", std::round(wall_s * 10) / 10},
-                                           {"rss_kib", rss_kib ? nlohmann::json(*rss_kib) : nlohmann::json(nullptr)}}}}
+  return nlohmann::json{{"between_songs",
+                         {{"wall_s", std::round(wall_s * 10) / 10},
+                          {"rss_kib", rss_kib ? nlohmann::json(*rss_kib) : nlohmann::json(nullptr)}}}}
       .dump();
 }
 
@@ -49,8 +51,10 @@ std::string summary_line(const Counters& c, const PlayLog::Totals& totals) {
   const auto rounded = [](double v) { return std::round(v * 1000) / 1000; };
   for (std::size_t i = 0; i < totals.audio_underrun_list.size() && i < PlayLog::kUnderrunsListed; ++i) {
     const audio::VirtualCard::Underrun& u = totals.audio_underrun_list[i];
-    list.push_back({{"at_s", rounded(u.at_s)}, {"short_ms", rounded(u.short_ms)},
-                    {"woke_late_ms", rounded(u.woke_late_ms)}, {"callback_ms", rounded(u.callback_ms)}});
+    list.push_back({{"at_s", rounded(u.at_s)},
+                    {"short_ms", rounded(u.short_ms)},
+                    {"woke_late_ms", rounded(u.woke_late_ms)},
+                    {"callback_ms", rounded(u.callback_ms)}});
   }
   j["audio_underrun_list"] = list;
   return nlohmann::json{{"summary", j}}.dump();

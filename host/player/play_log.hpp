@@ -26,8 +26,8 @@ class PlayLog {
     std::vector<audio::VirtualCard::Underrun> audio_underrun_list;  // the first kUnderrunsListed of them
   };
 
-  PlayLog() = default;                                     // no log: every call does nothing
-  PlayLog(const std::string& path, bool force);            // throws BadInput (exists, no folder, …)
+  PlayLog() = default;                           // no log: every call does nothing
+  PlayLog(const std::string& path, bool force);  // throws BadInput (exists, no folder, …)
   bool enabled() const { return file_ != nullptr; }
   void begin_song(std::size_t index) { song_ = index; }  // the playlist index the started lines carry
   void started(const StartedNote& n);
@@ -53,7 +53,8 @@ class PlayLog {
 std::string started_line(std::size_t song, const StartedNote& n);
 // {"song_end":{"index":I,"path":"…","played_s":S,"wall_s":W,"notes_sent":..,"notes_played":..,"late":..,
 // "stolen":..,"rejected":..,"skipped":..}}; wall_s: seconds since the log was opened
-std::string song_end_line(std::size_t index, const std::string& path, double played_s, double wall_s, const Counters& c);
+std::string song_end_line(std::size_t index, const std::string& path, double played_s, double wall_s,
+                          const Counters& c);
 // {"between_songs":{"wall_s":W,"rss_kib":R|null}}
 std::string between_songs_line(double wall_s, std::optional<std::uint64_t> rss_kib);
 // {"summary":{"notes_sent":..,"notes_played":..,"late":..,"stolen":..,"rejected":..,"skipped":..,

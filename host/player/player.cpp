@@ -58,7 +58,8 @@ Player::Player(DeviceLink& link, audio::AudioPlayer& audio, const midi::Song& so
   options_.settings.end_fade_ms = static_cast<float>(options_.haptic.end_fade_ms);
   protocol::Message m = protocol::make(protocol::Type::settings, 0);
   m.settings = options_.settings;
-  if (protocol::validate(m) != protocol::ErrorCode::none) throw BadInput("device settings out of range (check the config's [device])");
+  if (protocol::validate(m) != protocol::ErrorCode::none)
+    throw BadInput("device settings out of range (check the config's [device])");
   set_track(haptics::build_haptic_track(song_, options_.track, options_.haptic));
   update_snapshot();
 }
@@ -209,7 +210,8 @@ void Player::schedule() {
     const std::optional<std::uint16_t> seq = send(report.message);
     if (!seq) return;  // the link died: check() says so on the next turn
     if (!resend) counters_.notes_sent += report.notes.size();
-    for (const NoteOrigin& n : report.notes) last_note_end_tick_ = std::max(last_note_end_tick_, n.tick + n.duration_ticks);
+    for (const NoteOrigin& n : report.notes)
+      last_note_end_tick_ = std::max(last_note_end_tick_, n.tick + n.duration_ticks);
     sent_[*seq] = SentReport{epoch_, std::move(report), 0};
   }
 }
@@ -233,8 +235,8 @@ void Player::handle_events() {
     }
     // Once per kind: a device refusing every note must not flood the terminal.
     if (!refusals_seen_.insert(static_cast<unsigned>(e.code) << 8 | e.type).second) continue;
-    message(fmt::format("device refused a {} report (seq {}): {}",
-                        protocol::name(static_cast<protocol::Type>(e.type)), e.seq, protocol::name(e.code)));
+    message(fmt::format("device refused a {} report (seq {}): {}", protocol::name(static_cast<protocol::Type>(e.type)),
+                        e.seq, protocol::name(e.code)));
   }
   for (const protocol::StartedEntry& entry : events.started) {
     auto it = sent_.find(entry.seq);
@@ -396,18 +398,10 @@ bool Player::handle_commands(Outcome& outcome) {
         apply_speed(next_speed(options_.haptic.speed, c == Command::faster ? 1 : -1));
         break;
       }
-      case Command::next_song:
-        outcome = Outcome::next_song;
-        return true;
-      case Command::previous_song:
-        outcome = Outcome::previous_song;
-        return true;
-      case Command::quit:
-        outcome = Outcome::quit;
-        return true;
-      case Command::interrupt:
-        outcome = Outcome::interrupted;
-        return true;
+      case Command::next_song: outcome = Outcome::next_song; return true;
+      case Command::previous_song: outcome = Outcome::previous_song; return true;
+      case Command::quit: outcome = Outcome::quit; return true;
+      case Command::interrupt: outcome = Outcome::interrupted; return true;
     }
   }
   return false;
@@ -618,7 +612,8 @@ bool Player::wait_for_device(const std::string& why, Outcome& outcome) {
         case Command::previous_song: outcome = Outcome::previous_song; break;
         case Command::toggle_pause:
           play_when_ready_ = !play_when_ready_;
-          message(play_when_ready_ ? "the song plays on when the device is back" : "the song stays paused when the device is back");
+          message(play_when_ready_ ? "the song plays on when the device is back"
+                                   : "the song stays paused when the device is back");
           continue;
         default: continue;  // nothing to change without a device
       }

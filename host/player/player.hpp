@@ -53,16 +53,16 @@ struct Counters {
 
 enum class Command {
   toggle_pause,
-  seek_back,      // −5 s
-  seek_forward,   // +5 s
+  seek_back,     // −5 s
+  seek_forward,  // +5 s
   next_track,
   previous_track,
   cycle_envelope,  // auto → square → triangle → auto
   cycle_mapping,   // paper → rank → constant → legacy2013 → paper
   slower,          // playback speed one step down (2, 1.5, 1.25, 1, 0.75, 0.5)
   faster,          // one step up
-  next_song,      // a playlist's next song (the player ends with Outcome::next_song)
-  previous_song,  // the one before (or this one again from its start, as the first)
+  next_song,       // a playlist's next song (the player ends with Outcome::next_song)
+  previous_song,   // the one before (or this one again from its start, as the first)
   quit,
   interrupt,  // Ctrl-C: like quit, reported as interrupted
 };
@@ -83,28 +83,28 @@ struct Snapshot {
   std::int64_t begin_us = 0;                   // the passage's start (--from)
   double speed = 1.0;
   std::shared_ptr<const haptics::HapticTrack> haptic;  // the haptic track's notes as now sent (the view's strip)
-  std::string song_label;  // PlayerOptions::song_label
-  bool device_lost = false;  // waiting for the device to come back
+  std::string song_label;                              // PlayerOptions::song_label
+  bool device_lost = false;                            // waiting for the device to come back
 };
 
 struct PlayerOptions {
   std::uint32_t track = 0;
-  haptics::HapticOptions haptic;   // tick_hz is replaced by the device's
+  haptics::HapticOptions haptic;  // tick_hz is replaced by the device's
   std::int64_t from_us = 0;
   std::optional<std::int64_t> to_us;  // default: the song's end
-  protocol::Settings settings;     // policy and end fade are taken from `haptic`
-  double lookahead_s = 0.2;        // notes are sent this long before they are heard (design §10)
-  double start_preroll_s = 0.6;    // play starts this long before the first note: the device's ramp-in
-  double seek_preroll_s = 0.05;    // after a seek or resume: time to get the first notes across
+  protocol::Settings settings;        // policy and end fade are taken from `haptic`
+  double lookahead_s = 0.2;           // notes are sent this long before they are heard (design §10)
+  double start_preroll_s = 0.6;       // play starts this long before the first note: the device's ramp-in
+  double seek_preroll_s = 0.05;       // after a seek or resume: time to get the first notes across
   double seek_step_s = 5.0;
-  double stale_s = 1.0;            // notes that ended this long ago are not sent any more
+  double stale_s = 1.0;                        // notes that ended this long ago are not sent any more
   std::chrono::milliseconds sync_period{100};  // also feeds the device's host watchdog (250 ms)
   std::chrono::microseconds loop_period{5000};
-  double touch_lead_s = 0.004;     // a touched note starts this long after the device's present tick
-  std::function<void()> on_idle;   // every loop turn, on the player's thread (keys, status line)
+  double touch_lead_s = 0.004;    // a touched note starts this long after the device's present tick
+  std::function<void()> on_idle;  // every loop turn, on the player's thread (keys, status line)
   std::function<void(const StartedNote&)> on_started;
   std::function<void(const std::string&)> on_message;  // one-line notices (track switched, recovery)
-  std::string song_label;  // shown with the song's time: "[2/5] name.mid" in a playlist
+  std::string song_label;                              // shown with the song's time: "[2/5] name.mid" in a playlist
   // A device that is lost (unplugged, rebooted, silent): the player pauses and calls this every
   // `find_period` until it returns the same device opened again (null: not back yet), greets it and
   // plays on from where the song stopped. Not set: the loss ends run() with DeviceLost.
@@ -150,7 +150,7 @@ class Player {
   };
 
   void set_up_device();
-  bool turn(Outcome& outcome);                                    // one loop turn; true: leave run()
+  bool turn(Outcome& outcome);                                     // one loop turn; true: leave run()
   bool wait_for_device(const std::string& why, Outcome& outcome);  // false: the user left meanwhile
   void send_presets();
   void sync_burst();

@@ -30,7 +30,8 @@ std::vector<std::string> expand_songs(const std::vector<std::string>& arguments,
     }
     std::vector<std::string> found;
     const auto options = fs::directory_options::skip_permission_denied;
-    for (auto it = fs::recursive_directory_iterator(argument, options, ec); !ec && it != fs::end(it); it.increment(ec)) {
+    for (auto it = fs::recursive_directory_iterator(argument, options, ec); !ec && it != fs::end(it);
+         it.increment(ec)) {
       std::error_code file_ec;
       if (it->is_regular_file(file_ec) && midi_name(it->path())) found.push_back(it->path().string());
     }

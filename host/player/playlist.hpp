@@ -22,8 +22,8 @@ class Playlist {
   std::size_t size() const { return songs_.size(); }
   const std::string& current() const { return songs_[order_[at_]]; }
   std::size_t current_index() const { return order_[at_]; }  // in the list as given
-  std::size_t position() const { return at_; }                // in this pass's order, from 0
-  std::size_t pass() const { return pass_; }                  // 0 on the first pass
+  std::size_t position() const { return at_; }               // in this pass's order, from 0
+  std::size_t pass() const { return pass_; }                 // 0 on the first pass
 
   // The next song; false at the end of the list when not looping (the position stays).
   bool next();

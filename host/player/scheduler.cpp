@@ -18,15 +18,17 @@ void Scheduler::load(const haptics::HapticTrack& track, std::int64_t song_us) {
     last_end_us_ = std::max(last_end_us_, notes_.back().end_us);
   }
   // build_haptic_track sorts by tick; the same order by µs (ticks are rounded µs), ties kept.
-  std::stable_sort(notes_.begin(), notes_.end(), [](const Entry& a, const Entry& b) { return a.sound.start_us < b.sound.start_us; });
+  std::stable_sort(notes_.begin(), notes_.end(),
+                   [](const Entry& a, const Entry& b) { return a.sound.start_us < b.sound.start_us; });
   seek(song_us);
 }
 
 void Scheduler::seek(std::int64_t song_us) {
   const std::int64_t at = std::max(song_us, from_us_);
-  cursor_ = static_cast<std::size_t>(
-      std::lower_bound(notes_.begin(), notes_.end(), at, [](const Entry& e, std::int64_t t) { return e.sound.start_us < t; }) -
-      notes_.begin());
+  cursor_ =
+      static_cast<std::size_t>(std::lower_bound(notes_.begin(), notes_.end(), at,
+                                                [](const Entry& e, std::int64_t t) { return e.sound.start_us < t; }) -
+                               notes_.begin());
 }
 
 std::optional<PendingReport> Scheduler::next(std::uint64_t horizon, std::uint64_t stale_tick,

@@ -20,18 +20,18 @@ inline constexpr double kMaxPeakForceN = 20.0;                   // protocol Set
 struct CalibrationSetup {
   std::uint32_t tick_hz = 1000;
   std::array<double, 3> direction{0.0, 1.0, 0.0};  // the config's [device] direction
-  double settle_s = 0.2;  // from the note's start until the transients died down
-  double window_s = 0.2;  // the measured stretch after it
+  double settle_s = 0.2;                           // from the note's start until the transients died down
+  double window_s = 0.2;                           // the measured stretch after it
 };
 
 // The grip's steady motion under a full-scale sine.
 struct GripMotion {
   double hz = 0, peak_force_n = 0;
-  double displacement_m = 0;   // amplitude of the grip's f-Hz motion along the direction
-  double force_n = 0;          // amplitude of the strings' f-Hz force on the grip along it
-  double planned_n = 0;        // largest force the drive's tensions make (Status.force_n): the QP's cap
-  bool saturated = false;      // the drive clamped a motor's duty to ±1 in the window
-  std::uint32_t faults = 0;    // the device's latched faults (then the vibration was cut)
+  double displacement_m = 0;  // amplitude of the grip's f-Hz motion along the direction
+  double force_n = 0;         // amplitude of the strings' f-Hz force on the grip along it
+  double planned_n = 0;       // largest force the drive's tensions make (Status.force_n): the QP's cap
+  bool saturated = false;     // the drive clamped a motor's duty to ±1 in the window
+  std::uint32_t faults = 0;   // the device's latched faults (then the vibration was cut)
 };
 
 // Plays `hz` at full scale with `peak_force_n` on a fresh simulated device with the plant and measures.
@@ -46,10 +46,10 @@ GripMotion reach(const CalibrationSetup& setup, double hz);
 std::vector<GripMotion> reach_band(const CalibrationSetup& setup);  // reach() at band_frequencies()
 
 struct Calibration {
-  bool reached = false;            // the last step is within `tolerance` of the target
-  double peak_force_n = 0;         // the force of full scale of the last step
-  std::vector<GripMotion> steps;   // every measurement at a trial force, in order
-  std::optional<GripMotion> limit; // reach(), when a step would pass it (then found once)
+  bool reached = false;             // the last step is within `tolerance` of the target
+  double peak_force_n = 0;          // the force of full scale of the last step
+  std::vector<GripMotion> steps;    // every measurement at a trial force, in order
+  std::optional<GripMotion> limit;  // reach(), when a step would pass it (then found once)
   bool out_of_reach() const { return !reached && limit.has_value(); }
 };
 
@@ -58,6 +58,5 @@ struct Calibration {
 // at most eight times. A force past the reach (or a fault) looks for the reach; below the target there,
 // the target is out of reach.
 Calibration calibrate(const CalibrationSetup& setup, double hz, double target_m, double tolerance = 0.01);
-
 
 }  // namespace hmp::simulate

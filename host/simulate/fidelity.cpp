@@ -13,7 +13,8 @@ Fidelity measure_fidelity(const std::vector<ForceSample>& s, std::uint32_t tick_
   int best = 0;
   for (int lag = 0; lag <= kMaxLag; ++lag) {
     for (std::size_t i = 0; i + static_cast<std::size_t>(lag) < s.size(); ++i) {
-      corr[lag] += static_cast<double>(s[i + static_cast<std::size_t>(lag)].actual) * static_cast<double>(s[i].commanded);
+      corr[lag] +=
+          static_cast<double>(s[i + static_cast<std::size_t>(lag)].actual) * static_cast<double>(s[i].commanded);
     }
     if (corr[lag] > corr[best]) best = lag;
   }

@@ -29,7 +29,7 @@ struct PlantDrive {
 // What CVODE did: its counters summed over all restarts, and whether it succeeded.
 struct SolverStats {
   bool ok = true;
-  std::string error;  // on failure: CVODE's flag name, the time and its message
+  std::string error;   // on failure: CVODE's flag name, the time and its message
   long steps = 0;      // internal steps
   long rhs_evals = 0;  // right-hand side evaluations, the Jacobian's difference quotients included
   long roots = 0;      // switching-function zeros located (each a restart)
@@ -57,12 +57,12 @@ PlantTrace cvode_reference(const sim::plant::PlantParams& params, double bias_te
 // The general form: y' = rhs(y), smooth within each tick and between zeros of the switching functions.
 struct SwitchedOde {
   int size = 0;
-  std::vector<double> atol;                                 // per state (size entries)
-  std::function<void(int tick)> begin_tick;                 // sets the tick's inputs (optional)
+  std::vector<double> atol;                  // per state (size entries)
+  std::function<void(int tick)> begin_tick;  // sets the tick's inputs (optional)
   std::function<void(const double* y, double* dydt)> rhs;
-  int switches = 0;                                         // number of switching functions
+  int switches = 0;                                           // number of switching functions
   std::function<void(const double* y, double* g)> switching;  // their values (needed when switches > 0)
-  std::function<void(double* y)> project;                   // back onto the state's manifold (optional)
+  std::function<void(double* y)> project;                     // back onto the state's manifold (optional)
   // Largest internal step (0: unlimited). Root finding only sees a switch whose sign differs at the ends of
   // a step: a string that touches taut for less than a step goes unseen.
   double max_step = 0;  // s

@@ -51,13 +51,13 @@ void vibration_duties(PlantScene& s, Vibration v, double gain) {
     const auto r = spidar::solve_tensions(g, force, spidar::Vec3<double>{}, tp, warm);
     for (int i = 0; i < spidar::kStrings; ++i) {
       // θ' winds the string in: a string the grip shortens is wound in at −L'/r.
-      const double omega =
-          span > 0 ? -(geometry[after].length[i] - geometry[before].length[i]) / span / r_pulley : 0.0;
+      const double omega = span > 0 ? -(geometry[after].length[i] - geometry[before].length[i]) / span / r_pulley : 0.0;
       spidar::Flags f = 0;
       const double still = motor.duty(r.tension[i], 0.0, f);
       const double d = motor.duty(r.tension[i], omega, f);
       // The swing around the bias is scaled by `gain`; the back-EMF term is not.
-      s.drive.duty[k][static_cast<std::size_t>(i)] = bias + gain * (still - bias) + (d - still);  // clamped by the plant
+      s.drive.duty[k][static_cast<std::size_t>(i)] =
+          bias + gain * (still - bias) + (d - still);  // clamped by the plant
     }
   }
 }
@@ -103,7 +103,8 @@ PlantScene make_plant_scene(std::string_view name, double stiffness, double seco
     }
   if (name == "frame_edge") {
     const auto& f = s.params.frame;
-    const plant::Vec3d corner = f.workspace_axes * plant::Vec3d{0.9 * f.workspace_half.x, 0.9 * f.workspace_half.y, 0.0};
+    const plant::Vec3d corner =
+        f.workspace_axes * plant::Vec3d{0.9 * f.workspace_half.x, 0.9 * f.workspace_half.y, 0.0};
     for (std::size_t k = 0; k < ticks; ++k) {
       const double u = std::min(1.0, static_cast<double>(k) * kTick / 0.3);
       s.drive.anchor[k] = (0.5 - 0.5 * std::cos(kPi * u)) * corner;

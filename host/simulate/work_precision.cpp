@@ -28,9 +28,7 @@ double relative_error(const std::vector<plant::Vec3d>& x, const std::vector<plan
   return den > 0 ? std::sqrt(num / den) : std::numeric_limits<double>::quiet_NaN();
 }
 
-double seconds_of(const PlantScene& scene) {
-  return static_cast<double>(scene.drive.duty.size()) * scene.drive.tick_s;
-}
+double seconds_of(const PlantScene& scene) { return static_cast<double>(scene.drive.duty.size()) * scene.drive.tick_s; }
 
 }  // namespace
 

@@ -50,9 +50,9 @@ struct WorkPrecisionOptions {
 };
 
 struct WorkPrecisionPoint {
-  std::string integrator;  // a Method's name, or "cvode"
-  int steps_per_tick = 0;  // 0 for cvode
-  double rtol = 0;         // cvode only
+  std::string integrator;   // a Method's name, or "cvode"
+  int steps_per_tick = 0;   // 0 for cvode
+  double rtol = 0;          // cvode only
   bool is_default = false;  // the plant's default integrator and step
   bool ok = true;           // stable (ours) or succeeded (cvode)
   TraceError error;
@@ -60,7 +60,7 @@ struct WorkPrecisionPoint {
 };
 
 struct WorkPrecision {
-  PlantTrace reference;            // at reference_rtol / 2
+  PlantTrace reference;              // at reference_rtol / 2
   TraceError reference_convergence;  // between the reference at reference_rtol and at half of it
   std::vector<WorkPrecisionPoint> points;
   // Whether an error this size is resolved by the reference (≥ 10 × its convergence).

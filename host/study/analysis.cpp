@@ -17,7 +17,8 @@ std::size_t index_of(Envelope e) { return static_cast<std::size_t>(e); }
 
 std::string winners_text(const CopelandResult& c) {
   std::string s;
-  for (const int w : c.winners) s += (s.empty() ? "" : " = ") + std::string(envelope_name(kEnvelopes[static_cast<std::size_t>(w)]));
+  for (const int w : c.winners)
+    s += (s.empty() ? "" : " = ") + std::string(envelope_name(kEnvelopes[static_cast<std::size_t>(w)]));
   if (c.winners.size() > 1) s += fmt::format(" (tie of {})", c.winners.size());
   return s;
 }
@@ -39,8 +40,8 @@ std::vector<GroupAnalysis> analyze(const std::vector<ResultRow>& rows) {
     auto& ranks = tables[{r.experiment, instrument}][r.participant];
     if (ranks.empty()) ranks.assign(3, 0.0);
     if (ranks[index_of(r.envelope)] != 0) {
-      throw BadInput(fmt::format("{}:{}: participant {} has experiment {} {} twice (the same results in two files?)", r.file,
-                                 r.line, r.participant, r.experiment, r.instrument));
+      throw BadInput(fmt::format("{}:{}: participant {} has experiment {} {} twice (the same results in two files?)",
+                                 r.file, r.line, r.participant, r.experiment, r.instrument));
     }
     ranks[index_of(r.envelope)] = r.rank;
   }
@@ -72,9 +73,10 @@ std::vector<ParticipantData> analysed_participants(const std::vector<ResultRow>&
     const auto [it, is_first] = first.emplace(r.participant, &r);
     if (is_first) continue;
     const ResultRow& o = *it->second;
-    const std::string difference =
-        participant_difference(r.participant_data, o.participant_data, fmt::format("{}:{}", printable(o.file), o.line), participant_columns());
-    if (!difference.empty()) throw BadInput(fmt::format("{}:{}: participant {}: {}", printable(r.file), r.line, r.participant, difference));
+    const std::string difference = participant_difference(
+        r.participant_data, o.participant_data, fmt::format("{}:{}", printable(o.file), o.line), participant_columns());
+    if (!difference.empty())
+      throw BadInput(fmt::format("{}:{}: participant {}: {}", printable(r.file), r.line, r.participant, difference));
   }
   std::vector<ParticipantData> out;
   for (const auto& [id, row] : first) out.push_back(row->participant_data);
@@ -84,19 +86,21 @@ std::vector<ParticipantData> analysed_participants(const std::vector<ResultRow>&
 std::string format_report(const std::vector<GroupAnalysis>& groups) {
   std::string s;
   for (const GroupAnalysis& g : groups) {
-    s += fmt::format("experiment {} ({} mapping), {}: {} participant(s)\n", g.experiment, mapping_of_experiment(g.experiment),
-                     g.instrument, g.participants);
+    s += fmt::format("experiment {} ({} mapping), {}: {} participant(s)\n", g.experiment,
+                     mapping_of_experiment(g.experiment), g.instrument, g.participants);
     s += "  envelope   1st votes  beats: square triangle analogue  Copeland (W-L)\n";
     for (std::size_t i = 0; i < 3; ++i) {
       s += fmt::format("  {:<9}  {:>9}         ", envelope_name(kEnvelopes[i]), g.first_votes[i]);
       for (std::size_t j = 0; j < 3; ++j) {
-        s += i == j ? fmt::format("{:>9}", "–") : fmt::format("{:>9}", fmt::format("{}:{}", g.prefer[i][j], g.prefer[j][i]));
+        s += i == j ? fmt::format("{:>9}", "–")
+                    : fmt::format("{:>9}", fmt::format("{}:{}", g.prefer[i][j], g.prefer[j][i]));
       }
       s += fmt::format("  {:>+3} ({}-{})\n", g.copeland.score[i], g.copeland.wins[i], g.copeland.losses[i]);
     }
     s += fmt::format("  Copeland winner: {}\n", winners_text(g.copeland));
-    s += fmt::format("  Friedman chi2 = {} (df {}), p = {}; Kendall's W = {}\n", number_or_dash(g.friedman.chi2, "{:.3f}"),
-                     g.friedman.df, number_or_dash(g.friedman.p, "{:.4f}"), number_or_dash(g.friedman.kendall_w, "{:.3f}"));
+    s += fmt::format("  Friedman chi2 = {} (df {}), p = {}; Kendall's W = {}\n",
+                     number_or_dash(g.friedman.chi2, "{:.3f}"), g.friedman.df, number_or_dash(g.friedman.p, "{:.4f}"),
+                     number_or_dash(g.friedman.kendall_w, "{:.3f}"));
   }
   return s;
 }

@@ -16,8 +16,8 @@ struct GroupAnalysis {
   int experiment = 1;
   std::string instrument;
   int participants = 0;
-  std::array<int, 3> first_votes{};             // by envelope (kEnvelopes order)
-  std::array<std::array<int, 3>, 3> prefer{};   // prefer[i][j]: participants ranking i above j
+  std::array<int, 3> first_votes{};            // by envelope (kEnvelopes order)
+  std::array<std::array<int, 3>, 3> prefer{};  // prefer[i][j]: participants ranking i above j
   CopelandResult copeland;
   FriedmanResult friedman;
 };

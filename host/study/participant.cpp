@@ -37,14 +37,15 @@ std::optional<int> age_of(const std::string& text) {
   return v;
 }
 
-[[noreturn]] void bad(const std::string& where, const std::string& label, const std::string& text, const std::string& allowed) {
+[[noreturn]] void bad(const std::string& where, const std::string& label, const std::string& text,
+                      const std::string& allowed) {
   throw BadInput(fmt::format("{}{} {}: {}", where, label, printable(text), allowed));
 }
 
 // A value that may be absent: read by `parse` unless the text is empty.
 template <class T, class Parse>
-std::optional<T> optional_field(const std::string& text, Parse parse, const std::string& where, const std::string& label,
-                                const std::string& allowed) {
+std::optional<T> optional_field(const std::string& text, Parse parse, const std::string& where,
+                                const std::string& label, const std::string& allowed) {
   if (text.empty()) return std::nullopt;
   const std::optional<T> v = parse(text);
   if (!v) bad(where, label, text, allowed);
@@ -80,19 +81,21 @@ std::string participant_allowed(std::size_t field) {
   return field == 1 ? alternatives(kSexNames) : alternatives(kHandednessNames);
 }
 
-ParticipantData parse_participant(const ParticipantTexts& texts, const ParticipantTexts& labels, const std::string& where) {
+ParticipantData parse_participant(const ParticipantTexts& texts, const ParticipantTexts& labels,
+                                  const std::string& where) {
   ParticipantData d;
   d.age = optional_field<int>(texts[0], age_of, where, labels[0], participant_allowed(0));
-  d.sex = optional_field<Sex>(texts[1], [](const std::string& t) { return named<Sex>(t, kSexNames); }, where, labels[1],
-                              participant_allowed(1));
+  d.sex = optional_field<Sex>(
+      texts[1], [](const std::string& t) { return named<Sex>(t, kSexNames); }, where, labels[1],
+      participant_allowed(1));
   d.handedness = optional_field<Handedness>(
       texts[2], [](const std::string& t) { return named<Handedness>(t, kHandednessNames); }, where, labels[2],
       participant_allowed(2));
   return d;
 }
 
-std::string participant_difference(const ParticipantData& here, const ParticipantData& there, const std::string& there_name,
-                                   const ParticipantTexts& labels) {
+std::string participant_difference(const ParticipantData& here, const ParticipantData& there,
+                                   const std::string& there_name, const ParticipantTexts& labels) {
   const ParticipantTexts a = participant_texts(here), b = participant_texts(there);
   for (std::size_t i = 0; i < kParticipantFields; ++i) {
     if (a[i] != b[i]) return fmt::format("{} {}, but {} on {}", labels[i], shown(a[i]), shown(b[i]), there_name);

@@ -33,12 +33,13 @@ ParticipantTexts participant_texts(const ParticipantData& d);
 std::string participant_allowed(std::size_t field);
 // The data from its texts. A text that is none of its field's values throws BadInput
 // "<where><label> <text>: <what is allowed>", labels being the columns' or the options' names.
-ParticipantData parse_participant(const ParticipantTexts& texts, const ParticipantTexts& labels, const std::string& where);
+ParticipantData parse_participant(const ParticipantTexts& texts, const ParticipantTexts& labels,
+                                  const std::string& where);
 
 // The first field in which `here` differs from `there`, as "age 30, but 25 on <there_name>"; "" when
 // they agree. A field not given reads "(not given)".
-std::string participant_difference(const ParticipantData& here, const ParticipantData& there, const std::string& there_name,
-                                   const ParticipantTexts& labels);
+std::string participant_difference(const ParticipantData& here, const ParticipantData& there,
+                                   const std::string& there_name, const ParticipantTexts& labels);
 
 // Over participants (each once): how many, by sex and handedness (not given counted as unstated, in
 // kSexNames / kHandednessNames order), and the ages of those who gave one.

@@ -16,7 +16,7 @@
 namespace hmp::study {
 
 // The round's columns, which both headers begin with.
-#define HMP_STUDY_ROUND_COLUMNS                                                                          \
+#define HMP_STUDY_ROUND_COLUMNS                                                                             \
   "participant,experiment,phase,position,instrument,mapping,envelope,key,rank,seconds_felt,times_selected," \
   "round_started_utc,ranked_utc,round_ended_utc,seed,version"
 const char* const kResultsHeader = HMP_STUDY_ROUND_COLUMNS ",age,sex,handedness";
@@ -25,14 +25,16 @@ const char* const kResultsHeaderWithoutParticipant = HMP_STUDY_ROUND_COLUMNS;
 
 namespace {
 
-constexpr std::size_t kVersionField = 15;  // the free-text field: last of the round's columns
+constexpr std::size_t kVersionField = 15;          // the free-text field: last of the round's columns
 constexpr std::string_view kBom = "\xEF\xBB\xBF";  // a spreadsheet saving "CSV UTF-8" starts with it
 
 std::vector<std::string> split(const std::string& line) {
   std::vector<std::string> out(1);
   for (const char c : line) {
-    if (c == ',') out.emplace_back();
-    else out.back() += c;
+    if (c == ',')
+      out.emplace_back();
+    else
+      out.back() += c;
   }
   return out;
 }
@@ -88,7 +90,8 @@ double real(const std::string& s, const char* column, const std::string& file, i
 
 double utc(const std::string& s, const char* column, const std::string& file, int line) {
   const double v = parse_utc(s);
-  if (std::isnan(v)) fail(file, line, fmt::format("{} {} is not a UTC time like 2026-01-31T12:00:00.000Z", column, quoted(s)));
+  if (std::isnan(v))
+    fail(file, line, fmt::format("{} {} is not a UTC time like 2026-01-31T12:00:00.000Z", column, quoted(s)));
   return v;
 }
 
@@ -114,14 +117,17 @@ ResultRow parse_row(const std::string& text, Columns columns, const std::string&
   if (f[2] != "practice" && f[2] != "main") fail(file, line, fmt::format("phase {} (practice or main)", quoted(f[2])));
   r.practice = f[2] == "practice";
   r.position = number<int>(f[3], "position", file, line);
-  if (r.position < 1 || r.position > (r.practice ? 2 : 4)) fail(file, line, fmt::format("position {} out of range", r.position));
+  if (r.position < 1 || r.position > (r.practice ? 2 : 4))
+    fail(file, line, fmt::format("position {} out of range", r.position));
   r.instrument = f[4];
   bool known = false;
   for (const char* i : kInstruments) known = known || r.instrument == i;
   if (!known) fail(file, line, fmt::format("unknown instrument {}", quoted(f[4])));
   r.mapping = f[5];
   if (r.mapping != mapping_of_experiment(r.experiment)) {
-    fail(file, line, fmt::format("mapping {} is not experiment {}'s ({})", quoted(f[5]), r.experiment, mapping_of_experiment(r.experiment)));
+    fail(file, line,
+         fmt::format("mapping {} is not experiment {}'s ({})", quoted(f[5]), r.experiment,
+                     mapping_of_experiment(r.experiment)));
   }
   r.envelope = envelope_of(f[6], file, line);
   r.key = number<int>(f[7], "key", file, line);
@@ -149,15 +155,17 @@ void check_participants(const std::vector<ResultRow>& rows, const std::string& f
   for (const ResultRow& r : rows) {
     const auto [it, is_first] = first.emplace(r.participant, &r);
     if (is_first) continue;
-    const std::string difference = participant_difference(r.participant_data, it->second->participant_data,
-                                                          fmt::format("line {}", it->second->line), participant_columns());
+    const std::string difference =
+        participant_difference(r.participant_data, it->second->participant_data,
+                               fmt::format("line {}", it->second->line), participant_columns());
     if (!difference.empty()) fail(file, r.line, fmt::format("participant {}: {}", r.participant, difference));
   }
 }
 
 // The text's first line: the header, without a byte order mark or a CR.
 std::string header_of(const std::string& text) {
-  const std::string_view rest = std::string_view(text).starts_with(kBom) ? std::string_view(text).substr(kBom.size()) : text;
+  const std::string_view rest =
+      std::string_view(text).starts_with(kBom) ? std::string_view(text).substr(kBom.size()) : text;
   std::string_view line = rest.substr(0, rest.find('\n'));
   if (line.ends_with('\r')) line.remove_suffix(1);
   return std::string(line);
@@ -172,9 +180,11 @@ void check_rounds(const std::vector<ResultRow>& rows, const std::string& file) {
     for (const ResultRow* o : group) {
       const std::string where = fmt::format("participant {} experiment {} {}{}", r.participant, r.experiment,
                                             r.practice ? "practice " : "", r.instrument);
-      if (o->rank == r.rank) fail(file, r.line, fmt::format("{}: rank {} used twice (also line {})", where, r.rank, o->line));
+      if (o->rank == r.rank)
+        fail(file, r.line, fmt::format("{}: rank {} used twice (also line {})", where, r.rank, o->line));
       if (o->envelope == r.envelope) {
-        fail(file, r.line, fmt::format("{}: envelope {} twice (also line {})", where, envelope_name(r.envelope), o->line));
+        fail(file, r.line,
+             fmt::format("{}: envelope {} twice (also line {})", where, envelope_name(r.envelope), o->line));
       }
       if (o->key == r.key) fail(file, r.line, fmt::format("{}: key {} twice (also line {})", where, r.key, o->line));
     }
@@ -194,7 +204,8 @@ void check_rounds(const std::vector<ResultRow>& rows, const std::string& file) {
 bool valid_participant_id(const std::string& id) {
   if (id.empty() || id.size() > 64) return false;
   for (const char c : id) {
-    const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-' || c == '.';
+    const bool ok =
+        (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-' || c == '.';
     if (!ok) return false;
   }
   return true;
@@ -210,8 +221,8 @@ std::string format_utc(double unix_s) {
   }
   std::tm tm{};
   gmtime_r(&secs, &tm);
-  return fmt::format("{:04}-{:02}-{:02}T{:02}:{:02}:{:02}.{:03}Z", tm.tm_year + 1900, tm.tm_mon + 1, tm.tm_mday, tm.tm_hour,
-                     tm.tm_min, tm.tm_sec, millis);
+  return fmt::format("{:04}-{:02}-{:02}T{:02}:{:02}:{:02}.{:03}Z", tm.tm_year + 1900, tm.tm_mon + 1, tm.tm_mday,
+                     tm.tm_hour, tm.tm_min, tm.tm_sec, millis);
 }
 
 double parse_utc(const std::string& text) {
@@ -244,11 +255,11 @@ Columns results_columns(const std::string& text) {
 }
 
 std::string format_row(const ResultRow& r, Columns columns) {
-  std::string row = fmt::format("{},{},{},{},{},{},{},{},{},{:.3f},{},{},{},{},{},{}", r.participant, r.experiment,
-                                r.practice ? "practice" : "main", r.position, r.instrument, r.mapping,
-                                envelope_name(r.envelope), r.key, r.rank, r.seconds_felt, r.times_selected,
-                                format_utc(r.round_started), format_utc(r.ranked_at), format_utc(r.round_ended), r.seed,
-                                r.version);
+  std::string row =
+      fmt::format("{},{},{},{},{},{},{},{},{},{:.3f},{},{},{},{},{},{}", r.participant, r.experiment,
+                  r.practice ? "practice" : "main", r.position, r.instrument, r.mapping, envelope_name(r.envelope),
+                  r.key, r.rank, r.seconds_felt, r.times_selected, format_utc(r.round_started), format_utc(r.ranked_at),
+                  format_utc(r.round_ended), r.seed, r.version);
   if (columns == Columns::with_participant) {
     for (const std::string& field : participant_texts(r.participant_data)) row += "," + field;
   }

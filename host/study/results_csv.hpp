@@ -27,7 +27,7 @@ struct ResultRow {
   std::uint64_t seed = 0;
   std::string version;
   ParticipantData participant_data;  // the same in all of a participant's rows
-  std::string file;  // where it was read from (empty, line 0: not read)
+  std::string file;                  // where it was read from (empty, line 0: not read)
   int line = 0;
 };
 
@@ -52,7 +52,7 @@ std::vector<ResultRow> parse_results(const std::string& text, const std::string&
 const ParticipantTexts& participant_columns();
 
 bool valid_participant_id(const std::string& id);  // 1–64 of A–Z a–z 0–9 _ - . (no quoting needed)
-std::string format_utc(double unix_s);              // 2026-11-24T19:37:07.250Z
-double parse_utc(const std::string& text);          // inverse; NaN when malformed
+std::string format_utc(double unix_s);             // 2026-11-24T19:37:07.250Z
+double parse_utc(const std::string& text);         // inverse; NaN when malformed
 
 }  // namespace hmp::study

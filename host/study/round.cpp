@@ -47,12 +47,14 @@ Reply RoundState::act(const Action& a, double now_s) {
         return r;
       }
       if (ranks_[key]) {
-        r.message = fmt::format("key {} already has rank {} (u undoes the last rank)", selected_, rank_letter(*ranks_[key]));
+        r.message =
+            fmt::format("key {} already has rank {} (u undoes the last rank)", selected_, rank_letter(*ranks_[key]));
         return r;
       }
       for (int k = 0; k < 3; ++k) {
         if (ranks_[static_cast<std::size_t>(k)] == a.value) {
-          r.message = fmt::format("rank {} is already given to key {} (u undoes the last rank)", rank_letter(a.value), k);
+          r.message =
+              fmt::format("rank {} is already given to key {} (u undoes the last rank)", rank_letter(a.value), k);
           return r;
         }
       }

@@ -29,10 +29,10 @@ struct Reply {
 struct EnvelopeResult {
   Envelope envelope{};
   int key = 0;
-  int rank = 0;               // 1 = A (best) … 3 = C
-  double seconds_felt = 0;    // time this envelope was the one playing
-  int times_selected = 0;     // switches to it (the start of the round counts for key 0)
-  double ranked_at_s = 0;     // when it got its (final) rank
+  int rank = 0;             // 1 = A (best) … 3 = C
+  double seconds_felt = 0;  // time this envelope was the one playing
+  int times_selected = 0;   // switches to it (the start of the round counts for key 0)
+  double ranked_at_s = 0;   // when it got its (final) rank
 };
 
 class RoundState {

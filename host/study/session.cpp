@@ -10,14 +10,17 @@
 namespace hmp::study {
 
 Session::Session(SessionSpec spec, const std::vector<ResultRow>& existing)
-    : spec_(std::move(spec)), plan_(make_plan(spec_.participant, spec_.seed, spec_.experiments)), done_(plan_.size(), false) {
+    : spec_(std::move(spec)),
+      plan_(make_plan(spec_.participant, spec_.seed, spec_.experiments)),
+      done_(plan_.size(), false) {
   bool adopted = false;
   for (const ResultRow& r : existing) {
     if (r.participant != spec_.participant) continue;
     if (r.seed != spec_.seed) {
-      throw BadInput(fmt::format("participant {} already has results with seed {} (line {}): resume with --seed {}, or "
-                                 "use another participant id",
-                                 spec_.participant, r.seed, r.line, r.seed));
+      throw BadInput(
+          fmt::format("participant {} already has results with seed {} (line {}): resume with --seed {}, or "
+                      "use another participant id",
+                      spec_.participant, r.seed, r.line, r.seed));
     }
     if (!adopted) adopt_participant_data(r);  // the file's rows agree with each other (parse_results)
     adopted = true;
@@ -36,8 +39,8 @@ void Session::adopt_participant_data(const ResultRow& recorded) {
   const ParticipantData& before = recorded.participant_data;
   const ParticipantData merged{given.age ? given.age : before.age, given.sex ? given.sex : before.sex,
                                given.handedness ? given.handedness : before.handedness};
-  const std::string difference =
-      participant_difference(merged, before, fmt::format("{}:{}", printable(recorded.file), recorded.line), participant_columns());
+  const std::string difference = participant_difference(
+      merged, before, fmt::format("{}:{}", printable(recorded.file), recorded.line), participant_columns());
   if (!difference.empty()) {
     throw BadInput(fmt::format("participant {}: {} (a participant's rows must agree; leave the option out to keep it)",
                                spec_.participant, difference));
@@ -100,12 +103,20 @@ std::vector<ResultRow> Session::take_rows() { return std::exchange(ready_, {}); 
 
 std::optional<Action> action_for_key(char c) {
   switch (c) {
-    case '0': case '1': case '2': return Action{Action::Kind::select, c - '0'};
-    case 'a': case 'A': return Action{Action::Kind::rank, 0};
-    case 'b': case 'B': return Action{Action::Kind::rank, 1};
-    case 'c': case 'C': return Action{Action::Kind::rank, 2};
-    case 'u': case 'U': return Action{Action::Kind::undo, 0};
-    case '\r': case '\n': case 'n': return Action{Action::Kind::next, 0};
+    case '0':
+    case '1':
+    case '2': return Action{Action::Kind::select, c - '0'};
+    case 'a':
+    case 'A': return Action{Action::Kind::rank, 0};
+    case 'b':
+    case 'B': return Action{Action::Kind::rank, 1};
+    case 'c':
+    case 'C': return Action{Action::Kind::rank, 2};
+    case 'u':
+    case 'U': return Action{Action::Kind::undo, 0};
+    case '\r':
+    case '\n':
+    case 'n': return Action{Action::Kind::next, 0};
     default: return std::nullopt;
   }
 }

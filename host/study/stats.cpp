@@ -80,9 +80,12 @@ CopelandResult copeland(const RankTable& ranks) {
   for (std::size_t i = 0; i < k; ++i) {
     for (std::size_t j = 0; j < k; ++j) {
       if (i == j) continue;
-      if (prefer[i][j] > prefer[j][i]) ++c.wins[i];
-      else if (prefer[i][j] < prefer[j][i]) ++c.losses[i];
-      else ++c.ties[i];
+      if (prefer[i][j] > prefer[j][i])
+        ++c.wins[i];
+      else if (prefer[i][j] < prefer[j][i])
+        ++c.losses[i];
+      else
+        ++c.ties[i];
     }
     c.score[i] = c.wins[i] - c.losses[i];
   }

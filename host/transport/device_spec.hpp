@@ -36,7 +36,8 @@ struct UsbIdentity {
 struct OpenedDevice {
   std::unique_ptr<QemuDevice> qemu;  // the emulator behind a `qemu` link (outlives the link)
   std::unique_ptr<Transport> transport;
-  std::string note;  // for the user when `auto` chose for them, e.g. "no HID device 1209:0001 found: using the simulated device"
+  std::string note;  // for the user when `auto` chose for them, e.g. "no HID device 1209:0001 found: using the
+                     // simulated device"
   // What finds the same device again (reopen_device).
   DeviceSpec spec;
   std::uint32_t tick_hz = 0;

@@ -106,8 +106,8 @@ std::string bit_names(std::uint32_t bits, const char* const (&names)[N]) {
 }  // namespace
 
 std::string fault_names(std::uint32_t faults) {
-  static const char* const kNames[] = {"estop",          "watchdog",      "output_limit", "queue_overflow",
-                                       "qp_infeasible",  "pose_diverged", "encoder_jump", "string_slack"};
+  static const char* const kNames[] = {"estop",         "watchdog",      "output_limit", "queue_overflow",
+                                       "qp_infeasible", "pose_diverged", "encoder_jump", "string_slack"};
   return bit_names(faults, kNames);
 }
 

@@ -33,9 +33,9 @@ inline constexpr Timeout kHelloResend{100'000};
 std::optional<DeviceIdentity> say_hello(Transport& link, std::uint16_t seq, Timeout timeout,
                                         Timeout resend = kHelloResend);
 
-const char* board_name(protocol::Board board);  // "sim", "qemu-an386", "stm32f407" (HMP_BOARD names)
-const char* state_name(protocol::State state);  // "idle", "playing", …
-std::string fault_names(std::uint32_t faults);  // "none" or "estop,watchdog"
+const char* board_name(protocol::Board board);     // "sim", "qemu-an386", "stm32f407" (HMP_BOARD names)
+const char* state_name(protocol::State state);     // "idle", "playing", …
+std::string fault_names(std::uint32_t faults);     // "none" or "estop,watchdog"
 std::string board_flag_names(std::uint8_t flags);  // "none" or "clock_fallback,no_usb" (protocol::BoardFlag)
 std::string firmware_version(const protocol::HelloReply& hello);  // "0.1.0"
 

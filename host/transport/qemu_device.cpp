@@ -39,7 +39,8 @@ std::string find_qemu_image() {
   const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
   if (ec) return {};
   // hmp is <build>/<tree>/bin/hmp; the cross tree is <build>/qemu-an386.
-  const fs::path candidate = exe.parent_path().parent_path().parent_path() / "qemu-an386" / "boards" / "qemu-an386" / kImageName;
+  const fs::path candidate =
+      exe.parent_path().parent_path().parent_path() / "qemu-an386" / "boards" / "qemu-an386" / kImageName;
   return fs::exists(candidate, ec) ? candidate.string() : std::string{};
 }
 
@@ -57,14 +58,16 @@ std::string QemuDevice::log() const {
 std::unique_ptr<Transport> QemuDevice::connect() {
   image_ = find_qemu_image();
   if (image_.empty()) {
-    throw TransportError("--device qemu: no firmware image (build it with `cmake --preset qemu-an386 && cmake --build "
-                         "--preset qemu-an386`, or set HMP_QEMU_ELF)");
+    throw TransportError(
+        "--device qemu: no firmware image (build it with `cmake --preset qemu-an386 && cmake --build "
+        "--preset qemu-an386`, or set HMP_QEMU_ELF)");
   }
   if (!fs::exists(image_)) throw TransportError("--device qemu: " + image_ + " does not exist");
   const std::string emulator = env("QEMU_SYSTEM_ARM").empty() ? "qemu-system-arm" : env("QEMU_SYSTEM_ARM");
 
   char dir_template[] = "/tmp/hmp-qemu-XXXXXX";
-  if (::mkdtemp(dir_template) == nullptr) throw TransportError(std::string("--device qemu: mkdtemp: ") + std::strerror(errno));
+  if (::mkdtemp(dir_template) == nullptr)
+    throw TransportError(std::string("--device qemu: mkdtemp: ") + std::strerror(errno));
   dir_ = dir_template;
   const std::string socket_path = dir_ + "/uart0.sock";
   listen_fd_ = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
@@ -78,10 +81,22 @@ std::unique_ptr<Transport> QemuDevice::connect() {
 
   // -icount shift=0: one instruction is 1 ns of virtual time; while the firmware waits for its next
   // tick (wfi) the virtual clock catches up with real time, so the device ticks at its real rate.
-  const std::vector<std::string> args = {emulator, "-M", "mps2-an386", "-nographic", "-monitor", "none",
-                                         "-semihosting-config", "enable=on,target=native",
-                                         "-chardev", "socket,id=uart0,path=" + socket_path, "-serial", "chardev:uart0",
-                                         "-kernel", image_, "-append", "hz=" + std::to_string(options_.tick_hz)};
+  const std::vector<std::string> args = {emulator,
+                                         "-M",
+                                         "mps2-an386",
+                                         "-nographic",
+                                         "-monitor",
+                                         "none",
+                                         "-semihosting-config",
+                                         "enable=on,target=native",
+                                         "-chardev",
+                                         "socket,id=uart0,path=" + socket_path,
+                                         "-serial",
+                                         "chardev:uart0",
+                                         "-kernel",
+                                         image_,
+                                         "-append",
+                                         "hz=" + std::to_string(options_.tick_hz)};
   std::string error;
   // Its own process group: the terminal's Ctrl-C is ours, and we stop the emulator.
   pid_ = start_child({args, "", "", "/dev/null", "/dev/null", dir_ + "/semihosting.log", true}, error);

@@ -43,7 +43,8 @@ speed_t baud_constant(unsigned baud) {
 // frame arrives as sent. Ptys accept the same settings (speed is meaningless there).
 void make_raw(int fd, unsigned baud, const std::string& name) {
   termios tio{};
-  if (::tcgetattr(fd, &tio) != 0) throw TransportError("cannot read terminal settings of " + name + ": " + os_error(errno));
+  if (::tcgetattr(fd, &tio) != 0)
+    throw TransportError("cannot read terminal settings of " + name + ": " + os_error(errno));
   ::cfmakeraw(&tio);
   tio.c_cflag |= CLOCAL | CREAD;
   tio.c_cflag &= ~static_cast<tcflag_t>(CRTSCTS | CSTOPB);
@@ -54,7 +55,8 @@ void make_raw(int fd, unsigned baud, const std::string& name) {
     ::cfsetispeed(&tio, speed);
     ::cfsetospeed(&tio, speed);
   }
-  if (::tcsetattr(fd, TCSANOW, &tio) != 0) throw TransportError("cannot set " + name + " to raw mode: " + os_error(errno));
+  if (::tcsetattr(fd, TCSANOW, &tio) != 0)
+    throw TransportError("cannot set " + name + " to raw mode: " + os_error(errno));
 }
 
 int connect_unix_socket(const std::string& path) {
@@ -80,7 +82,7 @@ int milliseconds_until(SteadyClock::time_point deadline) {
 }  // namespace
 
 std::unique_ptr<SerialTransport> SerialTransport::open(const std::string& path, const Options& options) {
-  struct stat st{};
+  struct stat st {};
   if (::stat(path.c_str(), &st) != 0) {
     throw TransportError("cannot open serial link " + path + ": " + os_error(errno));
   }
@@ -114,7 +116,7 @@ std::unique_ptr<SerialTransport> SerialTransport::adopt(int fd, const std::strin
 
 SerialTransport::SerialTransport(int fd, std::string name, const Options& options)
     : fd_(fd), name_(std::move(name)), options_(options) {
-  struct stat st{};
+  struct stat st {};
   is_socket_ = ::fstat(fd_, &st) == 0 && S_ISSOCK(st.st_mode);
   wake_fd_ = ::eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK);
   if (wake_fd_ < 0) {
@@ -213,9 +215,10 @@ bool SerialTransport::write_all(const std::uint8_t* data, std::size_t size) {
     if (err == EINTR) continue;
     if (err == EAGAIN || err == EWOULDBLOCK) {
       if (!wait(POLLOUT, deadline) && SteadyClock::now() >= deadline) {
-        state_.mark_closed(name_ + " stalled: no byte taken for " +
-                           std::to_string(std::chrono::duration_cast<std::chrono::milliseconds>(options_.write_timeout).count()) +
-                           " ms");
+        state_.mark_closed(
+            name_ + " stalled: no byte taken for " +
+            std::to_string(std::chrono::duration_cast<std::chrono::milliseconds>(options_.write_timeout).count()) +
+            " ms");
         return false;
       }
       continue;

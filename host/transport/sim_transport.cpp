@@ -10,8 +10,7 @@ namespace {
 constexpr std::uint64_t kMaxTicksPerBurst = 32;
 }  // namespace
 
-SimTransport::SimTransport(const Options& options)
-    : options_(options), device_(options.tick_hz, options.first_tick) {
+SimTransport::SimTransport(const Options& options) : options_(options), device_(options.tick_hz, options.first_tick) {
   options_.tick_hz = device_.core().tick_hz();  // 0 means the default; keep what the device runs at
   start_time_ = SteadyClock::now();
   start_tick_ = device_.tick();
@@ -117,9 +116,9 @@ bool SimTransport::send(const Report& report) {
     const std::uint64_t tick = device_.tick();
     if (!changed_.wait_until(lock, deadline, [&] { return stop_ || device_.tick() != tick; })) {
       lock.unlock();
-      state_.mark_closed("simulated device took no report for " +
-                         std::to_string(std::chrono::duration_cast<std::chrono::milliseconds>(options_.send_timeout).count()) +
-                         " ms");
+      state_.mark_closed(
+          "simulated device took no report for " +
+          std::to_string(std::chrono::duration_cast<std::chrono::milliseconds>(options_.send_timeout).count()) + " ms");
       return false;
     }
   }

@@ -62,8 +62,8 @@ class SimTransport final : public Transport {
 
  private:
   using SteadyClock = std::chrono::steady_clock;
-  void pace();             // the real_time thread
-  void collect_reports();  // device → inbox_; mutex_ held
+  void pace();                                                // the real_time thread
+  void collect_reports();                                     // device → inbox_; mutex_ held
   std::uint64_t due_tick(SteadyClock::time_point now) const;  // the tick the device should have reached
   std::uint32_t subtick(SteadyClock::time_point now) const;   // mutex_ held
   bool pop(Report& out);                                      // mutex_ held

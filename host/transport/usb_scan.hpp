@@ -19,14 +19,10 @@ struct UsbId {
 
 // What we look for: the STM32's ROM bootloader in DFU mode, and ST-LINK probes (V2, V2-1, V3 variants).
 inline constexpr UsbId kKnownIds[] = {
-    {0x0483, 0xdf11, ProbeKind::stm32_dfu, "STM32 in DFU mode"},
-    {0x0483, 0x3748, ProbeKind::stlink, "ST-LINK/V2"},
-    {0x0483, 0x374a, ProbeKind::stlink, "ST-LINK/V2-1"},
-    {0x0483, 0x374b, ProbeKind::stlink, "ST-LINK/V2-1"},
-    {0x0483, 0x3752, ProbeKind::stlink, "ST-LINK/V2-1"},
-    {0x0483, 0x374e, ProbeKind::stlink, "ST-LINK/V3"},
-    {0x0483, 0x374f, ProbeKind::stlink, "ST-LINK/V3"},
-    {0x0483, 0x3753, ProbeKind::stlink, "ST-LINK/V3"},
+    {0x0483, 0xdf11, ProbeKind::stm32_dfu, "STM32 in DFU mode"}, {0x0483, 0x3748, ProbeKind::stlink, "ST-LINK/V2"},
+    {0x0483, 0x374a, ProbeKind::stlink, "ST-LINK/V2-1"},         {0x0483, 0x374b, ProbeKind::stlink, "ST-LINK/V2-1"},
+    {0x0483, 0x3752, ProbeKind::stlink, "ST-LINK/V2-1"},         {0x0483, 0x374e, ProbeKind::stlink, "ST-LINK/V3"},
+    {0x0483, 0x374f, ProbeKind::stlink, "ST-LINK/V3"},           {0x0483, 0x3753, ProbeKind::stlink, "ST-LINK/V3"},
     {0x0483, 0x3754, ProbeKind::stlink, "ST-LINK/V3"},
 };
 

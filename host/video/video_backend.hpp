@@ -17,14 +17,14 @@ struct AudioStreamSetup {
 };
 
 struct VideoSetup {
-  std::string path;                      // written as given (the caller picks a temporary name)
-  int width = 1280, height = 720;        // even numbers (4:2:0 chroma)
-  int fps = 60;                          // frames per second; the audio holds sample_rate / fps samples a frame
+  std::string path;                // written as given (the caller picks a temporary name)
+  int width = 1280, height = 720;  // even numbers (4:2:0 chroma)
+  int fps = 60;                    // frames per second; the audio holds sample_rate / fps samples a frame
   int sample_rate = 44100;
-  std::vector<AudioStreamSetup> audio;   // in this order after the video stream
-  std::string preset = "ultrafast";       // libx264's speed/size trade-off
-  int crf = 20;                          // libx264's constant quality (lower: better, bigger)
-  std::string title, comment;            // the file's metadata
+  std::vector<AudioStreamSetup> audio;  // in this order after the video stream
+  std::string preset = "ultrafast";     // libx264's speed/size trade-off
+  int crf = 20;                         // libx264's constant quality (lower: better, bigger)
+  std::string title, comment;           // the file's metadata
 };
 
 class VideoEncoder {

@@ -29,9 +29,7 @@ namespace {
 
 using WallClock = std::chrono::steady_clock;
 
-double seconds_since(WallClock::time_point t0) {
-  return std::chrono::duration<double>(WallClock::now() - t0).count();
-}
+double seconds_since(WallClock::time_point t0) { return std::chrono::duration<double>(WallClock::now() - t0).count(); }
 
 // Exactly `n` samples: the renderers round the passage's ends to their own grids.
 void fit(std::vector<float>& v, std::size_t n) { v.resize(n, 0.0f); }
@@ -121,21 +119,25 @@ std::uint64_t frame_count(std::int64_t from_us, std::int64_t to_us, int fps) {
 }
 
 void check_video_spec(const VideoExportSpec& spec) {
-  if (spec.encoding.fps < 1 || spec.encoding.fps > 240) throw BadInput(fmt::format("--fps {}: out of 1..240", spec.encoding.fps));
+  if (spec.encoding.fps < 1 || spec.encoding.fps > 240)
+    throw BadInput(fmt::format("--fps {}: out of 1..240", spec.encoding.fps));
   if (spec.encoding.sample_rate % spec.encoding.fps != 0) {
-    throw BadInput(fmt::format("--fps {}: {} Hz audio does not divide into whole samples per frame (try 25, 30, 50 or 60)",
-                               spec.encoding.fps, spec.encoding.sample_rate));
+    throw BadInput(
+        fmt::format("--fps {}: {} Hz audio does not divide into whole samples per frame (try 25, 30, 50 or 60)",
+                    spec.encoding.fps, spec.encoding.sample_rate));
   }
-  if (spec.encoding.width < 16 || spec.encoding.height < 16 || spec.encoding.width > 7680 || spec.encoding.height > 4320 || spec.encoding.width % 2 != 0 ||
-      spec.encoding.height % 2 != 0) {
-    throw BadInput(fmt::format("--size {}x{}: from 16x16 to 7680x4320, both even",
-                               spec.encoding.width, spec.encoding.height));
+  if (spec.encoding.width < 16 || spec.encoding.height < 16 || spec.encoding.width > 7680 ||
+      spec.encoding.height > 4320 || spec.encoding.width % 2 != 0 || spec.encoding.height % 2 != 0) {
+    throw BadInput(
+        fmt::format("--size {}x{}: from 16x16 to 7680x4320, both even", spec.encoding.width, spec.encoding.height));
   }
-  if (spec.encoding.crf < 0 || spec.encoding.crf > 51) throw BadInput(fmt::format("--crf {}: out of 0..51", spec.encoding.crf));
-  static const char* const kPresets[] = {"ultrafast", "superfast", "veryfast", "faster", "fast",
+  if (spec.encoding.crf < 0 || spec.encoding.crf > 51)
+    throw BadInput(fmt::format("--crf {}: out of 0..51", spec.encoding.crf));
+  static const char* const kPresets[] = {"ultrafast", "superfast", "veryfast", "faster",  "fast",
                                          "medium",    "slow",      "slower",   "veryslow"};
   if (std::find(std::begin(kPresets), std::end(kPresets), spec.encoding.preset) == std::end(kPresets)) {
-    throw BadInput("--video-preset " + spec.encoding.preset + ": one of ultrafast, superfast, veryfast, faster, fast, medium, slow, slower, veryslow");
+    throw BadInput("--video-preset " + spec.encoding.preset +
+                   ": one of ultrafast, superfast, veryfast, faster, fast, medium, slow, slower, veryslow");
   }
   if (spec.song == nullptr || !spec.haptic) throw BadInput("video export: no song");
   if (spec.to_us <= spec.from_us) throw BadInput("video export: empty passage");
@@ -155,7 +157,8 @@ VideoExportResult export_video(const std::string& path, const VideoExportSpec& s
   // The modules first: a missing one is reported before minutes of audio rendering.
   std::string why;
   const VideoBackend* backend = modules::backend<VideoBackend>(&why);
-  if (backend == nullptr) throw std::runtime_error("cannot write " + path + ": the video module is not available (" + why + ")");
+  if (backend == nullptr)
+    throw std::runtime_error("cannot write " + path + ": the video module is not available (" + why + ")");
   view::ViewSetup view_setup;
   view_setup.song = spec.song;
   view_setup.width = spec.encoding.width;
@@ -250,10 +253,12 @@ VideoExportResult export_video(const std::string& path, const VideoExportSpec& s
       break;
     }
     const auto t0 = WallClock::now();
-    const std::uint8_t* pixels = frames->draw(video_frame_state(spec, tail, frame_time_us(spec.from_us, i, spec.encoding.fps)));
+    const std::uint8_t* pixels =
+        frames->draw(video_frame_state(spec, tail, frame_time_us(spec.from_us, i, spec.encoding.fps)));
     std::vector<std::uint8_t> buffer = queue.take_free();
     if (buffer.empty()) break;  // the encoder stopped
-    rgba_bottom_up_to_i420(pixels, spec.encoding.width, spec.encoding.height, i420_planes(buffer.data(), spec.encoding.width, spec.encoding.height));
+    rgba_bottom_up_to_i420(pixels, spec.encoding.width, spec.encoding.height,
+                           i420_planes(buffer.data(), spec.encoding.width, spec.encoding.height));
     render_wall += seconds_since(t0);
     queue.put_full(std::move(buffer));
     if (progress) progress(encoded.load(), result.frames);

@@ -28,28 +28,28 @@ struct VideoExportSpec {
   const midi::Song* song = nullptr;
   std::shared_ptr<const haptics::HapticTrack> haptic;  // the haptic track (front layer, strip, 2nd audio)
   haptics::HapticOptions haptic_options;
-  std::int64_t from_us = 0, to_us = 0;                 // the passage, song time
+  std::int64_t from_us = 0, to_us = 0;  // the passage, song time
   // The file's size, rate, encoder settings and metadata; its path and audio streams are the export's.
   VideoSetup encoding;
-  double seconds_across = 12.0;                        // the roll's zoom, as in the window
-  audio::AudioOptions audio;                           // the SoundFont
-  bool song_audio = true;                              // false: a silent song stream (--no-audio)
-  bool haptic_audio = false;                           // a second stream: the haptic signal, listenable
-  std::vector<std::string> legend_labels;              // per track, "" = not listed (as the window)
-  std::string overlay_prefix;                          // the top line before the clock (song, track, options)
-  const std::atomic<bool>* cancel = nullptr;           // set (e.g. by Ctrl-C): stop, write nothing
+  double seconds_across = 12.0;               // the roll's zoom, as in the window
+  audio::AudioOptions audio;                  // the SoundFont
+  bool song_audio = true;                     // false: a silent song stream (--no-audio)
+  bool haptic_audio = false;                  // a second stream: the haptic signal, listenable
+  std::vector<std::string> legend_labels;     // per track, "" = not listed (as the window)
+  std::string overlay_prefix;                 // the top line before the clock (song, track, options)
+  const std::atomic<bool>* cancel = nullptr;  // set (e.g. by Ctrl-C): stop, write nothing
 };
 
 struct VideoExportResult {
   std::uint64_t frames = 0;
   std::uint64_t samples_per_frame = 0;
-  double seconds = 0;          // of video
-  double wall_s = 0;           // how long the export took
-  double render_wall_s = 0;    // of which drawing and reading back frames
-  double encode_wall_s = 0;    // of which converting, encoding and writing (on its own thread, overlapped)
-  double audio_wall_s = 0;     // of which rendering the audio (FluidSynth, before the frames)
-  std::string encoder;         // the video module's summary
-  std::string renderer;        // the GL renderer
+  double seconds = 0;        // of video
+  double wall_s = 0;         // how long the export took
+  double render_wall_s = 0;  // of which drawing and reading back frames
+  double encode_wall_s = 0;  // of which converting, encoding and writing (on its own thread, overlapped)
+  double audio_wall_s = 0;   // of which rendering the audio (FluidSynth, before the frames)
+  std::string encoder;       // the video module's summary
+  std::string renderer;      // the GL renderer
 };
 
 using Progress = std::function<void(std::uint64_t done, std::uint64_t total)>;

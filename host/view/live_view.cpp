@@ -8,7 +8,7 @@ namespace {
 
 constexpr double kMinAcross = 2.0, kMaxAcross = 60.0, kZoomStep = 1.25;
 constexpr auto kFramePeriod = std::chrono::microseconds(16'667);  // a cap when the swap does not wait for vsync
-constexpr auto kEventPoll = std::chrono::milliseconds(2);          // between frames
+constexpr auto kEventPoll = std::chrono::milliseconds(2);         // between frames
 
 bool same_bar(const Bar& a, const Bar& b) { return a.track == b.track && a.start_us == b.start_us && a.key == b.key; }
 
@@ -212,8 +212,7 @@ void LiveView::handle(const ViewEvent& e, const LiveState& state, Clock::time_po
   std::unique_lock geometry(geometry_mutex_);  // zoom and hidden tracks change here
   const Chrome chrome = chrome_layout(params(), scale_);
   switch (e.kind) {
-    case ViewEvent::Kind::quit:
-      break;  // the window reports itself closed on the same frame
+    case ViewEvent::Kind::quit: break;  // the window reports itself closed on the same frame
     case ViewEvent::Kind::key:
       switch (e.key) {
         case '+': seconds_across_ = std::max(kMinAcross, seconds_across_ / kZoomStep); break;
@@ -248,7 +247,8 @@ void LiveView::handle(const ViewEvent& e, const LiveState& state, Clock::time_po
       break;
     }
     case ViewEvent::Kind::release:
-      if (dragging_progress_ && hooks_.seek_to) hooks_.seek_to(progress_time(chrome, e.x, state.begin_us, state.end_us));
+      if (dragging_progress_ && hooks_.seek_to)
+        hooks_.seek_to(progress_time(chrome, e.x, state.begin_us, state.end_us));
       pressing_ = dragging_progress_ = false;
       push_start_.reset();
       break;

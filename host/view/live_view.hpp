@@ -34,8 +34,8 @@ using Clock = std::chrono::steady_clock;
 struct LiveState {
   std::uint32_t haptic_track = 0;
   bool paused = false;
-  std::int64_t begin_us = 0, end_us = 0;  // the passage played (progress bar, seeks)
-  std::string overlay;                    // the top line
+  std::int64_t begin_us = 0, end_us = 0;       // the passage played (progress bar, seeks)
+  std::string overlay;                         // the top line
   std::optional<std::array<float, 3>> grip_m;  // the device's grip (m, device frame) when it knows it
 };
 
@@ -49,14 +49,14 @@ struct FrameTiming {
 
 struct LiveViewHooks {
   std::function<std::int64_t(Clock::time_point)> song_time;  // required: the clock the sound follows
-  std::function<LiveState()> state;                         // required
-  std::function<void(char key)> key;          // the terminal's keys: ' ' '<' '>' 't' 'T' 'e' 'm' 'q' '[' ']'
-  std::function<void(std::int64_t song_us)> seek_to;         // the progress bar
-  std::function<void(const Bar& bar)> touch;                 // the cursor met a note's bar
-  std::function<void(std::uint32_t track)> select_track;     // pushed into a track's bar for 0.5 s
+  std::function<LiveState()> state;                          // required
+  std::function<void(char key)> key;                  // the terminal's keys: ' ' '<' '>' 't' 'T' 'e' 'm' 'q' '[' ']'
+  std::function<void(std::int64_t song_us)> seek_to;  // the progress bar
+  std::function<void(const Bar& bar)> touch;          // the cursor met a note's bar
+  std::function<void(std::uint32_t track)> select_track;  // pushed into a track's bar for 0.5 s
   // The device's output up to `song_us`, newest last: fills up to `max` samples, returns how many.
   std::function<int(std::int64_t song_us, float* out, int max)> vibration;
-  std::function<void(const FrameTiming&)> on_frame;           // tests and the benchmark
+  std::function<void(const FrameTiming&)> on_frame;  // tests and the benchmark
 };
 
 struct LiveViewOptions {
@@ -97,7 +97,7 @@ class LiveView {
   void handle_all(std::vector<ViewEvent>& events, const LiveState& state);  // plus the injected ones
   void update_touch(FrameState& f, const LiveState& state, Clock::time_point now);
   void fill_frame(FrameState& f, const LiveState& state, Clock::time_point now);
-  LayoutParams params() const;      // the view thread's, or under geometry_mutex_
+  LayoutParams params() const;  // the view thread's, or under geometry_mutex_
   RollLayout make_layout() const;
 
   const midi::Song& song_;
@@ -109,7 +109,7 @@ class LiveView {
   std::thread thread_;
   std::atomic<bool> stop_{false}, closed_{false};
   std::atomic<std::uint64_t> frames_{0};
-  mutable std::mutex mutex_;  // injected_, renderer_
+  mutable std::mutex mutex_;      // injected_, renderer_
   std::condition_variable wake_;  // an injected event, or stop
   std::vector<ViewEvent> injected_;
   std::string renderer_;

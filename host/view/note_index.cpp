@@ -19,7 +19,8 @@ NoteIndex::NoteIndex(const midi::Song& song) : bars_(song.tracks.size()), max_en
   }
 }
 
-std::size_t NoteIndex::visible(std::uint32_t track, std::int64_t t0_us, std::int64_t t1_us, std::vector<Bar>& out) const {
+std::size_t NoteIndex::visible(std::uint32_t track, std::int64_t t0_us, std::int64_t t1_us,
+                               std::vector<Bar>& out) const {
   out.clear();
   if (track >= bars_.size() || t1_us <= t0_us) return 0;
   const std::vector<Bar>& bars = bars_[track];
@@ -27,7 +28,8 @@ std::size_t NoteIndex::visible(std::uint32_t track, std::int64_t t0_us, std::int
   // Every bar before `first` ended at or before t0 (max_end is non-decreasing). A zero-length bar at
   // exactly t0 still shows: hence ≥ for bars that start at t0.
   const auto first = static_cast<std::size_t>(
-      std::partition_point(max_end.begin(), max_end.end(), [&](std::int64_t e) { return e < t0_us; }) - max_end.begin());
+      std::partition_point(max_end.begin(), max_end.end(), [&](std::int64_t e) { return e < t0_us; }) -
+      max_end.begin());
   const auto last = static_cast<std::size_t>(
       std::partition_point(bars.begin(), bars.end(), [&](const Bar& b) { return b.start_us < t1_us; }) - bars.begin());
   for (std::size_t i = first; i < last; ++i) {

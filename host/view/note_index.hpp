@@ -41,8 +41,8 @@ class NoteIndex {
   static bool sounding(const Bar& b, std::int64_t t_us) { return b.start_us <= t_us && t_us < b.end_us; }
 
  private:
-  std::vector<std::vector<Bar>> bars_;             // per track, by start
-  std::vector<std::vector<std::int64_t>> max_end_; // per track: max end of bars [0, i]
+  std::vector<std::vector<Bar>> bars_;              // per track, by start
+  std::vector<std::vector<std::int64_t>> max_end_;  // per track: max end of bars [0, i]
 };
 
 }  // namespace hmp::view

@@ -21,16 +21,28 @@ constexpr Rgb rgb8(int r, int g, int b) {
 
 // The roll.
 inline constexpr Rgb kBackground{0.07f, 0.07f, 0.08f};
-inline constexpr Rgb kHapticBlue = rgb8(30, 136, 229);       // the felt track
-inline constexpr Rgb kSoundingYellow = rgb8(240, 228, 66);   // a felt note sounding now
-inline constexpr Rgb kSoundingWhite{1.0f, 1.0f, 1.0f};       // another track's note sounding now
+inline constexpr Rgb kHapticBlue = rgb8(30, 136, 229);      // the felt track
+inline constexpr Rgb kSoundingYellow = rgb8(240, 228, 66);  // a felt note sounding now
+inline constexpr Rgb kSoundingWhite{1.0f, 1.0f, 1.0f};      // another track's note sounding now
 // Tracks behind the felt one are drawn this far from the background towards their colour.
 inline constexpr float kBehindStrength = 0.7f;
 inline constexpr std::array<Rgb, 16> kTrackColours{{
-    rgb8(204, 102, 0),   rgb8(204, 153, 204), rgb8(204, 255, 128), rgb8(102, 153, 102),
-    rgb8(178, 51, 204),  rgb8(76, 255, 0),    rgb8(153, 51, 255),  rgb8(102, 204, 102),
-    rgb8(178, 153, 255), rgb8(230, 26, 51),   rgb8(153, 102, 153), rgb8(153, 255, 178),
-    rgb8(255, 153, 178), rgb8(153, 204, 51),  rgb8(0, 128, 102),   rgb8(230, 76, 204),
+    rgb8(204, 102, 0),
+    rgb8(204, 153, 204),
+    rgb8(204, 255, 128),
+    rgb8(102, 153, 102),
+    rgb8(178, 51, 204),
+    rgb8(76, 255, 0),
+    rgb8(153, 51, 255),
+    rgb8(102, 204, 102),
+    rgb8(178, 153, 255),
+    rgb8(230, 26, 51),
+    rgb8(153, 102, 153),
+    rgb8(153, 255, 178),
+    rgb8(255, 153, 178),
+    rgb8(153, 204, 51),
+    rgb8(0, 128, 102),
+    rgb8(230, 76, 204),
 }};
 
 // Around the roll.

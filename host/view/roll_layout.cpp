@@ -42,7 +42,8 @@ std::int64_t RollLayout::window_begin_us(std::int64_t now_us) const {
 std::int64_t RollLayout::window_end_us(std::int64_t now_us) const { return now_us + half_span_us(p_); }
 
 float RollLayout::x_of(std::int64_t t_us, std::int64_t now_us) const {
-  return static_cast<float>(static_cast<double>(roll_width(p_)) * 0.5 + static_cast<double>(t_us - now_us) * px_per_us(p_));
+  return static_cast<float>(static_cast<double>(roll_width(p_)) * 0.5 +
+                            static_cast<double>(t_us - now_us) * px_per_us(p_));
 }
 
 float RollLayout::row_height() const {

@@ -23,12 +23,12 @@ struct Rect {
 
 struct LayoutParams {
   int width_px = 1280, height_px = 720;
-  double seconds_across = 12.0;        // the window shows this much song time (zoom: + and − keys)
-  int key_low = 21, key_high = 108;    // the keys shown (piano range unless the song says otherwise)
-  float margin_px = 40.0f;             // above and below the roll (overlay, vibration strip)
-  float depth_step_px = 6.0f;          // each layer behind is this much up and to the right,
-  float depth_span_px = 30.0f;         // the deepest at most this much (many tracks: smaller steps)
-  float legend_px = 240.0f;            // the legend's panel right of the roll (at most 30 % of the width)
+  double seconds_across = 12.0;      // the window shows this much song time (zoom: + and − keys)
+  int key_low = 21, key_high = 108;  // the keys shown (piano range unless the song says otherwise)
+  float margin_px = 40.0f;           // above and below the roll (overlay, vibration strip)
+  float depth_step_px = 6.0f;        // each layer behind is this much up and to the right,
+  float depth_span_px = 30.0f;       // the deepest at most this much (many tracks: smaller steps)
+  float legend_px = 240.0f;          // the legend's panel right of the roll (at most 30 % of the width)
 };
 
 // The roll's width: the window less the legend's panel.
@@ -52,7 +52,7 @@ class RollLayout {
   std::int64_t window_end_us(std::int64_t now_us) const;
   float x_of(std::int64_t t_us, std::int64_t now_us) const;  // before the layer's shift
   float row_height() const;
-  float y_of(int key) const;                                 // top of the key's row, before the shift
+  float y_of(int key) const;  // top of the key's row, before the shift
   std::uint32_t depth_of(std::uint32_t track) const { return depth_.at(track); }  // 0 = front (haptic)
   Rect bar_rect(const Bar& b, std::int64_t now_us) const;
   // After a switch of the haptic track the layers glide to their new depth: `blend` 0 is the old order
@@ -74,7 +74,7 @@ class RollLayout {
   float shift_of(std::uint32_t track) const;  // px up and right of the track's layer
   float front_of(std::uint32_t track) const;  // 1 in front, 0 behind; between while the layers glide
 
-  std::vector<std::uint32_t> depth_;  // per track
+  std::vector<std::uint32_t> depth_;           // per track
   std::vector<std::uint32_t> previous_depth_;  // per track, before the switch (empty: no glide)
   float blend_ = 1.0f;
 };
@@ -83,10 +83,10 @@ class RollLayout {
 // right of the roll, the progress bar and the vibration strip in the bottom margin. `scale` is the
 // screen's pixels per logical pixel (HiDPI), so text and rows keep their size.
 struct Chrome {
-  Rect overlay;      // the top margin
-  Rect progress;     // click or drag: seek
-  Rect strip;        // the vibration the device plays now
-  Rect legend;       // the legend's panel, beside the roll
+  Rect overlay;   // the top margin
+  Rect progress;  // click or drag: seek
+  Rect strip;     // the vibration the device plays now
+  Rect legend;    // the legend's panel, beside the roll
   float legend_x0 = 0, legend_y0 = 0, legend_row = 0, legend_width = 0;
   Rect legend_row_rect(std::size_t i) const {
     const float y = legend_y0 + legend_row * static_cast<float>(i);

@@ -15,13 +15,13 @@ namespace hmp::view {
 struct ViewSetup {
   const midi::Song* song = nullptr;  // outlives the window
   std::string title = "hmp";
-  int width = 1280, height = 720;    // logical size (HiDPI screens get more pixels)
+  int width = 1280, height = 720;  // logical size (HiDPI screens get more pixels)
   bool fullscreen = false;
-  bool hidden = false;               // tests: draw without showing
-  bool capture = false;              // keep every frame's pixels for read_pixels (tests, screenshots)
-  bool vsync = true;                 // wait for the display's refresh (off: as fast as it draws)
-  bool draw_everything = false;      // the view-frame benchmark's comparison: every note of the song sent and
-                                     // drawn each frame, as players that do not index their notes do
+  bool hidden = false;           // tests: draw without showing
+  bool capture = false;          // keep every frame's pixels for read_pixels (tests, screenshots)
+  bool vsync = true;             // wait for the display's refresh (off: as fast as it draws)
+  bool draw_everything = false;  // the view-frame benchmark's comparison: every note of the song sent and
+                                 // drawn each frame, as players that do not index their notes do
 };
 
 // What the last frame cost (the view-frame benchmark): the CPU time of this thread to work out the frame
@@ -35,36 +35,36 @@ struct FrameCost {
 // One row of the legend (top right): a track's name, instrument, and whether it is the haptic track or hidden.
 struct LegendEntry {
   std::uint32_t track = 0;
-  std::string label;                 // "2 Flute (Flute)"
+  std::string label;  // "2 Flute (Flute)"
   bool haptic = false;
-  bool hidden = false;               // its bars are not drawn (clicked off in the legend)
+  bool hidden = false;  // its bars are not drawn (clicked off in the legend)
 };
 
 // What one frame shows.
 struct FrameState {
-  std::int64_t song_us = 0;          // the song time this frame shows (when it reaches the screen)
-  std::int64_t end_us = 0;           // the song's (or the passage's) end: the progress bar's right edge
+  std::int64_t song_us = 0;  // the song time this frame shows (when it reaches the screen)
+  std::int64_t end_us = 0;   // the song's (or the passage's) end: the progress bar's right edge
   std::uint32_t haptic_track = 0;
-  float depth_blend = 1.0f;          // 0 → 1 after a switch of the haptic track: layers glide to their new depth
-  std::uint32_t previous_haptic = 0; // the haptic track before that switch
+  float depth_blend = 1.0f;           // 0 → 1 after a switch of the haptic track: layers glide to their new depth
+  std::uint32_t previous_haptic = 0;  // the haptic track before that switch
   bool paused = false;
-  double seconds_across = 12.0;      // zoom
-  std::string overlay;               // the line at the top: time, track, envelope, mapping, device, late/stolen
-  std::vector<LegendEntry> legend;   // one row each, top down (tracks without notes are not listed)
-  std::vector<std::string> help;     // lines of the help box (the h key); empty: none
-  bool cursor = false;               // the touch cursor (grip or mouse) at (cursor_x, cursor_y) window pixels
+  double seconds_across = 12.0;     // zoom
+  std::string overlay;              // the line at the top: time, track, envelope, mapping, device, late/stolen
+  std::vector<LegendEntry> legend;  // one row each, top down (tracks without notes are not listed)
+  std::vector<std::string> help;    // lines of the help box (the h key); empty: none
+  bool cursor = false;              // the touch cursor (grip or mouse) at (cursor_x, cursor_y) window pixels
   float cursor_x = 0, cursor_y = 0;
-  bool cursor_pressing = false;      // pushing in (button held / grip pushed into a bar)
-  float vibration[256] = {};         // the strip under the roll: the device's output over the last frames
+  bool cursor_pressing = false;  // pushing in (button held / grip pushed into a bar)
+  float vibration[256] = {};     // the strip under the roll: the device's output over the last frames
   int vibration_samples = 0;
 };
 
 // What the user did since the last frame.
 struct ViewEvent {
   enum class Kind { quit, key, press, release, cursor } kind = Kind::key;
-  char key = 0;                      // Kind::key: ' ', 'q', 't', 'T', 'e', 'm', '+', '-', '[', ']', 'f', 'h',
-                                     // '<' / '>' for the arrow keys
-  float x = 0, y = 0;                // Kind::press / release / cursor: window pixels, origin top left
+  char key = 0;        // Kind::key: ' ', 'q', 't', 'T', 'e', 'm', '+', '-', '[', ']', 'f', 'h',
+                       // '<' / '>' for the arrow keys
+  float x = 0, y = 0;  // Kind::press / release / cursor: window pixels, origin top left
 };
 
 class ViewWindow {

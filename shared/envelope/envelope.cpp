@@ -88,12 +88,11 @@ bool find_builtin(const char* wanted, Preset& out) {
 }
 
 bool valid(const Adsr& a) {
-  return duration_ok(a.attack_ms) && duration_ok(a.decay_ms) && duration_ok(a.release_ms) &&
-         fraction_ok(a.sustain) && fraction_ok(a.final_ratio) && static_cast<std::uint8_t>(a.shape) <= 2;
+  return duration_ok(a.attack_ms) && duration_ok(a.decay_ms) && duration_ok(a.release_ms) && fraction_ok(a.sustain) &&
+         fraction_ok(a.final_ratio) && static_cast<std::uint8_t>(a.shape) <= 2;
 }
 
-void Envelope::start(const Adsr& preset, float peak, std::uint32_t duration_ticks, float tick_hz,
-                     float end_fade_ms) {
+void Envelope::start(const Adsr& preset, float peak, std::uint32_t duration_ticks, float tick_hz, float end_fade_ms) {
   const bool time_base_ok = std::isfinite(tick_hz) && tick_hz > 0.0f;
   const Adsr& p = (valid(preset) && time_base_ok) ? preset : builtin(Preset::square);
   const double ticks_per_ms = time_base_ok ? static_cast<double>(tick_hz) / 1000.0 : 0.0;

@@ -31,7 +31,17 @@ struct Adsr {
 // The value is the preset's slot on the wire; its name and ADSR are its row in envelope.cpp's table
 // (a static_assert there keeps the rows in this order). The GM → preset `auto` table is gm_auto.hpp.
 enum class Preset : std::uint8_t {
-  organ, flute, harpsichord, guitar, trumpet, violin, cello, contrabass, square, triangle, legacy2013,
+  organ,
+  flute,
+  harpsichord,
+  guitar,
+  trumpet,
+  violin,
+  cello,
+  contrabass,
+  square,
+  triangle,
+  legacy2013,
   count
 };
 inline constexpr std::uint8_t kBuiltinCount = static_cast<std::uint8_t>(Preset::count);
@@ -89,12 +99,12 @@ class Envelope {
   // only what at() needs in a form that stays exact for notes of hours: the first tick of each later phase
   // as an integer (n < t ⟺ n < ceil(t)), and the fraction ceil(t) − t, so that the time into a phase is
   // (integer tick difference) + (small fraction) and never a difference of two large floats.
-  std::uint32_t n_end_ = 1;           // N
-  std::uint32_t decay_first_ = 0;     // ceil(t1): first tick after the attack
-  std::uint32_t sustain_first_ = 0;   // ceil(t2)
-  std::uint32_t release_first_ = 1;   // ceil(t3); = N when there is no release
-  float decay_offset_ = 0;            // ceil(t1) − t1, in [0, 1)
-  float release_offset_ = 0;          // ceil(t3) − t3, in [0, 1)
+  std::uint32_t n_end_ = 1;          // N
+  std::uint32_t decay_first_ = 0;    // ceil(t1): first tick after the attack
+  std::uint32_t sustain_first_ = 0;  // ceil(t2)
+  std::uint32_t release_first_ = 1;  // ceil(t3); = N when there is no release
+  float decay_offset_ = 0;           // ceil(t1) − t1, in [0, 1)
+  float release_offset_ = 0;         // ceil(t3) − t3, in [0, 1)
   float peak_ = 0, sustain_level_ = 0;
   float attack_slope_ = 0, decay_slope_ = 0;  // per tick
   float release_log2_per_tick_ = 0;           // log2(r)/R in ticks; r = 0 handled by release_zero_

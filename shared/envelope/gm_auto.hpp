@@ -79,9 +79,9 @@ struct Table1Instrument {
   std::uint8_t first, last, typical;
 };
 inline constexpr Table1Instrument kTable1Instruments[] = {
-    {Preset::organ, 16, 20, 19},      {Preset::flute, 73, 73, 73},  {Preset::harpsichord, 6, 6, 6},
-    {Preset::guitar, 24, 25, 24},     {Preset::trumpet, 56, 56, 56}, {Preset::violin, 40, 40, 40},
-    {Preset::cello, 42, 42, 42},      {Preset::contrabass, 43, 43, 43},
+    {Preset::organ, 16, 20, 19},  {Preset::flute, 73, 73, 73},      {Preset::harpsichord, 6, 6, 6},
+    {Preset::guitar, 24, 25, 24}, {Preset::trumpet, 56, 56, 56},    {Preset::violin, 40, 40, 40},
+    {Preset::cello, 42, 42, 42},  {Preset::contrabass, 43, 43, 43},
 };
 // Whether `program` is one of them: `auto` keeps Table 1's envelope for these even when measured
 // presets are configured.

@@ -64,10 +64,10 @@ class Decoder {
   std::size_t len_ = 0;
   std::size_t packet_size_ = 0;
   std::size_t expected_ = kMaxPacket;
-  std::uint8_t block_left_ = 0;      // data bytes still due in the current COBS block (0: next is a code)
-  bool zero_pending_ = false;        // the block just finished stands for a 0x00 unless the frame ends here
-  bool overflowed_ = false;          // this frame already exceeded the buffer: skip to the delimiter
-  bool in_frame_ = false;            // at least one byte since the last delimiter
+  std::uint8_t block_left_ = 0;  // data bytes still due in the current COBS block (0: next is a code)
+  bool zero_pending_ = false;    // the block just finished stands for a 0x00 unless the frame ends here
+  bool overflowed_ = false;      // this frame already exceeded the buffer: skip to the delimiter
+  bool in_frame_ = false;        // at least one byte since the last delimiter
   DecoderCounters counters_;
 };
 

@@ -60,8 +60,7 @@ double rank_position(const KeySet& keys, int key) {
 
 Haptic map_rank(const Ranges& r, const KeySet& keys, int key) {
   const double u = rank_position(keys, key);
-  return in_ranges(r, r.f_min_hz * std::pow(r.f_max_hz / r.f_min_hz, u),
-                   r.a_min_db + (r.a_max_db - r.a_min_db) * u);
+  return in_ranges(r, r.f_min_hz * std::pow(r.f_max_hz / r.f_min_hz, u), r.a_min_db + (r.a_max_db - r.a_min_db) * u);
 }
 
 // 2013 paper Eq. 3–5 with its note_step divided by the number of distinct keys:
@@ -103,9 +102,7 @@ void KeySet::add(std::uint8_t key) {
   if (key < kKeyCount) bits_[key / 64] |= std::uint64_t{1} << (key % 64);
 }
 
-bool KeySet::contains(std::uint8_t key) const {
-  return key < kKeyCount && ((bits_[key / 64] >> (key % 64)) & 1u) != 0;
-}
+bool KeySet::contains(std::uint8_t key) const { return key < kKeyCount && ((bits_[key / 64] >> (key % 64)) & 1u) != 0; }
 
 int KeySet::count() const { return std::popcount(bits_[0]) + std::popcount(bits_[1]); }
 

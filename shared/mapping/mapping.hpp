@@ -10,8 +10,8 @@ const char* name(Mode m);
 bool find_mode(const char* name, Mode& out);  // case-insensitive
 
 struct Ranges {
-  double f_min_hz = 50, f_max_hz = 250;   // design §5 defaults
-  double a_min_db = 7.5, a_max_db = 30;   // a_max is full scale (1.0)
+  double f_min_hz = 50, f_max_hz = 250;  // design §5 defaults
+  double a_min_db = 7.5, a_max_db = 30;  // a_max is full scale (1.0)
 };
 // Usable ranges: all finite, 0 < f_min ≤ f_max, a_min ≤ a_max. A Mapper given others uses the defaults
 // (the host rejects them first, with a message).
@@ -24,12 +24,12 @@ inline constexpr double kLegacyForceMin = 0.05;
 // The set of MIDI keys (0–127) a track uses.
 class KeySet {
  public:
-  void add(std::uint8_t key);         // keys above 127 are ignored
+  void add(std::uint8_t key);  // keys above 127 are ignored
   bool contains(std::uint8_t key) const;
-  int count() const;                  // k_ε
-  int min() const;                    // k_min (−1 when empty)
-  int max() const;                    // k_max (−1 when empty)
-  int rank(std::uint8_t key) const;   // 0-based rank among the distinct keys (−1 if absent)
+  int count() const;                        // k_ε
+  int min() const;                          // k_min (−1 when empty)
+  int max() const;                          // k_max (−1 when empty)
+  int rank(std::uint8_t key) const;         // 0-based rank among the distinct keys (−1 if absent)
   int count_below(std::uint8_t key) const;  // keys of the set lower than key (= rank when present)
  private:
   std::uint64_t bits_[2] = {0, 0};
@@ -54,6 +54,7 @@ class Mapper {
   double jnd_steps() const;
   // The same for the mapped frequencies of other keys (a track's own, when the set is the song's).
   double jnd_steps(const KeySet& keys) const;
+
  private:
   Mode mode_;
   Ranges ranges_;

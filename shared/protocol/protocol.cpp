@@ -106,12 +106,8 @@ static_assert(kHeaderSize + 6 + kNotesPerBatch * kNoteBytes == kReportSize, "a n
 template <class IO, class Msg>
 void walk(IO& io, Msg& m) {
   switch (m.type) {
-    case Type::hello:
-      io.u16(m.hello.protocol_version);
-      break;
-    case Type::sync:
-      io.u64(m.sync.host_time_us);
-      break;
+    case Type::hello: io.u16(m.hello.protocol_version); break;
+    case Type::sync: io.u64(m.sync.host_time_us); break;
     case Type::notes: {
       auto& b = m.notes;
       io.u8(b.count);
@@ -165,8 +161,7 @@ void walk(IO& io, Msg& m) {
       io.e8(m.transport.op);
       io.u64(m.transport.tick);
       break;
-    case Type::estop:
-      break;
+    case Type::estop: break;
     case Type::hello_reply: {
       auto& h = m.hello_reply;
       io.u16(h.protocol_version);
@@ -251,15 +246,15 @@ ErrorCode check(const Notes& b) {
   if (!count_ok(b.count)) return ErrorCode::bad_length_field;
   for (std::size_t i = 0; i < b.count; ++i) {
     const CompactNote& n = b.notes[i];
-    if (const ErrorCode e = check_note(n.preset, n.duration_ticks, kMaxCompactDuration); e != ErrorCode::none)
-      return e;
+    if (const ErrorCode e = check_note(n.preset, n.duration_ticks, kMaxCompactDuration); e != ErrorCode::none) return e;
   }
   return ErrorCode::none;
 }
 
 ErrorCode check(const Preset& p) {
   if (p.slot < envelope::kFirstUserSlot || p.slot >= envelope::kSlotCount) return ErrorCode::bad_slot;
-  const bool shape_known = static_cast<std::uint8_t>(p.adsr.shape) <= static_cast<std::uint8_t>(envelope::Shape::damped);
+  const bool shape_known =
+      static_cast<std::uint8_t>(p.adsr.shape) <= static_cast<std::uint8_t>(envelope::Shape::damped);
   return shape_known && envelope::valid(p.adsr) ? ErrorCode::none : ErrorCode::bad_value;
 }
 
@@ -278,8 +273,8 @@ ErrorCode check(const Transport& t) {
 
 ErrorCode check(const HelloReply& h) {
   const bool ok = h.protocol_version >= 1 &&
-                  static_cast<std::uint8_t>(h.board) <= static_cast<std::uint8_t>(Board::stm32f407) &&
-                  h.tick_hz >= 1 && h.voices >= 1 && (h.board_flags & ~kKnownBoardFlags) == 0;
+                  static_cast<std::uint8_t>(h.board) <= static_cast<std::uint8_t>(Board::stm32f407) && h.tick_hz >= 1 &&
+                  h.voices >= 1 && (h.board_flags & ~kKnownBoardFlags) == 0;
   return ok ? ErrorCode::none : ErrorCode::bad_value;
 }
 
@@ -302,8 +297,7 @@ ErrorCode check(const Started& b) {
 
 ErrorCode check(const Error& e) {
   const auto code = static_cast<std::uint8_t>(e.code);
-  return code >= 1 && code <= static_cast<std::uint8_t>(ErrorCode::bad_slot) ? ErrorCode::none
-                                                                               : ErrorCode::bad_value;
+  return code >= 1 && code <= static_cast<std::uint8_t>(ErrorCode::bad_slot) ? ErrorCode::none : ErrorCode::bad_value;
 }
 
 }  // namespace
@@ -322,38 +316,26 @@ bool is_known_type(std::uint8_t type) {
     case Type::sync_reply:
     case Type::status:
     case Type::started:
-    case Type::error:
-      return true;
+    case Type::error: return true;
   }
   return false;
 }
 
 ErrorCode validate(const Message& m) {
   switch (m.type) {
-    case Type::hello:
-      return m.hello.protocol_version >= 1 ? ErrorCode::none : ErrorCode::bad_value;
-    case Type::notes:
-      return check(m.notes);
-    case Type::long_note:
-      return check_note(m.long_note.preset, m.long_note.duration_ticks, 0xFFFFFFFFu);
-    case Type::preset:
-      return check(m.preset);
-    case Type::settings:
-      return check(m.settings);
-    case Type::transport:
-      return check(m.transport);
-    case Type::hello_reply:
-      return check(m.hello_reply);
-    case Type::status:
-      return check(m.status);
-    case Type::started:
-      return check(m.started);
-    case Type::error:
-      return check(m.error);
+    case Type::hello: return m.hello.protocol_version >= 1 ? ErrorCode::none : ErrorCode::bad_value;
+    case Type::notes: return check(m.notes);
+    case Type::long_note: return check_note(m.long_note.preset, m.long_note.duration_ticks, 0xFFFFFFFFu);
+    case Type::preset: return check(m.preset);
+    case Type::settings: return check(m.settings);
+    case Type::transport: return check(m.transport);
+    case Type::hello_reply: return check(m.hello_reply);
+    case Type::status: return check(m.status);
+    case Type::started: return check(m.started);
+    case Type::error: return check(m.error);
     case Type::sync:
     case Type::estop:
-    case Type::sync_reply:
-      return ErrorCode::none;  // every field value is meaningful
+    case Type::sync_reply: return ErrorCode::none;  // every field value is meaningful
   }
   return ErrorCode::unknown_type;
 }

@@ -13,8 +13,8 @@
 // Error codes decode() returns: unknown_type (byte 0), bad_length_field (count fields), bad_slot (preset
 // slot numbers), bad_value (any other field out of range, non-finite floats, unknown enum values),
 // nonzero_padding (a byte after the payload or in an unused note/entry slot is not zero). Fields are
-// checked in wire order (the first bad one decides the code), then the padding. decode() is direction-agnostic: the receiver checks the direction with
-// is_host_to_device() and answers wrong_direction itself.
+// checked in wire order (the first bad one decides the code), then the padding. decode() is direction-agnostic: the
+// receiver checks the direction with is_host_to_device() and answers wrong_direction itself.
 #include <cstddef>
 #include <cstdint>
 
@@ -203,7 +203,6 @@ enum Fault : std::uint32_t {
 };
 inline constexpr std::uint32_t kKnownFaults = 0xFFu;  // a status with any other bit set is rejected
 
-
 // bytes 3–10 tick u64 | 11–12 queue free u16 | 13–14 last seq processed u16 | 15–18 late u32
 // | 19–22 stolen u32 | 23–26 rejected u32 | 27–30 started u32 | 31–34 faults u32 (kKnownFaults) | 35 state
 // | 36 active voices | 37–40 output f32 [-1,1] | 41–44 achieved force f32 (N, along the direction, finite)
@@ -247,10 +246,10 @@ enum class ErrorCode : std::uint8_t {
   none = 0,
   // decode errors (also sent back in an Error report with the offending seq)
   unknown_type,
-  bad_length_field,   // a count or size field outside its range
-  bad_value,          // a field outside its documented range (NaN, negative duration, …)
-  nonzero_padding,    // bytes after the payload are not zero
-  wrong_direction,    // a device→host type received by the device or vice versa
+  bad_length_field,  // a count or size field outside its range
+  bad_value,         // a field outside its documented range (NaN, negative duration, …)
+  nonzero_padding,   // bytes after the payload are not zero
+  wrong_direction,   // a device→host type received by the device or vice versa
   // semantic errors (device)
   version_mismatch,
   queue_full,

@@ -16,15 +16,22 @@ constexpr X3String kX3[kStrings] = {
     {-1, +1, +1, -1, 0}, {+1, +1, +1, +1, 0}, {+1, +1, -1, 0, +1}, {-1, +1, -1, 0, +1},
 };
 
-template <class T> T sign(signed char s) { return static_cast<T>(s); }
+template <class T>
+T sign(signed char s) {
+  return static_cast<T>(s);
+}
 
 // det(G) ≥ ratio·(trace/3)³ for G = Σ v vᵀ; false also for an all-zero G.
 template <class T>
 bool spans_space(const Vec3<T> (&v)[kStrings], T ratio) {
   T xx = 0, yy = 0, zz = 0, xy = 0, xz = 0, yz = 0;
   for (int i = 0; i < kStrings; ++i) {
-    xx += v[i].x * v[i].x; yy += v[i].y * v[i].y; zz += v[i].z * v[i].z;
-    xy += v[i].x * v[i].y; xz += v[i].x * v[i].z; yz += v[i].y * v[i].z;
+    xx += v[i].x * v[i].x;
+    yy += v[i].y * v[i].y;
+    zz += v[i].z * v[i].z;
+    xy += v[i].x * v[i].y;
+    xz += v[i].x * v[i].z;
+    yz += v[i].y * v[i].z;
   }
   const T det = xx * (yy * zz - yz * yz) - xy * (xy * zz - yz * xz) + xz * (xy * yz - yy * xz);
   const T mean = (xx + yy + zz) / static_cast<T>(3);
@@ -89,11 +96,11 @@ Flags conditioning_flags(const StringGeometry<T>& strings, T ratio) {
   return ok ? 0 : flag::degenerate_geometry;
 }
 
-#define HMP_SPIDAR_GEOMETRY(T)                                                                     \
-  template Frame<T> x3_frame<T>(T, T, T, T, T);                                                    \
+#define HMP_SPIDAR_GEOMETRY(T)                                                                           \
+  template Frame<T> x3_frame<T>(T, T, T, T, T);                                                          \
   template void compute_strings<T>(const Frame<T>&, const Vec3<T>&, const Mat3<T>&, StringGeometry<T>&); \
-  template void rest_lengths<T>(const Frame<T>&, T (&)[kStrings]);                                 \
-  template bool inside_workspace<T>(const Frame<T>&, const Vec3<T>&);                              \
+  template void rest_lengths<T>(const Frame<T>&, T(&)[kStrings]);                                        \
+  template bool inside_workspace<T>(const Frame<T>&, const Vec3<T>&);                                    \
   template Flags conditioning_flags<T>(const StringGeometry<T>&, T);
 HMP_SPIDAR_GEOMETRY(float)
 HMP_SPIDAR_GEOMETRY(double)

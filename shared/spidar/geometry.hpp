@@ -14,14 +14,15 @@ inline constexpr int kStrings = 8;
 // Condition flags shared by the geometry, tension, pose and motor code (bitwise or-ed into results).
 using Flags = std::uint16_t;
 namespace flag {
-inline constexpr Flags invalid_input = 1u << 0;        // NaN/Inf in a wrench, a length, a pose or a parameter
-inline constexpr Flags short_string = 1u << 1;         // a string shorter than Frame::min_string_length
-inline constexpr Flags degenerate_geometry = 1u << 2;  // strings (nearly) coplanar: some force/torque direction unreachable
-inline constexpr Flags outside_workspace = 1u << 3;    // grip centre outside the configured workspace box
-inline constexpr Flags not_converged = 1u << 4;        // iteration cap reached before the optimality test passed
-inline constexpr Flags ill_conditioned = 1u << 5;      // a Cholesky pivot collapsed (numerically singular system)
-inline constexpr Flags pose_limited = 1u << 6;         // pose estimate clamped (rotation > angle limit or left the frame)
-inline constexpr Flags saturated = 1u << 7;            // a motor duty clamped to ±1
+inline constexpr Flags invalid_input = 1u << 0;  // NaN/Inf in a wrench, a length, a pose or a parameter
+inline constexpr Flags short_string = 1u << 1;   // a string shorter than Frame::min_string_length
+inline constexpr Flags degenerate_geometry =
+    1u << 2;  // strings (nearly) coplanar: some force/torque direction unreachable
+inline constexpr Flags outside_workspace = 1u << 3;  // grip centre outside the configured workspace box
+inline constexpr Flags not_converged = 1u << 4;      // iteration cap reached before the optimality test passed
+inline constexpr Flags ill_conditioned = 1u << 5;    // a Cholesky pivot collapsed (numerically singular system)
+inline constexpr Flags pose_limited = 1u << 6;       // pose estimate clamped (rotation > angle limit or left the frame)
+inline constexpr Flags saturated = 1u << 7;          // a motor duty clamped to ±1
 }  // namespace flag
 
 template <class T>
@@ -44,17 +45,17 @@ Frame<T> x3_frame(T px = static_cast<T>(0.06), T py = static_cast<T>(0.076), T p
 
 template <class T>
 struct Pose {
-  Vec3<T> position{};    // grip centre, device frame
+  Vec3<T> position{};     // grip centre, device frame
   Quat<T> orientation{};  // grip frame → device frame
 };
 
 // Everything the tension and pose code needs about the strings at one pose.
 template <class T>
 struct StringGeometry {
-  Vec3<T> u[kStrings];     // unit direction attachment → motor exit (zero for a short string)
-  Vec3<T> m[kStrings];     // (R b_i) × u_i: torque about the grip centre per newton of tension (zero if short)
-  T length[kStrings]{};     // |motor exit − attachment|
-  Flags flags = 0;          // invalid_input, short_string, outside_workspace
+  Vec3<T> u[kStrings];   // unit direction attachment → motor exit (zero for a short string)
+  Vec3<T> m[kStrings];   // (R b_i) × u_i: torque about the grip centre per newton of tension (zero if short)
+  T length[kStrings]{};  // |motor exit − attachment|
+  Flags flags = 0;       // invalid_input, short_string, outside_workspace
 };
 
 // Fills `out` for the grip at `pose`; `rotation` is to_matrix(pose.orientation), passed in because callers

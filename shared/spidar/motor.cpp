@@ -34,8 +34,14 @@ T MotorModel<T>::duty_checked(T force, T omega, Flags& flags) const {
     omega = 0;
   }
   const T d = force * duty_per_newton_ + omega * duty_per_rad_s_;
-  if (d > 1) { flags |= flag::saturated; return 1; }
-  if (d < -1) { flags |= flag::saturated; return -1; }
+  if (d > 1) {
+    flags |= flag::saturated;
+    return 1;
+  }
+  if (d < -1) {
+    flags |= flag::saturated;
+    return -1;
+  }
   return d;
 }
 

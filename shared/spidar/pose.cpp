@@ -8,7 +8,8 @@
 namespace hmp::spidar {
 
 template <class T>
-void LengthCalibration<T>::calibrate(const Frame<T>& frame, const std::int32_t (&counts)[kStrings], T metres_per_count) {
+void LengthCalibration<T>::calibrate(const Frame<T>& frame, const std::int32_t (&counts)[kStrings],
+                                     T metres_per_count) {
   rest_lengths(frame, length_at_rest);
   for (int i = 0; i < kStrings; ++i) count_at_rest[i] = counts[i];
   length_per_count = metres_per_count;
@@ -18,8 +19,8 @@ template <class T>
 void LengthCalibration<T>::lengths(const std::int32_t (&counts)[kStrings], T (&out)[kStrings]) const {
   for (int i = 0; i < kStrings; ++i) {
     // Unsigned subtraction wraps like the hardware counter; the result reinterpreted as signed is the travel.
-    const auto travel = static_cast<std::int32_t>(static_cast<std::uint32_t>(counts[i]) -
-                                                  static_cast<std::uint32_t>(count_at_rest[i]));
+    const auto travel =
+        static_cast<std::int32_t>(static_cast<std::uint32_t>(counts[i]) - static_cast<std::uint32_t>(count_at_rest[i]));
     out[i] = length_at_rest[i] + static_cast<T>(travel) * length_per_count;
   }
 }
@@ -45,9 +46,16 @@ bool limit_rotation(Quat<T>& q, T cos_half_max) {
   return true;
 }
 
-template <class T> bool clamp_abs(T& v, T limit) {
-  if (v > limit) { v = limit; return true; }
-  if (v < -limit) { v = -limit; return true; }
+template <class T>
+bool clamp_abs(T& v, T limit) {
+  if (v > limit) {
+    v = limit;
+    return true;
+  }
+  if (v < -limit) {
+    v = -limit;
+    return true;
+  }
   return false;
 }
 
@@ -78,7 +86,8 @@ Flags PoseEstimator<T>::update(const Frame<T>& frame, const T (&lengths)[kString
     for (int i = 0; i < kStrings; ++i) {
       const T e = strings_.length[i] - lengths[i];
       squares += e * e;
-      const T a[6] = {strings_.u[i].x, strings_.u[i].y, strings_.u[i].z, strings_.m[i].x, strings_.m[i].y, strings_.m[i].z};
+      const T a[6] = {strings_.u[i].x, strings_.u[i].y, strings_.u[i].z,
+                      strings_.m[i].x, strings_.m[i].y, strings_.m[i].z};
       for (int r = 0; r < 6; ++r) {
         rhs[r] += a[r] * e;
         for (int c = 0; c <= r; ++c) n[r][c] += a[r] * a[c];

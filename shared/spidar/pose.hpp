@@ -20,8 +20,8 @@ namespace hmp::spidar {
 
 template <class T>
 struct PoseParams {
-  T sigma = static_cast<T>(0.001);  // Levenberg–Marquardt damping added to AᵀA's diagonal
-  int iterations = 2;               // Gauss–Newton steps per tick
+  T sigma = static_cast<T>(0.001);            // Levenberg–Marquardt damping added to AᵀA's diagonal
+  int iterations = 2;                         // Gauss–Newton steps per tick
   T rotation_scale = static_cast<T>(0.0225);  // ρ (m): the X3 grip's attachment radius
   // The estimate never turns further than this from the rest orientation (the grip cannot: the strings
   // would wrap); stored as cos of half the angle so the test needs no trigonometry. Default 90°.

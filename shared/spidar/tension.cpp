@@ -20,13 +20,16 @@ struct BoxQp {
   T lo, hi;
 };
 
-template <class T> T clamp_to(T v, T lo, T hi) { return v >= lo ? (v <= hi ? v : hi) : lo; }  // NaN → lo
+template <class T>
+T clamp_to(T v, T lo, T hi) {
+  return v >= lo ? (v <= hi ? v : hi) : lo;
+}  // NaN → lo
 
 // H = λt UᵀU + λr MᵀM + s I and g = λt UᵀF + λr MᵀN, with √λ folded into the vectors so each entry is one
 // 6-term dot product. Returns false if anything came out non-finite.
 template <class T>
-bool build_qp(const StringGeometry<T>& strings, const Vec3<T>& force, const Vec3<T>& torque,
-              const TensionParams<T>& p, BoxQp<T>& qp) {
+bool build_qp(const StringGeometry<T>& strings, const Vec3<T>& force, const Vec3<T>& torque, const TensionParams<T>& p,
+              BoxQp<T>& qp) {
   const T wt = std::sqrt(p.lambda_t), wr = std::sqrt(p.lambda_r);
   Vec3<T> a[kStrings], b[kStrings];
   for (int i = 0; i < kStrings; ++i) {
@@ -44,7 +47,8 @@ bool build_qp(const StringGeometry<T>& strings, const Vec3<T>& force, const Vec3
   return std::isfinite(check);
 }
 
-template <class T> T gradient(const BoxQp<T>& qp, const T (&t)[kStrings], int i) {
+template <class T>
+T gradient(const BoxQp<T>& qp, const T (&t)[kStrings], int i) {
   T s = -qp.g[i];
   for (int j = 0; j < kStrings; ++j) s += qp.h[i][j] * t[j];
   return s;
@@ -94,7 +98,8 @@ class DualActiveSet {
     upper_ = static_cast<Mask>(upper & ~lower);
     save();
     budget_ = max_changes;
-    for (int i = 0; i < kStrings; ++i) t_[i] = (lower_ & bit(i)) ? qp_.lo : ((upper_ & bit(i)) ? qp_.hi : static_cast<T>(0));
+    for (int i = 0; i < kStrings; ++i)
+      t_[i] = (lower_ & bit(i)) ? qp_.lo : ((upper_ & bit(i)) ? qp_.hi : static_cast<T>(0));
     // Every pass ends on a fresh Cholesky solve for the active set it reached, and the optimality test is
     // made on that: the swept matrix only steers the search, so the rounding its sweeps collect (sweeping
     // out cancels digits) never reaches the answer. Most ticks the first guess is right and this solve is
@@ -118,7 +123,10 @@ class DualActiveSet {
 
  private:
   bool is_active(int i) const { return ((lower_ | upper_) & bit(i)) != 0; }
-  void save() { saved_lower_ = lower_; saved_upper_ = upper_; }
+  void save() {
+    saved_lower_ = lower_;
+    saved_upper_ = upper_;
+  }
   // Oriented so that ≥ 0 means the bound is holding the string where the objective wants it.
   T multiplier(int j) const { return (lower_ & bit(j)) ? grad_[j] : -grad_[j]; }
 
@@ -147,10 +155,12 @@ class DualActiveSet {
       save();
       // Releasing a string with gradient γ moves the held optimum by −γ·H_F'F'⁻¹ e_j.
       const T gamma = grad_[worst];
-      const T (&col)[kStrings] = s_[worst];  // symmetric: row = column
+      const T(&col)[kStrings] = s_[worst];  // symmetric: row = column
       for (int i = 0; i < kStrings; ++i) {
-        if (is_active(i)) grad_[i] -= col[i] * gamma;
-        else t_[i] += col[i] * gamma;
+        if (is_active(i))
+          grad_[i] -= col[i] * gamma;
+        else
+          t_[i] += col[i] * gamma;
       }
       grad_[worst] = 0;
     }
@@ -174,8 +184,10 @@ class DualActiveSet {
     int nf = 0;
     na = 0;
     for (int i = 0; i < kStrings; ++i) {
-      if (is_active(i)) ac[na++] = i;
-      else fr[nf++] = i;
+      if (is_active(i))
+        ac[na++] = i;
+      else
+        fr[nf++] = i;
     }
     for (int a = 0; a < nf; ++a) {
       T r = qp_.g[fr[a]];
@@ -227,7 +239,7 @@ class DualActiveSet {
     const T dir = up ? static_cast<T>(1) : static_cast<T>(-1);
     for (;;) {
       if (changes_ >= budget_) return Outcome::out_of_budget;
-      const T (&col)[kStrings] = s_[p];
+      const T(&col)[kStrings] = s_[p];
       const T zp = -col[p];
       if (!(zp > 0)) return Outcome::singular;
       T step = (target - t_[p]) * dir / zp;
@@ -242,8 +254,10 @@ class DualActiveSet {
       }
       const T move = step * dir;
       for (int i = 0; i < kStrings; ++i) {
-        if (is_active(i)) grad_[i] += move * col[i];
-        else t_[i] -= move * col[i];
+        if (is_active(i))
+          grad_[i] += move * col[i];
+        else
+          t_[i] -= move * col[i];
       }
       grad_[p] += move;
       if (blocking < 0) {
@@ -352,7 +366,6 @@ TensionResult<T> solve_tensions(const StringGeometry<T>& strings, const Vec3<T>&
 template TensionResult<float> solve_tensions<float>(const StringGeometry<float>&, const Vec3<float>&,
                                                     const Vec3<float>&, const TensionParams<float>&, TensionState&);
 template TensionResult<double> solve_tensions<double>(const StringGeometry<double>&, const Vec3<double>&,
-                                                      const Vec3<double>&, const TensionParams<double>&,
-                                                      TensionState&);
+                                                      const Vec3<double>&, const TensionParams<double>&, TensionState&);
 
 }  // namespace hmp::spidar

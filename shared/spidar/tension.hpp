@@ -18,8 +18,8 @@ namespace hmp::spidar {
 
 template <class T>
 struct TensionParams {
-  T t_min = static_cast<T>(0.3);  // N: every string stays taut
-  T t_max = static_cast<T>(6.0);  // N
+  T t_min = static_cast<T>(0.3);     // N: every string stays taut
+  T t_max = static_cast<T>(6.0);     // N
   T lambda_t = static_cast<T>(1.0);  // weight of the force error, 1/N²
   // Weight of the torque error, 1/(N·m)². Torques at a 22.5 mm grip are ~45× smaller than the forces that
   // make them, so λr = 40 makes a torque error of G·f cost about 1/50 of a force error f: the force is

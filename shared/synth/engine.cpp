@@ -85,8 +85,8 @@ const envelope::Adsr* Engine::preset(std::uint8_t slot) const {
 bool Engine::playable(const Note& note) {
   // Zero duration is a malformed command here (the host always sends N ≥ 1); zero frequency is silence
   // and frequencies at or above Nyquist cannot be synthesised at this tick rate. Amplitude 0 is allowed.
-  const bool below_nyquist = static_cast<std::uint64_t>(note.freq_q20) * 2 <
-                             (static_cast<std::uint64_t>(cfg_.tick_hz) << kFreqFracBits);
+  const bool below_nyquist =
+      static_cast<std::uint64_t>(note.freq_q20) * 2 < (static_cast<std::uint64_t>(cfg_.tick_hz) << kFreqFracBits);
   if (preset(note.preset) == nullptr || note.duration_ticks == 0 || note.freq_q20 == 0 || !below_nyquist) {
     ++counters_.rejected;
     return false;

@@ -23,6 +23,7 @@ class Limiter {
   float process(float x);  // NaN/±Inf in → 0 out; |result| ≤ 1
   float gain() const { return 1.0f - gap_; }
   void reset() { gap_ = 0.0f; }
+
  private:
   // The state is the gap to unity gain rather than the gain: it decays geometrically with float's
   // relative precision, so 1 − gap returns to exactly 1.0 (and bit-exact pass-through) instead of
@@ -66,7 +67,7 @@ class Engine {
 
  private:
   bool playable(const Note& note);  // counts a refusal
-  Voice& take_voice();               // a free voice, or else the oldest (counted as stolen)
+  Voice& take_voice();              // a free voice, or else the oldest (counted as stolen)
 
   SynthConfig cfg_;
   Polyphony policy_ = Polyphony::sum;

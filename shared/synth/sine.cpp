@@ -18,8 +18,10 @@ constexpr unsigned kFracBits = 32 - kTableBits;
 // [−¼, ¼] turn with exact integer symmetries, then a Taylor series that converges to double precision there.
 constexpr double sine_of_table_step(int k) {
   const int quarter = static_cast<int>(kTableSize / 4);
-  if (k > quarter && k <= 3 * quarter) k = 2 * quarter - k;  // sin(π − x) = sin(x)
-  else if (k > 3 * quarter) k -= 4 * quarter;                // sin(x − 2π) = sin(x)
+  if (k > quarter && k <= 3 * quarter)
+    k = 2 * quarter - k;  // sin(π − x) = sin(x)
+  else if (k > 3 * quarter)
+    k -= 4 * quarter;  // sin(x − 2π) = sin(x)
   const double x = 2.0 * kPi * k / kTableSize;
   double term = x, sum = x;
   for (int i = 1; i < 30; ++i) {

@@ -41,7 +41,7 @@ class Voice {
   // engine calls it for every voice on every tick.
   float next();
   bool active() const { return n_ < n_end_; }
-  std::uint32_t order() const { return order_; }      // start order: smaller = older (for stealing)
+  std::uint32_t order() const { return order_; }  // start order: smaller = older (for stealing)
   std::uint32_t freq_q20() const { return freq_q20_; }
   const Note& note() const { return note_; }
   void stop() { n_ = n_end_; }

@@ -117,7 +117,8 @@ class SmallQueueLink : public Wrapper {
     if (protocol::decode(r, m) == protocol::ErrorCode::none &&
         (m.type == protocol::Type::notes || m.type == protocol::Type::long_note)) {
       std::lock_guard lock(mutex_);
-      while (!outstanding_.empty() && static_cast<std::int16_t>(outstanding_.front() - last_seq_) <= 0) outstanding_.pop_front();
+      while (!outstanding_.empty() && static_cast<std::int16_t>(outstanding_.front() - last_seq_) <= 0)
+        outstanding_.pop_front();
       if (outstanding_.size() >= queue_free_) ++violations_;
       outstanding_.push_back(m.seq);
       ++note_reports_;
@@ -127,7 +128,8 @@ class SmallQueueLink : public Wrapper {
   Received receive(Report& out, Timeout t) override {
     const Received got = inner_.receive(out, t);
     protocol::Message m;
-    if (got == Received::report && protocol::decode(out, m) == protocol::ErrorCode::none && m.type == protocol::Type::status) {
+    if (got == Received::report && protocol::decode(out, m) == protocol::ErrorCode::none &&
+        m.type == protocol::Type::status) {
       // The device's room, as a device with a small queue would announce it: its real free slots
       // minus what a big queue has beyond the small one.
       const int real_used = kRealCapacity - m.status.queue_free;
@@ -275,7 +277,8 @@ TEST(PlayFaults, DeviceThatRestartsIsGreetedAgainAndPlaysOn) {
   const hmp::player::Counters c = s.player().counters();
   EXPECT_EQ(c.recoveries, 1u);
   // The restarted device played the rest of the passage, every note on its tick.
-  const std::uint32_t on_second = link.second()->with_device([](hmp::sim::SimDevice& d) { return d.core().stats().started; });
+  const std::uint32_t on_second =
+      link.second()->with_device([](hmp::sim::SimDevice& d) { return d.core().stats().started; });
   EXPECT_GT(on_second, 5u);
   const auto expected = test::passage_notes(kFlute, 130, 134);
   EXPECT_LE(c.notes_played, expected.size());
@@ -298,7 +301,8 @@ TEST(PlayFaults, DeviceOfAnotherProtocolVersionIsRefused) {
   }
 }
 
-// The same through the hmp binary: a device of the next protocol version behind a unix socket (as a serial board would be).
+// The same through the hmp binary: a device of the next protocol version behind a unix socket (as a serial board would
+// be).
 TEST(PlayFaults, CommandLineRefusesAnotherProtocolVersion) {
   const std::string dir = std::filesystem::temp_directory_path() / ("hmp-e2e-foreign-" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);

@@ -30,9 +30,9 @@ std::string mapped(std::initializer_list<const char*> names) {
   return found;
 }
 
-constexpr auto kSoundAndPictures = {"hmp-audio.so", "hmp-plot.so", "hmp-usb.so", "libfluidsynth", "libSDL2",
-                                    "libasound", "libpulse", "libsndfile", "libsamplerate", "libcairo",
-                                    "libhidapi", "libusb-1.0"};
+constexpr auto kSoundAndPictures = {"hmp-audio.so",  "hmp-plot.so", "hmp-usb.so", "libfluidsynth",
+                                    "libSDL2",       "libasound",   "libpulse",   "libsndfile",
+                                    "libsamplerate", "libcairo",    "libhidapi",  "libusb-1.0"};
 
 TEST(PlayModules, PlayingWithoutSoundMapsNoSoundLibrary) {
   ASSERT_EQ(mapped({"libstdc++"}), "libstdc++ ") << "the search of /proc/self/maps does not work";
@@ -52,7 +52,8 @@ TEST(PlayModules, PlayingWithoutSoundMapsNoSoundLibrary) {
   options.drivers = {"virtual"};
   hmp::audio::AudioPlayer audio(options, [](const std::string& w) { ADD_FAILURE() << w; });
   ASSERT_TRUE(audio.audible()) << audio.silence_reason();
-  EXPECT_EQ(mapped(kSoundAndPictures), "hmp-audio.so libfluidsynth libSDL2 libasound libpulse libsndfile libsamplerate ");
+  EXPECT_EQ(mapped(kSoundAndPictures),
+            "hmp-audio.so libfluidsynth libSDL2 libasound libpulse libsndfile libsamplerate ");
   EXPECT_EQ(hmp::modules::loaded_summary(), "audio");
 }
 

@@ -36,12 +36,16 @@ TEST(PlayNetduino, SameImageBootsOnTheFallbackClockAndPlaysEveryNoteOnItsTick) {
   fs::create_directories(dir);
   const std::string sock = (dir / "usart2.sock").string(), log_path = (dir / "play.jsonl").string();
   // USART2 is QEMU's second serial port. hmp connects once the socket is there (up to 5 s).
-  const std::string command =
-      "(qemu-system-arm -M netduinoplus2 -kernel '" + image() + "' -display none -monitor none -serial null"
-      " -serial unix:" + sock + ",server=on,wait=off & q=$!; "
-      "for i in $(seq 50); do [ -S " + sock + " ] && break; sleep 0.1; done; " +
-      test::kHmp + " play '" + test::kDemo + "' --track flute --no-audio --no-view --device serial:" + sock +
-      " --from 130 --to 140 --log " + log_path + " </dev/null; rc=$?; kill $q; wait $q 2>/dev/null; exit $rc)";
+  const std::string command = "(qemu-system-arm -M netduinoplus2 -kernel '" + image() +
+                              "' -display none -monitor none -serial null"
+                              " -serial unix:" +
+                              sock +
+                              ",server=on,wait=off & q=$!; "
+                              "for i in $(seq 50); do [ -S " +
+                              sock + " ] && break; sleep 0.1; done; " + test::kHmp + " play '" + test::kDemo +
+                              "' --track flute --no-audio --no-view --device serial:" + sock +
+                              " --from 130 --to 140 --log " + log_path +
+                              " </dev/null; rc=$?; kill $q; wait $q 2>/dev/null; exit $rc)";
   const test::LoadWatch load;
   const test::CommandResult r = test::run_command(command);
   ASSERT_EQ(r.status, 0) << r.err;

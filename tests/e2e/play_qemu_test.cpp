@@ -21,13 +21,15 @@ namespace fs = std::filesystem;
 // The same places hmp looks (host/transport/qemu_device.hpp).
 std::string image() {
   if (const char* e = std::getenv("HMP_QEMU_ELF"); e != nullptr && *e != '\0') return e;
-  return (fs::path(HMP_BIN_DIR).parent_path().parent_path() / "qemu-an386" / "boards" / "qemu-an386" / "hmp_fw_qemu_an386.elf")
+  return (fs::path(HMP_BIN_DIR).parent_path().parent_path() / "qemu-an386" / "boards" / "qemu-an386" /
+          "hmp_fw_qemu_an386.elf")
       .string();
 }
 
 bool have_emulator() {
   const char* e = std::getenv("QEMU_SYSTEM_ARM");
-  return test::run_command(std::string("command -v ") + (e != nullptr && *e != '\0' ? e : "qemu-system-arm")).status == 0;
+  return test::run_command(std::string("command -v ") + (e != nullptr && *e != '\0' ? e : "qemu-system-arm")).status ==
+         0;
 }
 
 TEST(PlayQemu, FlutePassageEveryNoteOnItsTick) {
@@ -35,12 +37,13 @@ TEST(PlayQemu, FlutePassageEveryNoteOnItsTick) {
   if (!have_emulator()) GTEST_SKIP() << "qemu-system-arm is not installed";
   const auto expected = test::passage_notes(1, 130, 140);
   ASSERT_GT(expected.size(), 40u);
-  const std::string log_path = (fs::temp_directory_path() / ("hmp-e2e-qemu-" + std::to_string(::getpid()) + ".jsonl")).string();
+  const std::string log_path =
+      (fs::temp_directory_path() / ("hmp-e2e-qemu-" + std::to_string(::getpid()) + ".jsonl")).string();
   fs::remove(log_path);
   const test::LoadWatch load;
-  const test::CommandResult r = test::run_command(test::kHmp + " play '" + test::kDemo +
-                                                  "' --track flute --no-audio --device qemu --from 130 --to 140 --log " +
-                                                  log_path + " </dev/null");
+  const test::CommandResult r = test::run_command(
+      test::kHmp + " play '" + test::kDemo + "' --track flute --no-audio --device qemu --from 130 --to 140 --log " +
+      log_path + " </dev/null");
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.err.find("board qemu-an386"), std::string::npos) << r.err;
   HMP_SKIP_IF_TOO_LOADED(load, test::every_note_on_its_tick(log_path, expected.size()),

@@ -136,7 +136,8 @@ struct Replugged {
     for (const hmp::player::StartedNote& n : session->started()) {
       ++times_started[{n.origin.key, n.origin.start_s}];
       if (n.origin.start_s * 1e6 >= static_cast<double>(lost_at_us)) {
-        EXPECT_EQ(n.actual_tick, n.scheduled_tick) << "after the resume: key " << int(n.origin.key) << " at " << n.origin.start_s;
+        EXPECT_EQ(n.actual_tick, n.scheduled_tick)
+            << "after the resume: key " << int(n.origin.key) << " at " << n.origin.start_s;
       }
     }
     const double lost_s = static_cast<double>(lost_at_us) / 1e6;

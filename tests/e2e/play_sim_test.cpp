@@ -101,8 +101,9 @@ TEST(PlaySim, FlutePassageEveryNoteOnItsTick) {
 TEST(PlaySim, ExistingLogIsNeverOverwrittenWithoutForce) {
   const std::string log_path = temp_path("keep.jsonl");
   { std::ofstream(log_path) << "precious\n"; }
-  const test::CommandResult r = test::run_command(test::kHmp + " play '" + test::kDemo +
-                                                  "' --no-audio --device sim --from 1 --to 2 --log " + log_path + " </dev/null");
+  const test::CommandResult r =
+      test::run_command(test::kHmp + " play '" + test::kDemo + "' --no-audio --device sim --from 1 --to 2 --log " +
+                        log_path + " </dev/null");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("--force"), std::string::npos) << r.err;
   std::ifstream in(log_path);
@@ -136,9 +137,9 @@ TEST(PlaySim, WithSoundOnTheVirtualCardEveryNoteIsOnItsTick) {
   ASSERT_GT(expected.size(), 10u);
   const std::string log_path = temp_path("virtual.jsonl");
   std::filesystem::remove(log_path);
-  const test::CommandResult r =
-      test::run_command(test::kHmp + " play '" + test::kDemo + "' --track flute --audio-driver virtual --device sim --from 130 --to 134 --log " +
-                        log_path + " </dev/null");
+  const test::CommandResult r = test::run_command(
+      test::kHmp + " play '" + test::kDemo +
+      "' --track flute --audio-driver virtual --device sim --from 130 --to 134 --log " + log_path + " </dev/null");
   ASSERT_EQ(r.status, 0) << r.err;
   const test::ParsedLog log = test::parse_log(log_path);
   std::filesystem::remove(log_path);

@@ -80,7 +80,8 @@ TEST(PlaySpeed, AtTwiceTheSpeedSoundAndDeviceFollow) {
 
   for (const auto& n : player.haptic_track().notes) EXPECT_NEAR(n.note.duration_ticks, kLengthUs / 1000 / 2, 1);
   ASSERT_EQ(started.size(), static_cast<std::size_t>(kNotes));
-  std::sort(started.begin(), started.end(), [](const auto& a, const auto& b) { return a.origin.start_s < b.origin.start_s; });
+  std::sort(started.begin(), started.end(),
+            [](const auto& a, const auto& b) { return a.origin.start_s < b.origin.start_s; });
 
   const hmp::audio::VirtualCard& card = *audio.virtual_card();
   const std::vector<float> level = card.recording();
@@ -97,12 +98,14 @@ TEST(PlaySpeed, AtTwiceTheSpeedSoundAndDeviceFollow) {
   double worst = 0, worst_gap = 0;
   for (const double s : skews_ms) worst = std::max(worst, std::fabs(s));
   for (const double g : gaps_ms) worst_gap = std::max(worst_gap, std::fabs(g - kSpacingUs / 1000.0 / 2));
-  HMP_SKIP_IF_TOO_LOADED(load, took < took_limit && worst_gap <= 2.0 && worst <= 5.0 &&
-                                   skews_ms.size() >= static_cast<std::size_t>(kNotes - 1),
-                         "took " << took << " s, note gaps off by up to " << worst_gap << " ms, skew up to " << worst
-                                 << " ms, " << skews_ms.size() << " onsets found");
+  HMP_SKIP_IF_TOO_LOADED(
+      load,
+      took < took_limit && worst_gap <= 2.0 && worst <= 5.0 && skews_ms.size() >= static_cast<std::size_t>(kNotes - 1),
+      "took " << took << " s, note gaps off by up to " << worst_gap << " ms, skew up to " << worst << " ms, "
+              << skews_ms.size() << " onsets found");
   EXPECT_LT(took, took_limit) << "not played at twice the speed";
-  for (std::size_t i = 0; i < gaps_ms.size(); ++i) EXPECT_NEAR(gaps_ms[i], kSpacingUs / 1000.0 / 2, 2.0) << "note " << i + 1;
+  for (std::size_t i = 0; i < gaps_ms.size(); ++i)
+    EXPECT_NEAR(gaps_ms[i], kSpacingUs / 1000.0 / 2, 2.0) << "note " << i + 1;
   // What the card heard, for when the onsets are not found (a silent or late recording says why).
   const float loudest = level.empty() ? 0.0f : *std::max_element(level.begin(), level.end());
   const auto first_sound = std::find_if(level.begin(), level.end(), [&](float v) { return v > 1e-3f * loudest; });

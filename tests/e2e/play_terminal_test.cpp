@@ -28,7 +28,8 @@ namespace test = hmp::test;
 class PtySession {
  public:
   // hmp play SONGS… --no-audio --device sim (the demo's flute from 130 s to 170 s by default).
-  explicit PtySession(std::vector<std::string> args = {test::kDemo, "--track", "flute", "--from", "130", "--to", "170"}) {
+  explicit PtySession(std::vector<std::string> args = {test::kDemo, "--track", "flute", "--from", "130", "--to",
+                                                       "170"}) {
     args.insert(args.begin(), {"hmp", "play", "--no-audio", "--device", "sim"});
     std::vector<char*> argv;
     for (std::string& a : args) argv.push_back(a.data());
@@ -50,7 +51,9 @@ class PtySession {
     if (master_ >= 0) ::close(master_);
   }
   bool started() const { return pid_ > 0 && master_ >= 0; }
-  void type(const std::string& keys) { ASSERT_EQ(::write(master_, keys.data(), keys.size()), static_cast<ssize_t>(keys.size())); }
+  void type(const std::string& keys) {
+    ASSERT_EQ(::write(master_, keys.data(), keys.size()), static_cast<ssize_t>(keys.size()));
+  }
 
   // Reads output until `done(latest status line)` holds or the time is up.
   template <class F>
@@ -134,12 +137,14 @@ TEST(PlayTerminal, LiveKeysActAndTheStatusLineFollows) {
   ASSERT_TRUE(hmp.wait_status([](const std::string& s) { return s.rfind("playing", 0) == 0; }, 2s)) << hmp.status();
 
   hmp.type("\x1b[C");  // → seek +5 s
-  ASSERT_TRUE(hmp.wait_status([&](const std::string& s) { return playing_after(s, paused_at + 4.8); }, 2s)) << hmp.status();
+  ASSERT_TRUE(hmp.wait_status([&](const std::string& s) { return playing_after(s, paused_at + 4.8); }, 2s))
+      << hmp.status();
   const double after_seek = *song_time(hmp.status());
   EXPECT_LT(after_seek, paused_at + 6.5);
 
   hmp.type("t");  // next haptic track: 2 "violin"
-  ASSERT_TRUE(hmp.wait_status([](const std::string& s) { return s.find("track 2 \"violin\"") != std::string::npos; }, 2s))
+  ASSERT_TRUE(
+      hmp.wait_status([](const std::string& s) { return s.find("track 2 \"violin\"") != std::string::npos; }, 2s))
       << hmp.status();
   EXPECT_NE(hmp.output().find("haptic track 2 \"violin\""), std::string::npos);
 
@@ -170,7 +175,8 @@ TEST(PlayTerminal, PlaylistKeysMoveBetweenSongs) {
   PtySession hmp({test::kDemo, largo, "--from", "20", "--to", "60"});
   ASSERT_TRUE(hmp.started());
   const auto shows = [&](const std::string& label) {
-    return hmp.wait_status([&](const std::string& s) { return s.rfind(label, 0) == 0 && s.find("playing") != std::string::npos; }, 8s);
+    return hmp.wait_status(
+        [&](const std::string& s) { return s.rfind(label, 0) == 0 && s.find("playing") != std::string::npos; }, 8s);
   };
   ASSERT_TRUE(shows("[1/2] bach-bwv1050")) << hmp.output();
   hmp.type("n");

@@ -1,7 +1,8 @@
 // Touching a note (paper §5.3, the view's touch): Player::touch plays that note on the device at once —
 // its Started report arrives within 20 ms of the touch, for a note of the haptic track and for one of
 // another track — while the song plays on the real-time simulated device. A note that does not exist
-// plays nothing. Selecting a track (the view's legend, pushing into a bar) makes it the haptic track. The notes are taken from the song as the MIDI reader reads it.
+// plays nothing. Selecting a track (the view's legend, pushing into a bar) makes it the haptic track. The notes are
+// taken from the song as the MIDI reader reads it.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -35,7 +36,8 @@ std::optional<double> touch_latency_ms(test::Session& s, const hmp::midi::Note& 
   const double start_s = test::demo_song().start_s(n);
   auto started_now = [&] {
     for (const hmp::player::StartedNote& st : s.started()) {
-      if (st.origin.track == n.track && st.origin.key == n.key && std::fabs(st.origin.start_s - start_s) < 1e-6) return true;
+      if (st.origin.track == n.track && st.origin.key == n.key && std::fabs(st.origin.start_s - start_s) < 1e-6)
+        return true;
     }
     return false;
   };

@@ -40,7 +40,7 @@ TEST(PlayWindowPlaylist, TitleNamesEachSongAndNMovesOn) {
   ASSERT_EQ(std::system("command -v xdotool >/dev/null 2>&1"), 0) << "xdotool is missing (package xdotool)";
   const std::string largo = std::string(HMP_REPO_DIR) + "/examples/bach-bwv1079-trio-sonata-largo.mid";
   const fs::path out = fs::temp_directory_path() / ("hmp-window-playlist-" + std::to_string(::getpid()));
-  std::vector<std::string> args = {test::kHmp, "play",   test::kDemo, largo,  "--device", "sim",
+  std::vector<std::string> args = {test::kHmp,   "play",   test::kDemo, largo,  "--device", "sim",
                                    "--no-audio", "--from", "20",        "--to", "60"};
   const pid_t pid = ::fork();
   if (pid == 0) {

@@ -44,7 +44,8 @@ void expect_switches_follow_plan(const std::string& err, const std::vector<hmp::
   std::string expected, last_notice;
   auto check = [&] {
     if (expected.empty()) return;
-    EXPECT_NE(last_notice.find(expected), std::string::npos) << "expected " << expected << ", player said: " << last_notice;
+    EXPECT_NE(last_notice.find(expected), std::string::npos)
+        << "expected " << expected << ", player said: " << last_notice;
     ++switches;
     expected.clear();
   };
@@ -94,7 +95,8 @@ class StudyE2e : public ::testing::Test {
     const fs::path keys_file = dir_ / ("keys-" + participant);
     std::ofstream(keys_file) << keys;
     return test::run_command(test::kHmp + " study --participant " + participant + " --seed " + std::to_string(seed) +
-                             " --device sim --no-audio --no-view --out '" + dir_.string() + "' < '" + keys_file.string() + "'");
+                             " --device sim --no-audio --no-view --out '" + dir_.string() + "' < '" +
+                             keys_file.string() + "'");
   }
   fs::path dir_;
 };
@@ -111,7 +113,8 @@ TEST_F(StudyE2e, TwoParticipantPilotAndItsAnalysis) {
     if (line.rfind("study: round practice", 0) == 0) {
       ++practice;
       EXPECT_NE(line.find("bach-bwv1079-trio-sonata-largo.mid"), std::string::npos) << line;
-      EXPECT_NE(line.find(line.find("violin") != std::string::npos ? "(track 2 of" : "(track 3 of"), std::string::npos) << line;
+      EXPECT_NE(line.find(line.find("violin") != std::string::npos ? "(track 2 of" : "(track 3 of"), std::string::npos)
+          << line;
     } else if (line.rfind("study: round main", 0) == 0) {
       ++main;
       EXPECT_NE(line.find("bach-bwv1050-brandenburg5"), std::string::npos) << line;
@@ -157,11 +160,13 @@ TEST_F(StudyE2e, TwoParticipantPilotAndItsAnalysis) {
 
 TEST_F(StudyE2e, ResumesAfterAKillAndAfterInputEnds) {
   const std::string all = session_keys("carl", 3, 0, 10, kAnalogueFirst, kTriangleFirst);
-  const std::string first_part = session_keys("carl", 3, 0, 4, kAnalogueFirst, kTriangleFirst) + "01a";  // + half a round
+  const std::string first_part =
+      session_keys("carl", 3, 0, 4, kAnalogueFirst, kTriangleFirst) + "01a";  // + half a round
   // Run with the keys on a pipe that stays open, as a person still at the keyboard; kill once the
   // four rounds' rows are written.
-  const auto [pid, keyboard] = test::start_hmp_with_keyboard({"study", "--participant", "carl", "--seed", "3", "--device", "sim",
-                                                              "--no-audio", "--no-view", "--out", dir_.string()});
+  const auto [pid, keyboard] =
+      test::start_hmp_with_keyboard({"study", "--participant", "carl", "--seed", "3", "--device", "sim", "--no-audio",
+                                     "--no-view", "--out", dir_.string()});
   ASSERT_GT(pid, 0);
   ASSERT_EQ(::write(keyboard, first_part.data(), first_part.size()), static_cast<ssize_t>(first_part.size()));
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
@@ -194,7 +199,8 @@ TEST_F(StudyE2e, ResumesAfterAKillAndAfterInputEnds) {
   // The same rows as one uninterrupted run gives (ranks per round and envelope).
   const auto straight = study("dora", 3, all);
   ASSERT_EQ(straight.status, 0) << straight.err;
-  const auto report = test::run_command(test::kHmp + " study analyze '" + (dir_ / "study-results.csv").string() + "' --json");
+  const auto report =
+      test::run_command(test::kHmp + " study analyze '" + (dir_ / "study-results.csv").string() + "' --json");
   ASSERT_EQ(report.status, 0) << report.err;
   EXPECT_EQ(nlohmann::json::parse(report.out).size(), 8u);
 }
@@ -202,7 +208,8 @@ TEST_F(StudyE2e, ResumesAfterAKillAndAfterInputEnds) {
 TEST_F(StudyE2e, TheSongLoopsUntilTheRoundIsRanked) {
   // A one-second song with the four instruments (GM programs) on tracks of their names.
   std::vector<midi_test::Events> tracks;
-  const std::pair<const char*, int> instruments[] = {{"flute", 73}, {"violin", 40}, {"contrabass", 43}, {"harpsichord", 6}};
+  const std::pair<const char*, int> instruments[] = {
+      {"flute", 73}, {"violin", 40}, {"contrabass", 43}, {"harpsichord", 6}};
   for (int ch = 0; ch < 4; ++ch) {
     midi_test::Events e;
     e.name(0, instruments[ch].first).program(0, ch, instruments[ch].second);
@@ -211,11 +218,12 @@ TEST_F(StudyE2e, TheSongLoopsUntilTheRoundIsRanked) {
   }
   const midi_test::Bytes bytes = midi_test::smf(1, 480, tracks);
   const fs::path song = dir_ / "short.mid";
-  std::ofstream(song, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  std::ofstream(song, std::ios::binary)
+      .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
 
-  const auto [pid, keyboard] = test::start_hmp_with_keyboard({"study", "--participant", "loop", "--seed", "1", "--experiment",
-                                                              "1", "--song", song.string(), "--device", "sim", "--no-audio",
-                                                              "--no-view", "--out", dir_.string()});
+  const auto [pid, keyboard] = test::start_hmp_with_keyboard(
+      {"study", "--participant", "loop", "--seed", "1", "--experiment", "1", "--song", song.string(), "--device", "sim",
+       "--no-audio", "--no-view", "--out", dir_.string()});
   ASSERT_GT(pid, 0);
   std::this_thread::sleep_for(std::chrono::milliseconds(3500));  // three times the song on key 0
   const std::string keys = "a1b2c\n";
@@ -263,8 +271,8 @@ TEST_F(StudyE2e, BadInputIsOneLineAndExit2) {
   std::ofstream(dir_ / "piano.mid", std::ios::binary)
       .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
   for (const std::string& song : {(dir_ / "piano.mid").string(), (dir_ / "absent.mid").string()}) {
-    const auto r = test::run_command(test::kHmp + " study --participant q --no-audio --practice-song '" + song + "' --out '" +
-                                     dir_.string() + "' </dev/null");
+    const auto r = test::run_command(test::kHmp + " study --participant q --no-audio --practice-song '" + song +
+                                     "' --out '" + dir_.string() + "' </dev/null");
     EXPECT_EQ(r.status, 2) << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     EXPECT_NE(r.err.find(song), std::string::npos) << r.err;

@@ -2,8 +2,8 @@
 // driven by X key events (xdotool, as a keyboard would type into the window): a participant's practice
 // and experiment-1 rounds end in the same rows as the same participant and seed typed in the terminal,
 // all but the times. A screenshot of the first main round (the flute's) shows the felt track's blue bars
-// and the prompt's line. HMP_STUDY_SHOT=FILE.png keeps it (the picture in docs/study.md). Without a display, --window is
-// one line and exit 2, nothing written; without --window, one warning and the terminal.
+// and the prompt's line. HMP_STUDY_SHOT=FILE.png keeps it (the picture in docs/study.md). Without a display, --window
+// is one line and exit 2, nothing written; without --window, one warning and the terminal.
 #include <gtest/gtest.h>
 
 #include <signal.h>
@@ -76,8 +76,8 @@ std::vector<std::uint8_t> grab_screen(int width, int height) {
   test::run_command("ffmpeg -loglevel error -y -f x11grab -video_size " + size + " -i '" + std::getenv("DISPLAY") +
                     "' -vframes 1 -f rawvideo -pix_fmt rgb24 '" + raw.string() + "'");
   if (const char* keep = std::getenv("HMP_STUDY_SHOT")) {
-    test::run_command("ffmpeg -loglevel error -y -f rawvideo -pix_fmt rgb24 -video_size " + size + " -i '" + raw.string() +
-                      "' '" + keep + "'");
+    test::run_command("ffmpeg -loglevel error -y -f rawvideo -pix_fmt rgb24 -video_size " + size + " -i '" +
+                      raw.string() + "' '" + keep + "'");
   }
   const std::string bytes = slurp(raw);
   fs::remove(raw);
@@ -104,15 +104,18 @@ TEST_F(StudyWindowE2e, KeysTypedInTheWindowGiveTheTerminalsRows) {
   ASSERT_TRUE(test::xvfb().running()) << "Xvfb did not start (package xvfb)";
   ASSERT_EQ(std::system("command -v xdotool >/dev/null 2>&1"), 0) << "xdotool is missing (package xdotool)";
   const std::uint64_t kSeed = flute_first_seed();
-  const std::string practice = test::session_keys(kParticipant, kSeed, 0, 2, test::kAnalogueFirst, test::kTriangleFirst, {1});
-  const std::string main = test::session_keys(kParticipant, kSeed, 2, 6, test::kAnalogueFirst, test::kTriangleFirst, {1});
+  const std::string practice =
+      test::session_keys(kParticipant, kSeed, 0, 2, test::kAnalogueFirst, test::kTriangleFirst, {1});
+  const std::string main =
+      test::session_keys(kParticipant, kSeed, 2, 6, test::kAnalogueFirst, test::kTriangleFirst, {1});
   const std::string common = std::string(" study --participant ") + kParticipant + " --seed " + std::to_string(kSeed) +
                              " --experiment 1 --device sim --no-audio";
 
   // The terminal's run.
   std::ofstream(dir_ / "keys") << practice + main;
-  const test::CommandResult terminal = test::run_command(test::kHmp + common + " --no-view --out '" + (dir_ / "terminal").string() +
-                                                         "' < '" + (dir_ / "keys").string() + "'");
+  const test::CommandResult terminal =
+      test::run_command(test::kHmp + common + " --no-view --out '" + (dir_ / "terminal").string() + "' < '" +
+                        (dir_ / "keys").string() + "'");
   ASSERT_EQ(terminal.status, 0) << terminal.err;
 
   // The window's: the practice song's window first, then the main song's.
@@ -164,8 +167,8 @@ TEST_F(StudyWindowE2e, WindowWithoutADisplayIsOneLineAndNothingWritten) {
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
   EXPECT_NE(r.err.find("--window"), std::string::npos) << r.err;
   EXPECT_TRUE(fs::is_empty(dir_ / "window"));
-  const test::CommandResult both = test::run_command(test::kHmp + " study --participant nod --window --no-view --out '" +
-                                                     (dir_ / "window").string() + "' </dev/null");
+  const test::CommandResult both = test::run_command(
+      test::kHmp + " study --participant nod --window --no-view --out '" + (dir_ / "window").string() + "' </dev/null");
   EXPECT_EQ(both.status, 2) << both.err;
   EXPECT_TRUE(fs::is_empty(dir_ / "window"));
   // Without --window: one warning, and the terminal's session (its input ends at once: stopped, resumable).

@@ -108,8 +108,8 @@ class Generator {
       unsigned weight;
     };
     static constexpr Weighted kMix[] = {{p::Type::notes, 400}, {p::Type::long_note, 40}, {p::Type::sync, 100},
-                                        {p::Type::preset, 30}, {p::Type::settings, 20}, {p::Type::transport, 100},
-                                        {p::Type::hello, 8}, {p::Type::estop, 1}};
+                                        {p::Type::preset, 30}, {p::Type::settings, 20},  {p::Type::transport, 100},
+                                        {p::Type::hello, 8},   {p::Type::estop, 1}};
     unsigned total = 0;
     for (const Weighted& w : kMix) total += w.weight;
     unsigned roll = pick(total);
@@ -124,7 +124,9 @@ class Generator {
     const std::uint64_t now = dev_.tick();
     p::Message m = p::make(type, static_cast<std::uint16_t>(rng_()));
     switch (m.type) {
-      case p::Type::hello: m.hello.protocol_version = pick(4) == 0 ? static_cast<std::uint16_t>(1 + pick(5)) : p::kProtocolVersion; break;
+      case p::Type::hello:
+        m.hello.protocol_version = pick(4) == 0 ? static_cast<std::uint16_t>(1 + pick(5)) : p::kProtocolVersion;
+        break;
       case p::Type::sync: m.sync.host_time_us = rng_(); break;
       case p::Type::notes:
         m.notes.count = static_cast<std::uint8_t>(1 + pick(5));
@@ -147,9 +149,14 @@ class Generator {
         m.long_note.amp_q16 = static_cast<std::uint16_t>(rng_());
         break;
       case p::Type::preset:
-        m.preset.slot = static_cast<std::uint8_t>(envelope::kFirstUserSlot + pick(envelope::kSlotCount - envelope::kFirstUserSlot));
-        m.preset.adsr = {uniform(0, pick(2) ? 1e7f : 300.0f), uniform(0, 500), uniform(0, pick(2) ? 1e7f : 300.0f),
-                         uniform(0, 1), uniform(0, 1), static_cast<envelope::Shape>(pick(3))};
+        m.preset.slot =
+            static_cast<std::uint8_t>(envelope::kFirstUserSlot + pick(envelope::kSlotCount - envelope::kFirstUserSlot));
+        m.preset.adsr = {uniform(0, pick(2) ? 1e7f : 300.0f),
+                         uniform(0, 500),
+                         uniform(0, pick(2) ? 1e7f : 300.0f),
+                         uniform(0, 1),
+                         uniform(0, 1),
+                         static_cast<envelope::Shape>(pick(3))};
         break;
       case p::Type::settings: {
         p::Settings& s = m.settings;
@@ -226,8 +233,8 @@ TEST(FirmwareFuzz, MillionHostileReportsAreCountedAndNeverPushOutputPastLimits) 
   EXPECT_LT(expected_rejected, kReports - kReports / 10);
   EXPECT_GT(st.started, 10000u);
   EXPECT_GT(sounding_ticks, 10000u);
-  std::printf("rejected %u, queue_full %u, started %u, late %u, stolen %u, ticks %llu (%llu sounding)\n",
-              st.rejected, st.queue_full, st.started, st.late, dev.core().engine().counters().stolen,
+  std::printf("rejected %u, queue_full %u, started %u, late %u, stolen %u, ticks %llu (%llu sounding)\n", st.rejected,
+              st.queue_full, st.started, st.late, dev.core().engine().counters().stolen,
               static_cast<unsigned long long>(dev.tick()), static_cast<unsigned long long>(sounding_ticks));
 
   // Still a working device: a new session plays a note exactly like the engine.

@@ -233,9 +233,8 @@ inline ::testing::AssertionResult same_output(const std::vector<float>& got, con
 
 // The reference: the shared Engine driven directly, starting each note on its tick, one sample per tick
 // for ticks first … first+count−1.
-inline std::vector<float> reference_output(const std::vector<TestNote>& notes, std::uint64_t first,
-                                           std::size_t count, std::uint32_t tick_hz,
-                                           synth::Polyphony policy = synth::Polyphony::sum) {
+inline std::vector<float> reference_output(const std::vector<TestNote>& notes, std::uint64_t first, std::size_t count,
+                                           std::uint32_t tick_hz, synth::Polyphony policy = synth::Polyphony::sum) {
   synth::SynthConfig cfg;
   cfg.tick_hz = tick_hz;
   synth::Engine engine(cfg);

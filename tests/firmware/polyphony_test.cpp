@@ -144,8 +144,7 @@ TEST(FirmwarePolyphony, LatestPolicyOutputsOnlyTheNewestNote) {
   const Played got = play(notes, p::PolicyCode::latest, 700);
   const auto abs_notes = shifted(notes, got.t0);
   const std::uint64_t first = got.first;
-  const auto a = solo(abs_notes[0], first, 700), b = solo(abs_notes[1], first, 700),
-             c = solo(abs_notes[2], first, 700);
+  const auto a = solo(abs_notes[0], first, 700), b = solo(abs_notes[1], first, 700), c = solo(abs_notes[2], first, 700);
   for (std::size_t i = 0; i < 700; ++i) {
     const std::uint64_t t = first + i;
     const double want = t >= abs_notes[2].start && t < abs_notes[2].start + 100   ? c[i]

@@ -192,7 +192,10 @@ TEST_P(PreparedNotes, HandedOverNotesCountAsQueuedAndSeekDropsThem) {
   const std::uint16_t free_before = host.status().queue_free;
   const std::uint32_t horizon = hz * fw::Core::kPrepareAheadMs / 1000;
   const std::uint64_t t = dev.tick() + horizon + 30;
-  host.notes({{t, 50, 60.0, 0.2}, {t, 50, 70.0, 0.2}, {t + 1, 50, 80.0, 0.2}, {t + 2, 50, 90.0, 0.2},
+  host.notes({{t, 50, 60.0, 0.2},
+              {t, 50, 70.0, 0.2},
+              {t + 1, 50, 80.0, 0.2},
+              {t + 2, 50, 90.0, 0.2},
               {t + 3, 50, 100.0, 0.2}});
   dev.advance(36);  // handed over one per tick from t − horizon on; the status below stays short of t
   EXPECT_EQ(dev.core().prepared_pending(), 5u);

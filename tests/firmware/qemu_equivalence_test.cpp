@@ -89,7 +89,8 @@ SongNotes song_notes(std::uint32_t tick_hz, double from_s, double seconds, std::
         flush();
         continue;
       }
-      if (!batch.starts.empty() && (batch.starts.size() == p::kNotesPerBatch || n.start_tick - batch.base > 255)) flush();
+      if (!batch.starts.empty() && (batch.starts.size() == p::kNotesPerBatch || n.start_tick - batch.base > 255))
+        flush();
       if (batch.starts.empty()) {
         batch.msg = p::make(p::Type::notes, 0);
         batch.msg.notes.track = n.track;
@@ -102,7 +103,8 @@ SongNotes song_notes(std::uint32_t tick_hz, double from_s, double seconds, std::
     }
     flush();
   }
-  std::stable_sort(out.batches.begin(), out.batches.end(), [](const Batch& a, const Batch& b) { return a.base < b.base; });
+  std::stable_sort(out.batches.begin(), out.batches.end(),
+                   [](const Batch& a, const Batch& b) { return a.base < b.base; });
   std::sort(edges.begin(), edges.end());  // at equal ticks the ends (−1) come first
   int sounding = 0;
   for (const auto& e : edges) out.max_overlap = std::max(out.max_overlap, sounding += e.second);
@@ -128,7 +130,8 @@ struct DeviceView {
       session.on_status(m.status);
     }
     if (m.type == p::Type::error) errors.push_back(m.error);
-    if (m.type == p::Type::started) started.insert(started.end(), m.started.entries, m.started.entries + m.started.count);
+    if (m.type == p::Type::started)
+      started.insert(started.end(), m.started.entries, m.started.entries + m.started.count);
   }
   // Waits up to `timeout` for one report, then takes whatever else is already there.
   void pump(transport::Transport& link, transport::Timeout timeout) {
@@ -141,7 +144,7 @@ struct Outcome {
   std::uint32_t tick_hz = 0;
   SongNotes song;
   std::map<std::pair<std::uint16_t, std::uint8_t>, std::uint64_t> scheduled;  // (seq, index) → start tick
-  std::vector<std::array<std::uint8_t, p::kReportSize>> sent;  // intact reports, in order
+  std::vector<std::array<std::uint8_t, p::kReportSize>> sent;                 // intact reports, in order
   DeviceView device;
   FirmwareRun run;
   std::optional<int> exit_code;
@@ -304,9 +307,10 @@ void check_equivalence(const std::string& options, double from_s, double seconds
     peak = std::max(peak, std::fabs(run.outputs[i]));
   }
   const float diff = std::fabs(run.outputs[worst] - native[worst]);
-  std::cout << "  max |qemu - native| = " << diff << " at tick " << worst + 1 << "; peak " << peak << ", "
-            << sounding << " non-zero ticks\n";
-  EXPECT_LE(diff, kTolerance) << "tick " << worst + 1 << ": qemu " << run.outputs[worst] << ", native " << native[worst];
+  std::cout << "  max |qemu - native| = " << diff << " at tick " << worst + 1 << "; peak " << peak << ", " << sounding
+            << " non-zero ticks\n";
+  EXPECT_LE(diff, kTolerance) << "tick " << worst + 1 << ": qemu " << run.outputs[worst] << ", native "
+                              << native[worst];
   EXPECT_GT(peak, 0.1f);
   EXPECT_GT(sounding, native.size() / 2) << "the comparison must cover sound, not silence";
   EXPECT_EQ(sim.core().stats().started, o.song.notes);

@@ -53,7 +53,8 @@ TEST(QemuLink, ABurstBeyondTheInboxWaitsInTheLineInsteadOfBeingLost) {
   for (std::size_t i = 1; i < arrival.size(); ++i) EXPECT_GE(arrival[i], arrival[i - 1]) << "reply " << i;
   EXPECT_GE(arrival.back() - arrival.front(), 3.0);
 
-  // Quiet now: the image exits 2 s after its last input byte (the inbox drains in 0.8 s); keep reading so its UART never stalls.
+  // Quiet now: the image exits 2 s after its last input byte (the inbox drains in 0.8 s); keep reading so its UART
+  // never stalls.
   std::optional<int> code;
   const auto exit_deadline = std::chrono::steady_clock::now() + 20s;
   while (!(code = qemu.wait(0ms)) && std::chrono::steady_clock::now() < exit_deadline) {

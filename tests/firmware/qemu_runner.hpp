@@ -60,7 +60,8 @@ inline std::string qemu_missing() {
   if (image.empty() || !std::filesystem::exists(image)) {
     return "no firmware image at '" + image + "' (build the qemu-an386 preset)";
   }
-  if (std::system((qemu_program() + " --version >/dev/null 2>&1").c_str()) != 0) return qemu_program() + " not installed";
+  if (std::system((qemu_program() + " --version >/dev/null 2>&1").c_str()) != 0)
+    return qemu_program() + " not installed";
   return {};
 }
 
@@ -83,15 +84,13 @@ class QemuFirmware {
       throw std::runtime_error("cannot listen on " + socket_path + ": " + std::strerror(errno));
     }
 
-    const std::vector<std::string> args = {
-        qemu_program(), "-M", "mps2-an386", "-nographic", "-monitor", "none",
-        "-semihosting-config", "enable=on,target=native",
-        // One instruction = 1 ns of virtual time; while the guest sleeps in wfi, virtual time follows
-        // real time (sleep=on, the default), so the firmware ticks at its real rate and the host can
-        // keep up with it.
-        "-icount", "shift=0",
-        "-chardev", "socket,id=uart0,path=" + socket_path, "-serial", "chardev:uart0",
-        "-kernel", image, "-append", append};
+    const std::vector<std::string> args = {qemu_program(), "-M", "mps2-an386", "-nographic", "-monitor", "none",
+                                           "-semihosting-config", "enable=on,target=native",
+                                           // One instruction = 1 ns of virtual time; while the guest sleeps in wfi,
+                                           // virtual time follows real time (sleep=on, the default), so the firmware
+                                           // ticks at its real rate and the host can keep up with it.
+                                           "-icount", "shift=0", "-chardev", "socket,id=uart0,path=" + socket_path,
+                                           "-serial", "chardev:uart0", "-kernel", image, "-append", append};
     std::vector<char*> argv;
     for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
     argv.push_back(nullptr);
@@ -170,11 +169,11 @@ struct FirmwareRun {
     std::uint32_t tick = 0;  // the core's tick counter when the report was handed over
     std::array<std::uint8_t, protocol::kReportSize> bytes{};
   };
-  std::vector<float> outputs;      // outputs[i] is the output of tick i + 1
-  std::vector<Received> reports;   // in arrival order
+  std::vector<float> outputs;                     // outputs[i] is the output of tick i + 1
+  std::vector<Received> reports;                  // in arrival order
   std::map<std::string, std::uint64_t> counters;  // "link.crc_errors", "core.late", "trace.dropped", …
-  std::vector<std::string> log;    // "log: " lines of the core
-  std::vector<std::string> problems;  // trace lines that did not parse or left a gap
+  std::vector<std::string> log;                   // "log: " lines of the core
+  std::vector<std::string> problems;              // trace lines that did not parse or left a gap
 };
 
 inline FirmwareRun parse_firmware_log(const std::string& text) {

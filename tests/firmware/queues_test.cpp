@@ -72,7 +72,7 @@ TEST(FirmwareSpscQueue, ProducerAndConsumerThreadsSeeEveryItemOnceInOrder) {
         std::this_thread::yield();
         continue;
       }
-      *slot = i * 2654435761u;        // a value the consumer can check
+      *slot = i * 2654435761u;  // a value the consumer can check
       q.commit();
       ++i;
     }

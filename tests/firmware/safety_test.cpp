@@ -42,8 +42,8 @@ TEST_P(FirmwareWatchdog, HostSilenceFadesOutWithinTwentyMilliseconds) {
   host.sync(0);      // its last report arrives during this tick
   host.collect();
   const std::uint64_t last_report = dev.tick();
-  const std::size_t window = hz / 4;             // 250 ms
-  const std::size_t within = hz / 50;            // 20 ms
+  const std::size_t window = hz / 4;   // 250 ms
+  const std::size_t within = hz / 50;  // 20 ms
   const std::vector<float> out = dev.record(window + hz);
   float before = 0.0f;
   for (std::size_t i = window - hz / 20; i < window - 1; ++i) before = std::max(before, std::abs(out[i]));

@@ -20,7 +20,10 @@ TEST_P(FirmwareTiming, NotesStartOnTheirExactTickAndOutputMatchesTheEngine) {
   const std::uint64_t t0 = dev.tick() + 20;
   // Offsets across the whole 8-bit range of a batch, two notes on one tick, a second batch later.
   const std::vector<TestNote> notes = {
-      {t0, 300, 80.0, 0.4}, {t0 + 1, 50, 123.4, 0.3}, {t0 + 1, 70, 210.0, 0.2}, {t0 + 255, 40, 60.0, 0.5},
+      {t0, 300, 80.0, 0.4},
+      {t0 + 1, 50, 123.4, 0.3},
+      {t0 + 1, 70, 210.0, 0.2},
+      {t0 + 255, 40, 60.0, 0.5},
       {t0 + 400, hz / 4, 150.0, 0.25, static_cast<std::uint8_t>(envelope::Preset::violin)}};
   const std::vector<std::uint16_t> seqs = {host.notes({notes[0], notes[1], notes[2], notes[3]}),
                                            host.notes({notes[4]})};
@@ -125,8 +128,8 @@ TEST(FirmwareTiming, BaseTickIsExtendedAcrossThe32BitWrap) {
   HostLink host(dev);
   host.open_exact();
   dev.advance(2);
-  const std::vector<TestNote> notes = {{wrap - 20, 60, 70.0, 0.5}, {wrap + 50, 60, 90.0, 0.5},
-                                       {wrap + 300, 60, 110.0, 0.5}};
+  const std::vector<TestNote> notes = {
+      {wrap - 20, 60, 70.0, 0.5}, {wrap + 50, 60, 90.0, 0.5}, {wrap + 300, 60, 110.0, 0.5}};
   host.notes({notes[0]});
   host.notes({notes[1]});
   host.long_note(notes[2]);

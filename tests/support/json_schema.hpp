@@ -27,7 +27,9 @@ class JsonSchema {
     if (t == "array") return v.is_array();
     if (t == "string") return v.is_string();
     if (t == "number") return v.is_number();
-    if (t == "integer") return v.is_number_integer() || (v.is_number_float() && v.get<double>() == static_cast<double>(static_cast<long long>(v.get<double>())));
+    if (t == "integer")
+      return v.is_number_integer() ||
+             (v.is_number_float() && v.get<double>() == static_cast<double>(static_cast<long long>(v.get<double>())));
     if (t == "boolean") return v.is_boolean();
     if (t == "null") return v.is_null();
     return false;
@@ -40,24 +42,29 @@ class JsonSchema {
     return root_.at("definitions").at(ref.substr(prefix.size()));
   }
 
-  void check(const nlohmann::json& schema_in, const nlohmann::json& v, const std::string& at, std::vector<std::string>& errors) const {
+  void check(const nlohmann::json& schema_in, const nlohmann::json& v, const std::string& at,
+             std::vector<std::string>& errors) const {
     const nlohmann::json& s = resolve(schema_in);
     auto fail = [&](const std::string& what) { errors.push_back((at.empty() ? "/" : at) + ": " + what); };
     for (const auto& [key, rule] : s.items()) {
       if (key == "type") {
         bool ok = false;
-        if (rule.is_string()) ok = has_type(v, rule);
-        else for (const auto& t : rule) ok = ok || has_type(v, t);
+        if (rule.is_string())
+          ok = has_type(v, rule);
+        else
+          for (const auto& t : rule) ok = ok || has_type(v, t);
         if (!ok) return fail("not of type " + rule.dump());
       } else if (key == "enum") {
         if (std::find(rule.begin(), rule.end(), v) == rule.end()) fail(v.dump() + " not one of " + rule.dump());
       } else if (key == "const") {
         if (v != rule) fail(v.dump() + " is not " + rule.dump());
       } else if (key == "required") {
-        for (const auto& name : rule) if (v.is_object() && !v.contains(name)) fail("missing \"" + name.get<std::string>() + "\"");
+        for (const auto& name : rule)
+          if (v.is_object() && !v.contains(name)) fail("missing \"" + name.get<std::string>() + "\"");
       } else if (key == "properties") {
         if (!v.is_object()) continue;
-        for (const auto& [name, sub] : rule.items()) if (v.contains(name)) check(sub, v[name], at + "/" + name, errors);
+        for (const auto& [name, sub] : rule.items())
+          if (v.contains(name)) check(sub, v[name], at + "/" + name, errors);
       } else if (key == "additionalProperties") {
         if (!v.is_object()) continue;
         for (const auto& [name, value] : v.items()) {
@@ -73,7 +80,8 @@ class JsonSchema {
       } else if (key == "maxProperties") {
         if (v.is_object() && v.size() > rule.get<std::size_t>()) fail("more than " + rule.dump() + " keys");
       } else if (key == "items") {
-        if (v.is_array()) for (std::size_t i = 0; i < v.size(); ++i) check(rule, v[i], at + "/" + std::to_string(i), errors);
+        if (v.is_array())
+          for (std::size_t i = 0; i < v.size(); ++i) check(rule, v[i], at + "/" + std::to_string(i), errors);
       } else if (key == "minItems") {
         if (v.is_array() && v.size() < rule.get<std::size_t>()) fail("fewer than " + rule.dump() + " items");
       } else if (key == "maxItems") {
@@ -84,8 +92,8 @@ class JsonSchema {
         if (v.is_number() && v.get<double>() > rule.get<double>()) fail(v.dump() + " > " + rule.dump());
       } else if (key == "exclusiveMinimum") {
         if (v.is_number() && v.get<double>() <= rule.get<double>()) fail(v.dump() + " ≤ " + rule.dump());
-      } else if (key == "$schema" || key == "$comment" || key == "title" || key == "description" || key == "definitions" ||
-                 key == "$ref") {
+      } else if (key == "$schema" || key == "$comment" || key == "title" || key == "description" ||
+                 key == "definitions" || key == "$ref") {
         continue;
       } else {
         fail("schema keyword \"" + key + "\" is not checked by this validator");

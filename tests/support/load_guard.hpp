@@ -46,8 +46,7 @@ class LoadWatch {
   std::optional<double> pressure() const {
     const auto now = cpu_stall_total_us();
     if (!now || !stall_start_) return std::nullopt;
-    const double wall_us =
-        std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start_).count();
+    const double wall_us = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start_).count();
     if (wall_us <= 0.0) return std::nullopt;
     return static_cast<double>(*now - *stall_start_) / wall_us;
   }
@@ -86,12 +85,12 @@ inline void record_loaded_skip(const std::string& why) {
 
 // In a test body, after a measurement and before its assertions: when `bound_held` is false and the
 // machine was too loaded over `watch`'s span, skip with "too loaded to measure" (what missed, the load).
-#define HMP_SKIP_IF_TOO_LOADED(watch, bound_held, what)                                                  \
-  do {                                                                                                   \
-    if (!(bound_held) && (watch).too_loaded()) {                                                         \
-      std::ostringstream hmp_why_;                                                                       \
-      hmp_why_ << "too loaded to measure: " << what << " (" << (watch).describe() << ")";               \
-      ::hmp::test::record_loaded_skip(hmp_why_.str());                                                   \
-      GTEST_SKIP() << hmp_why_.str();                                                                    \
-    }                                                                                                    \
+#define HMP_SKIP_IF_TOO_LOADED(watch, bound_held, what)                                   \
+  do {                                                                                    \
+    if (!(bound_held) && (watch).too_loaded()) {                                          \
+      std::ostringstream hmp_why_;                                                        \
+      hmp_why_ << "too loaded to measure: " << what << " (" << (watch).describe() << ")"; \
+      ::hmp::test::record_loaded_skip(hmp_why_.str());                                    \
+      GTEST_SKIP() << hmp_why_.str();                                                     \
+    }                                                                                     \
   } while (false)

@@ -44,8 +44,10 @@ TEST(LoadGuard, ASkipIsRecordedWithTheTestsName) {
   const std::string saved = outer != nullptr ? outer : "";
   ::setenv("HMP_LOADED_SKIPS", path.c_str(), 1);
   hmp::test::record_loaded_skip("too loaded to measure: example");
-  if (outer != nullptr) ::setenv("HMP_LOADED_SKIPS", saved.c_str(), 1);
-  else ::unsetenv("HMP_LOADED_SKIPS");
+  if (outer != nullptr)
+    ::setenv("HMP_LOADED_SKIPS", saved.c_str(), 1);
+  else
+    ::unsetenv("HMP_LOADED_SKIPS");
   std::ifstream in(path);
   std::string line;
   ASSERT_TRUE(std::getline(in, line));

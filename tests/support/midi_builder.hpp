@@ -51,7 +51,9 @@ class Events {
     append(data, body);
     return *this;
   }
-  Events& name(std::uint32_t delta, const std::string& text) { return meta(delta, 0x03, Bytes(text.begin(), text.end())); }
+  Events& name(std::uint32_t delta, const std::string& text) {
+    return meta(delta, 0x03, Bytes(text.begin(), text.end()));
+  }
   Events& tempo(std::uint32_t delta, std::uint32_t us_per_quarter) {
     return meta(delta, 0x51, {u8(us_per_quarter >> 16), u8(us_per_quarter >> 8), u8(us_per_quarter)});
   }

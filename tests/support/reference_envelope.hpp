@@ -38,7 +38,7 @@ inline double envelope(const envelope::Adsr& p, double peak, double d_ms, double
         e = peak + (s - peak) * (x_ms - a) / dc;
       } else if (x_ms < d_ms - r) {
         e = s;
-      } else {  // exponential release from the sustain level to r·s at D
+      } else {                                     // exponential release from the sustain level to r·s at D
         const double u = (x_ms - (d_ms - r)) / r;  // in [0, 1)
         e = p.final_ratio <= 0.0f ? (u == 0.0 ? s : 0.0) : s * std::pow(d(p.final_ratio), u);
       }

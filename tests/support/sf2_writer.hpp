@@ -19,9 +19,9 @@ struct Sf2Sample {
   int rate = 48000;
   std::vector<std::int16_t> data;  // without the 46 zero points the writer appends
   std::uint32_t loop_start = 0, loop_end = 0;
-  std::uint8_t key = 60;           // byOriginalPitch
-  std::int8_t correction = 0;      // chPitchCorrection, cents
-  double freq_hz = 0;              // the loop's exact frequency (after rounding its length)
+  std::uint8_t key = 60;       // byOriginalPitch
+  std::int8_t correction = 0;  // chPitchCorrection, cents
+  double freq_hz = 0;          // the loop's exact frequency (after rounding its length)
 };
 
 // A sine of `periods` whole periods as the loop, so that the loop is seamless. The loop length is
@@ -103,9 +103,18 @@ inline Bytes zstr(const std::string& s) {
 }
 // Generator operators used (spec §8.1.2).
 enum Gen : unsigned {
-  delayVolEnv = 33, attackVolEnv = 34, holdVolEnv = 35, decayVolEnv = 36, sustainVolEnv = 37,
-  releaseVolEnv = 38, instrument = 41, keyRange = 43, velRange = 44, initialAttenuation = 48,
-  sampleID = 53, sampleModes = 54,
+  delayVolEnv = 33,
+  attackVolEnv = 34,
+  holdVolEnv = 35,
+  decayVolEnv = 36,
+  sustainVolEnv = 37,
+  releaseVolEnv = 38,
+  instrument = 41,
+  keyRange = 43,
+  velRange = 44,
+  initialAttenuation = 48,
+  sampleID = 53,
+  sampleModes = 54,
 };
 inline void gen(Bytes& b, unsigned op, int amount) { u16(b, op), u16(b, static_cast<std::uint16_t>(amount)); }
 inline void range(Bytes& b, unsigned op, unsigned lo, unsigned hi) { u16(b, op), u8(b, lo), u8(b, hi); }
@@ -176,9 +185,9 @@ inline std::vector<std::uint8_t> build_sf2(const std::vector<Sf2Preset>& presets
   name20(shdr, "EOS");
   shdr.resize(shdr.size() + 26, 0);
 
-  const std::pair<const char*, const Bytes*> hydra[] = {
-      {"phdr", &phdr}, {"pbag", &pbag}, {"pmod", &pmod}, {"pgen", &pgen}, {"inst", &inst},
-      {"ibag", &ibag}, {"imod", &imod}, {"igen", &igen}, {"shdr", &shdr}};
+  const std::pair<const char*, const Bytes*> hydra[] = {{"phdr", &phdr}, {"pbag", &pbag}, {"pmod", &pmod},
+                                                        {"pgen", &pgen}, {"inst", &inst}, {"ibag", &ibag},
+                                                        {"imod", &imod}, {"igen", &igen}, {"shdr", &shdr}};
   for (const auto& [id, data] : hydra) chunk(pdta, id, *data);
 
   Bytes body;

@@ -37,10 +37,11 @@
 
 namespace {
 
-constexpr int kDivision = 25'000;          // ticks per quarter note: 20 µs per tick at 120 bpm
+constexpr int kDivision = 25'000;  // ticks per quarter note: 20 µs per tick at 120 bpm
 constexpr std::uint32_t kTempoUs = 500'000;
 constexpr double kTickUs = static_cast<double>(kTempoUs) / kDivision;
-constexpr std::int64_t kSpacingUs = 1'500'000;  // note to note, ±50 ms: every release tail is below −60 dB by the next note
+constexpr std::int64_t kSpacingUs =
+    1'500'000;  // note to note, ±50 ms: every release tail is below −60 dB by the next note
 constexpr std::int64_t kLengthUs = 80'000;
 
 void put_vlq(std::vector<std::uint8_t>& out, std::uint32_t v) {
@@ -60,8 +61,13 @@ std::string write_song(int notes, std::uint32_t seed) {
   const std::uint8_t programs[] = {0, 13, 24, 56, 73, 40};
   std::mt19937 rng(seed);
   std::uniform_int_distribution<int> jitter(-50'000, 50'000), key(52, 84);
-  std::vector<std::uint8_t> track = {0x00, 0xFF, 0x51, 0x03, static_cast<std::uint8_t>(kTempoUs >> 16),
-                                     static_cast<std::uint8_t>(kTempoUs >> 8), static_cast<std::uint8_t>(kTempoUs)};
+  std::vector<std::uint8_t> track = {0x00,
+                                     0xFF,
+                                     0x51,
+                                     0x03,
+                                     static_cast<std::uint8_t>(kTempoUs >> 16),
+                                     static_cast<std::uint8_t>(kTempoUs >> 8),
+                                     static_cast<std::uint8_t>(kTempoUs)};
   std::uint32_t now = 0;
   for (int i = 0; i < notes; ++i) {
     const std::int64_t start_us = 700'000 + i * kSpacingUs + jitter(rng);
@@ -81,14 +87,14 @@ std::string write_song(int notes, std::uint32_t seed) {
   for (int shift = 24; shift >= 0; shift -= 8) file.push_back(static_cast<std::uint8_t>(size >> shift));
   file.insert(file.end(), track.begin(), track.end());
   const auto path = std::filesystem::temp_directory_path() / ("hmp-skew-" + std::to_string(::getpid()) + ".mid");
-  std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(file.data()),
-                                              static_cast<std::streamsize>(file.size()));
+  std::ofstream(path, std::ios::binary)
+      .write(reinterpret_cast<const char*>(file.data()), static_cast<std::streamsize>(file.size()));
   return path.string();
 }
 
 void emit(const char* metric, double value, const char* unit, const std::string& params) {
-  std::printf("{\"bench\":\"e2e-timing\",\"metric\":\"%s\",\"value\":%.6g,\"unit\":\"%s\",\"params\":{%s}}\n", metric, value,
-              unit, params.c_str());
+  std::printf("{\"bench\":\"e2e-timing\",\"metric\":\"%s\",\"value\":%.6g,\"unit\":\"%s\",\"params\":{%s}}\n", metric,
+              value, unit, params.c_str());
 }
 
 double seconds_between(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
@@ -142,7 +148,8 @@ int main(int argc, char** argv) {
   for (const hmp::player::StartedNote& n : started) {
     const auto haptic = sim.tick_due_at(n.actual_tick);
     // Where to look: the card's frame heard at the haptic onset.
-    const double frame_at_haptic = seconds_between(haptic, card.heard_at(0)) * rate * (1 + audio_options.virtual_ppm * 1e-6);
+    const double frame_at_haptic =
+        seconds_between(haptic, card.heard_at(0)) * rate * (1 + audio_options.virtual_ppm * 1e-6);
     const std::int64_t onset = hmp::test::onset_frame(level, std::llround(frame_at_haptic), rate);
     if (onset < 0) continue;
     skews_ms.push_back(seconds_between(haptic, card.heard_at(static_cast<double>(onset))) * 1e3);
@@ -153,8 +160,9 @@ int main(int argc, char** argv) {
     }
   }
   std::sort(skews_ms.begin(), skews_ms.end());
-  const std::string params = "\"device\":\"sim\",\"audio\":\"virtual card, +100 ppm, 256x4 frames at 48 kHz\",\"notes\":" +
-                             std::to_string(skews_ms.size()) + ",\"of\":" + std::to_string(notes);
+  const std::string params =
+      "\"device\":\"sim\",\"audio\":\"virtual card, +100 ppm, 256x4 frames at 48 kHz\",\"notes\":" +
+      std::to_string(skews_ms.size()) + ",\"of\":" + std::to_string(notes);
   if (skews_ms.empty()) {
     std::fprintf(stderr, "audio-haptic skew: no onset found\n");
     return 1;

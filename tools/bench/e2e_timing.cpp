@@ -25,8 +25,8 @@
 namespace {
 
 void emit(const char* metric, double value, const char* unit, const std::string& params) {
-  std::printf("{\"bench\":\"e2e-timing\",\"metric\":\"%s\",\"value\":%.6g,\"unit\":\"%s\",\"params\":{%s}}\n", metric, value,
-              unit, params.c_str());
+  std::printf("{\"bench\":\"e2e-timing\",\"metric\":\"%s\",\"value\":%.6g,\"unit\":\"%s\",\"params\":{%s}}\n", metric,
+              value, unit, params.c_str());
 }
 
 }  // namespace
@@ -64,7 +64,8 @@ int main(int argc, char** argv) {
   auto window_end = std::chrono::steady_clock::now() + std::chrono::seconds(1);
   while (!done) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    const auto [now, tick] = sim.with_device([](hmp::sim::SimDevice& d) { return std::make_pair(hmp::player::steady_us(), d.tick()); });
+    const auto [now, tick] =
+        sim.with_device([](hmp::sim::SimDevice& d) { return std::make_pair(hmp::player::steady_us(), d.tick()); });
     const std::optional<double> estimate = link.position(now);
     if (estimate && link.sync_samples() >= 4) window_min = std::min(window_min, *estimate - static_cast<double>(tick));
     if (std::chrono::steady_clock::now() >= window_end) {
@@ -97,6 +98,7 @@ int main(int argc, char** argv) {
     max_err = std::max(max_err, e);
     late += e > 0 ? 1 : 0;
   }
-  emit("onset_error_max", static_cast<double>(max_err), "ticks", params + ",\"notes\":" + std::to_string(started.size()));
+  emit("onset_error_max", static_cast<double>(max_err), "ticks",
+       params + ",\"notes\":" + std::to_string(started.size()));
   return late == 0 ? 0 : 1;
 }

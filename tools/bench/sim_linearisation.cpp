@@ -19,8 +19,8 @@ using namespace hmp::sim;
 constexpr double kTick = 1e-3;
 
 // CPU µs per step over `count` steps from y0, after invalidate() each time if `fresh`.
-double step_us(plant::Integrator& integrator, plant::PlantDynamics& system, const std::vector<double>& y0,
-               int count, bool fresh) {
+double step_us(plant::Integrator& integrator, plant::PlantDynamics& system, const std::vector<double>& y0, int count,
+               bool fresh) {
   std::vector<double> y(y0);
   double best = 1e30;
   for (int repeat = 0; repeat < 3; ++repeat) {
@@ -51,9 +51,10 @@ int main() {
     const std::unique_ptr<plant::Integrator> integrator = plant::make_integrator(plant::Method::exponential);
     const double cached = step_us(*integrator, system, y0, 2000, false);
     const double fresh = step_us(*integrator, system, y0, 300, true);
-    std::printf("{\"bench\":\"sim-linearisation\",\"metric\":\"recompute_us\",\"value\":%.1f,\"unit\":\"us\","
-                "\"params\":{\"stiffness_n_per_m\":%g,\"step_us\":%.2f,\"clock\":\"thread_cpu\"}}\n",
-                fresh - cached, k, cached);
+    std::printf(
+        "{\"bench\":\"sim-linearisation\",\"metric\":\"recompute_us\",\"value\":%.1f,\"unit\":\"us\","
+        "\"params\":{\"stiffness_n_per_m\":%g,\"step_us\":%.2f,\"clock\":\"thread_cpu\"}}\n",
+        fresh - cached, k, cached);
     std::fflush(stdout);
   }
 }

@@ -39,8 +39,8 @@ struct Options {
   std::vector<std::string> scenes;
   std::vector<double> stiffness{1e3, 1e4, 1e5, 1e6, 1e7};
   std::vector<std::string> integrators;  // empty: all
-  std::string steps;                      // "default": only each integrator's default step
-  std::string replot;                     // a run's JSON lines: draw its figures only
+  std::string steps;                     // "default": only each integrator's default step
+  std::string replot;                    // a run's JSON lines: draw its figures only
 };
 
 std::vector<std::string> split(const std::string& s) {
@@ -65,17 +65,17 @@ void print_point(const std::string& scene, double k, const simulate::WorkPrecisi
   const bool claimed = p.ok && wp.claimed(p.error.force, c.force) && wp.claimed(p.error.finger_force, c.finger_force);
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const std::string force = number(p.ok ? p.error.force : nan), finger = number(p.ok ? p.error.finger_force : nan);
-  std::printf("{\"bench\":\"sim-work-precision\",\"metric\":\"force_error_rel\",\"value\":%s,\"unit\":\"ratio\","
-              "\"params\":{\"scene\":\"%s\",\"stiffness_n_per_m\":%g,\"integrator\":\"%s\",\"steps_per_tick\":%d,"
-              "\"rtol\":%g,\"default\":%s,\"ok\":%s,\"force_error_rel\":%s,\"finger_force_error_rel\":%s,"
-              "\"band_force_error_rel\":%s,\"realtime_factor\":%s,\"reference_convergence_force\":%s,"
-              "\"reference_convergence\":%s,\"reference_convergence_band\":%s,\"claimed\":%s,"
-              "\"clock\":\"thread_cpu\"}}\n",
-              force.c_str(), scene.c_str(), k, p.integrator.c_str(), p.steps_per_tick, p.rtol,
-              p.is_default ? "true" : "false", p.ok ? "true" : "false", force.c_str(), finger.c_str(),
-              number(p.ok ? p.error.band_force : nan).c_str(), number(p.ok ? p.realtime_factor : nan).c_str(),
-              number(c.force, "%.3g").c_str(), number(c.finger_force, "%.3g").c_str(),
-              number(c.band_force, "%.3g").c_str(), claimed ? "true" : "false");
+  std::printf(
+      "{\"bench\":\"sim-work-precision\",\"metric\":\"force_error_rel\",\"value\":%s,\"unit\":\"ratio\","
+      "\"params\":{\"scene\":\"%s\",\"stiffness_n_per_m\":%g,\"integrator\":\"%s\",\"steps_per_tick\":%d,"
+      "\"rtol\":%g,\"default\":%s,\"ok\":%s,\"force_error_rel\":%s,\"finger_force_error_rel\":%s,"
+      "\"band_force_error_rel\":%s,\"realtime_factor\":%s,\"reference_convergence_force\":%s,"
+      "\"reference_convergence\":%s,\"reference_convergence_band\":%s,\"claimed\":%s,"
+      "\"clock\":\"thread_cpu\"}}\n",
+      force.c_str(), scene.c_str(), k, p.integrator.c_str(), p.steps_per_tick, p.rtol, p.is_default ? "true" : "false",
+      p.ok ? "true" : "false", force.c_str(), finger.c_str(), number(p.ok ? p.error.band_force : nan).c_str(),
+      number(p.ok ? p.realtime_factor : nan).c_str(), number(c.force, "%.3g").c_str(),
+      number(c.finger_force, "%.3g").c_str(), number(c.band_force, "%.3g").c_str(), claimed ? "true" : "false");
   std::fflush(stdout);
 }
 
@@ -110,7 +110,8 @@ std::vector<FigurePoint> figure_points(const simulate::WorkPrecision& wp) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   std::vector<FigurePoint> out;
   for (const simulate::WorkPrecisionPoint& p : wp.points)
-    out.push_back({p.integrator, p.is_default, p.ok ? 1.0 / p.realtime_factor : nan, p.ok ? p.error.finger_force : nan});
+    out.push_back(
+        {p.integrator, p.is_default, p.ok ? 1.0 / p.realtime_factor : nan, p.ok ? p.error.finger_force : nan});
   return out;
 }
 
@@ -177,18 +178,26 @@ int main(int argc, char** argv) {
   Options o;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--plot-dir" && i + 1 < argc) o.plot_dir = argv[++i];
-    else if (a == "--seconds" && i + 1 < argc) o.seconds = std::atof(argv[++i]);
-    else if (a == "--scenes" && i + 1 < argc) o.scenes = split(argv[++i]);
+    if (a == "--plot-dir" && i + 1 < argc)
+      o.plot_dir = argv[++i];
+    else if (a == "--seconds" && i + 1 < argc)
+      o.seconds = std::atof(argv[++i]);
+    else if (a == "--scenes" && i + 1 < argc)
+      o.scenes = split(argv[++i]);
     else if (a == "--stiffness" && i + 1 < argc) {
       o.stiffness.clear();
       for (const std::string& k : split(argv[++i])) o.stiffness.push_back(std::atof(k.c_str()));
-    } else if (a == "--integrators" && i + 1 < argc) o.integrators = split(argv[++i]);
-    else if (a == "--replot" && i + 1 < argc) o.replot = argv[++i];
-    else if (a == "--steps" && i + 1 < argc) o.steps = argv[++i];
-    else if (a == "--quick") o.quick = true;
+    } else if (a == "--integrators" && i + 1 < argc)
+      o.integrators = split(argv[++i]);
+    else if (a == "--replot" && i + 1 < argc)
+      o.replot = argv[++i];
+    else if (a == "--steps" && i + 1 < argc)
+      o.steps = argv[++i];
+    else if (a == "--quick")
+      o.quick = true;
     else {
-      std::fprintf(stderr, "usage: %s [--plot-dir DIR] [--seconds S] [--scenes a,b] [--stiffness k1,k2] "
+      std::fprintf(stderr,
+                   "usage: %s [--plot-dir DIR] [--seconds S] [--scenes a,b] [--stiffness k1,k2] "
                    "[--integrators a,b] [--steps default] [--quick] [--replot FILE.jsonl]\n",
                    argv[0]);
       return 2;
@@ -217,8 +226,10 @@ int main(int argc, char** argv) {
     wo.cvode_rtols.clear();
     for (const std::string& n : o.integrators) {
       plant::Method m{};
-      if (n == "cvode") wo.cvode_rtols = simulate::WorkPrecisionOptions{}.cvode_rtols;
-      else if (plant::parse_method(n, m)) wo.methods.push_back(m);
+      if (n == "cvode")
+        wo.cvode_rtols = simulate::WorkPrecisionOptions{}.cvode_rtols;
+      else if (plant::parse_method(n, m))
+        wo.methods.push_back(m);
       else {
         std::fprintf(stderr, "error: --integrators: unknown '%s'\n", n.c_str());
         return 2;

@@ -58,9 +58,9 @@ double max_error(synth::SineImpl impl, const Run& run) {
       v.start(note, envelope::builtin(preset), cfg, 0);
       for (std::uint32_t n = 0; n < run.ticks; ++n) {
         const double x_ms = n * tick_ms;
-        const double expected = reference::envelope(envelope::builtin(preset), peak, d_ms, x_ms,
-                                                     static_cast<double>(run.end_fade_ms)) *
-                                std::sin(kTwoPi * f * (x_ms / 1000.0));
+        const double expected =
+            reference::envelope(envelope::builtin(preset), peak, d_ms, x_ms, static_cast<double>(run.end_fade_ms)) *
+            std::sin(kTwoPi * f * (x_ms / 1000.0));
         worst = std::max(worst, std::fabs(static_cast<double>(v.next()) - expected));
       }
     }
@@ -68,9 +68,7 @@ double max_error(synth::SineImpl impl, const Run& run) {
   return worst;
 }
 
-double elapsed_ns(Clock::time_point t0) {
-  return std::chrono::duration<double, std::nano>(Clock::now() - t0).count();
-}
+double elapsed_ns(Clock::time_point t0) { return std::chrono::duration<double, std::nano>(Clock::now() - t0).count(); }
 
 volatile float g_sink;  // keeps the timed loops from being optimised away
 
@@ -135,7 +133,8 @@ int main(int argc, char** argv) {
 
   constexpr std::size_t kImplCount = sizeof kImpls / sizeof kImpls[0];
   for (std::uint32_t tick_hz : rates) {
-    const Run run{tick_hz, static_cast<std::uint32_t>(std::llround(note_s * tick_hz)), synth::SynthConfig{}.end_fade_ms};
+    const Run run{tick_hz, static_cast<std::uint32_t>(std::llround(note_s * tick_hz)),
+                  synth::SynthConfig{}.end_fade_ms};
     // Timing: the implementations take turns, best of several rounds, so a busy neighbour on a shared
     // machine slows them alike and the fastest undisturbed run counts.
     double voice_ns[kImplCount], sine_ns[kImplCount];

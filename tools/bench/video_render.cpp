@@ -26,7 +26,8 @@ int main(int argc, char** argv) {
   if (std::sscanf(size.c_str(), "%dx%d", &width, &height) != 2) return 2;
   try {
     hmp::haptics::HapticOptions opts;
-    const auto w = hmp::haptics::load_track_window(song_path, track, opts, 30.0, 30.0 + seconds, [](const std::string&) {});
+    const auto w =
+        hmp::haptics::load_track_window(song_path, track, opts, 30.0, 30.0 + seconds, [](const std::string&) {});
     hmp::video::VideoExportSpec spec;
     spec.song = &w.read.song;
     spec.haptic = std::make_shared<const hmp::haptics::HapticTrack>(w.haptic);
@@ -38,15 +39,16 @@ int main(int argc, char** argv) {
     spec.encoding.fps = fps;
     spec.encoding.preset = preset;
     spec.overlay_prefix = "bench";
-    const hmp::video::VideoExportResult r = hmp::video::export_video(out, spec, {}, [](const std::string& m) {
-      std::fprintf(stderr, "warning: %s\n", m.c_str());
-    });
+    const hmp::video::VideoExportResult r = hmp::video::export_video(
+        out, spec, {}, [](const std::string& m) { std::fprintf(stderr, "warning: %s\n", m.c_str()); });
     const std::string params = fmt::format(
-        R"({{"song":"{}","track":"{}","seconds":{},"preset":"{}","size":"{}","fps":{},"renderer":"{}","encoder":"{}"}})",
+        R"({{"song":"{}","track":"{}","seconds":{},"preset":"{}","size":"{}","fps":{},)"
+        R"("renderer":"{}","encoder":"{}"}})",
         song_path.substr(song_path.find_last_of('/') + 1), track, seconds, preset, size, fps, r.renderer, r.encoder);
     auto line = [&](const char* metric, double value, const char* unit) {
-      std::printf(R"({"bench":"video-render","metric":"%s","value":%.3f,"unit":"%s","params":%s})" "\n", metric, value,
-                  unit, params.c_str());
+      std::printf(R"({"bench":"video-render","metric":"%s","value":%.3f,"unit":"%s","params":%s})"
+                  "\n",
+                  metric, value, unit, params.c_str());
     };
     line("realtime_factor", r.seconds / r.wall_s, "x");
     line("frames_per_s", static_cast<double>(r.frames) / r.wall_s, "frames/s");

@@ -46,7 +46,8 @@ int main(int argc, char** argv) {
   hmp::view::FrameState state;
   state.end_us = std::llround(song.duration_s() * 1e6);
   state.overlay = "playing";
-  for (std::uint32_t t = 0; t < song.tracks.size(); ++t) state.legend.push_back({t, "track " + std::to_string(t), t == 0, false});
+  for (std::uint32_t t = 0; t < song.tracks.size(); ++t)
+    state.legend.push_back({t, "track " + std::to_string(t), t == 0, false});
   std::vector<hmp::view::ViewEvent> events;
   std::vector<double> prepare, cpu, wall;
   std::size_t instances = 0;
@@ -63,13 +64,13 @@ int main(int argc, char** argv) {
     wall.push_back(c.wall_ms);
     instances = std::max(instances, c.instances);
   }
-  const std::string params = "{\"song\":\"" + label + "\",\"notes\":" + std::to_string(song.notes.size()) +
-                             ",\"mode\":\"" + (all ? "all-notes" : "visible") + "\",\"size\":\"1280x720\",\"frames\":" +
-                             std::to_string(frames) + ",\"max_instances\":" + std::to_string(instances) +
-                             ",\"renderer\":\"" + window->renderer() + "\"}";
+  const std::string params =
+      "{\"song\":\"" + label + "\",\"notes\":" + std::to_string(song.notes.size()) + ",\"mode\":\"" +
+      (all ? "all-notes" : "visible") + "\",\"size\":\"1280x720\",\"frames\":" + std::to_string(frames) +
+      ",\"max_instances\":" + std::to_string(instances) + ",\"renderer\":\"" + window->renderer() + "\"}";
   auto line = [&](const char* metric, double value) {
-    std::printf("{\"bench\":\"view-frame\",\"metric\":\"%s\",\"value\":%.3f,\"unit\":\"ms\",\"params\":%s}\n", metric, value,
-                params.c_str());
+    std::printf("{\"bench\":\"view-frame\",\"metric\":\"%s\",\"value\":%.3f,\"unit\":\"ms\",\"params\":%s}\n", metric,
+                value, params.c_str());
   };
   line("prepare_cpu_p50", percentile(prepare, 0.5));
   line("prepare_cpu_p99", percentile(prepare, 0.99));

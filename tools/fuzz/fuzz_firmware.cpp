@@ -26,8 +26,7 @@ void check_output(void* ctx, float value) {
 
 bool check_report(void*, const protocol::Report& report) {
   protocol::Message m;
-  if (protocol::decode(report, m) != protocol::ErrorCode::none || protocol::is_host_to_device(m.type))
-    __builtin_trap();
+  if (protocol::decode(report, m) != protocol::ErrorCode::none || protocol::is_host_to_device(m.type)) __builtin_trap();
   return true;
 }
 

@@ -41,8 +41,8 @@ struct Program {
   void enumerate() {
     op(kBusReset);
     op(kEnumDone);
-    control_in(0x80, 6, 0x0100, 64, 1);   // GET_DESCRIPTOR device, 64 as Linux asks first
-    control_none(0x00, 5, 7);             // SET_ADDRESS 7
+    control_in(0x80, 6, 0x0100, 64, 1);  // GET_DESCRIPTOR device, 64 as Linux asks first
+    control_none(0x00, 5, 7);            // SET_ADDRESS 7
     control_in(0x80, 6, 0x0100, 18, 1);
     control_in(0x80, 6, 0x0200, 9, 1);    // configuration, header
     control_in(0x80, 6, 0x0200, 255, 2);  // configuration, whole
@@ -105,19 +105,19 @@ int main(int argc, char** argv) {
   Program back_to_back;  // three SETUPs before the handler runs: the last one is answered
   back_to_back.op(kBusReset);
   back_to_back.op(kEnumDone);
-  back_to_back.op(static_cast<Op>(kSetups | kDeferIrq), {2, 0x80, 6, 0, 2, 0, 0, 9, 0, 0x80, 6, 0, 3, 0, 0, 255,
-                                                         0, 0x80, 6, 0, 1, 0, 0, 18, 0});
+  back_to_back.op(static_cast<Op>(kSetups | kDeferIrq),
+                  {2, 0x80, 6, 0, 2, 0, 0, 9, 0, 0x80, 6, 0, 3, 0, 0, 255, 0, 0x80, 6, 0, 1, 0, 0, 18, 0});
   back_to_back.op(kIn, {0});
   back_to_back.op(kOut, {0, 0});
   ok = write(dir, "back_to_back", back_to_back) && ok;
 
   Program odd = enumerate;  // entries the core does not send: global OUT NAK, an unknown status, EP 9
-  odd.op(kRawEntry, {0x00, 0x00, 0x02, 0x00});        // PKTSTS 1, no data
-  odd.op(kRawEntry, {0x80, 0x00, 0x0E, 0x00});        // PKTSTS 7, 8 bytes
+  odd.op(kRawEntry, {0x00, 0x00, 0x02, 0x00});  // PKTSTS 1, no data
+  odd.op(kRawEntry, {0x80, 0x00, 0x0E, 0x00});  // PKTSTS 7, 8 bytes
   odd.bytes.insert(odd.bytes.end(), 8, 0xAA);
-  odd.op(kRawEntry, {0x09, 0x04, 0x04, 0x00});        // OUT data for EP 9, 64 bytes
+  odd.op(kRawEntry, {0x09, 0x04, 0x04, 0x00});  // OUT data for EP 9, 64 bytes
   odd.bytes.insert(odd.bytes.end(), 64, 0x55);
-  odd.op(kRawEntry, {0x40, 0x00, 0x0C, 0x00});        // SETUP data of 4 bytes
+  odd.op(kRawEntry, {0x40, 0x00, 0x0C, 0x00});  // SETUP data of 4 bytes
   odd.bytes.insert(odd.bytes.end(), 4, 0x80);
   odd.control_in(0x80, 6, 0x0100, 18, 1);
   ok = write(dir, "odd_entries", odd) && ok;

@@ -26,8 +26,8 @@ int main(int argc, char** argv) {
   const std::string dir = hmp::fuzz::seed_dir(argc, argv);
   if (dir.empty()) return 2;
   bool ok = true;
-  const Type types[] = {Type::hello,     Type::sync,       Type::long_note, Type::preset, Type::settings,
-                        Type::transport, Type::estop,      Type::hello_reply, Type::sync_reply, Type::status};
+  const Type types[] = {Type::hello,     Type::sync,  Type::long_note,   Type::preset,     Type::settings,
+                        Type::transport, Type::estop, Type::hello_reply, Type::sync_reply, Type::status};
   for (Type t : types) ok = write_seed(dir, protocol::name(t), protocol::make(t, 1)) && ok;
 
   for (std::uint8_t count = 1; count <= protocol::kNotesPerBatch; ++count) {

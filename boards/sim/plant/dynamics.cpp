@@ -18,7 +18,11 @@ spidar::Quat<double> unit_quaternion(const double* q) {
 constexpr double kSqrt2 = 1.41421356237309504880;
 
 Vec3d load3(const double* p) { return {p[0], p[1], p[2]}; }
-void store3(double* p, const Vec3d& v) { p[0] = v.x; p[1] = v.y; p[2] = v.z; }
+void store3(double* p, const Vec3d& v) {
+  p[0] = v.x;
+  p[1] = v.y;
+  p[2] = v.z;
+}
 
 // q' = ½ (0, w) ⊗ q for an angular velocity w in the device frame.
 void quaternion_rate(const double* q, const double* w, double* dq) {
@@ -41,7 +45,7 @@ PlantDynamics::PlantDynamics(const PlantParams& params)
       inv_mass_(1.0 / params.grip.mass),
       inv_grip_inertia_(1.0 / params.grip.inertia()),
       drift_scale_(std::sqrt(std::fmin(1.0, params.string.stiffness / kLinearDrift.soft) *
-                            std::fmax(1.0, params.string.stiffness / kLinearDrift.stiff))) {}
+                             std::fmax(1.0, params.string.stiffness / kLinearDrift.stiff))) {}
 
 void PlantDynamics::evaluate(const double* y, PlantForces& out, bool bilateral) const {
   compute(y, out, bilateral ? TensionRule::near_bilateral : TensionRule::unilateral, 0);
@@ -203,11 +207,11 @@ bool PlantDynamics::is_position(int index) const {
 
 double PlantDynamics::scale(int index) const {
   if (index >= band_) return (index - band_) % 2 == 0 ? 1.0 : kBandOmega;  // N, N/s
-  if (index < state::speed) return 1.0;        // rad
-  if (index < state::current) return 1.0;      // rad/s
-  if (index < state::position) return 0.01;    // A
-  if (index < state::orientation) return 0.01;  // m, m/s
-  return 1.0;                                   // quaternion, rad/s
+  if (index < state::speed) return 1.0;                                    // rad
+  if (index < state::current) return 1.0;                                  // rad/s
+  if (index < state::position) return 0.01;                                // A
+  if (index < state::orientation) return 0.01;                             // m, m/s
+  return 1.0;                                                              // quaternion, rad/s
 }
 
 void PlantDynamics::project(double* y) const {

@@ -24,12 +24,12 @@ namespace hmp::sim::plant {
 
 // Index of each block in the state vector.
 namespace state {
-inline constexpr int angle = 0;      // θ_i, 8
-inline constexpr int speed = 8;      // ω_i, 8
-inline constexpr int current = 16;   // I_i, 8
-inline constexpr int position = 24;  // x, 3
-inline constexpr int velocity = 27;  // v, 3
-inline constexpr int orientation = 30;  // q (w, x, y, z), 4 — full 6-DOF only
+inline constexpr int angle = 0;              // θ_i, 8
+inline constexpr int speed = 8;              // ω_i, 8
+inline constexpr int current = 16;           // I_i, 8
+inline constexpr int position = 24;          // x, 3
+inline constexpr int velocity = 27;          // v, 3
+inline constexpr int orientation = 30;       // q (w, x, y, z), 4 — full 6-DOF only
 inline constexpr int angular_velocity = 34;  // w, 3 — full 6-DOF only
 inline constexpr int translation_size = 30;
 inline constexpr int full_size = 37;
@@ -68,14 +68,14 @@ struct PlantForces {
   double stretch[spidar::kStrings]{};  // m (negative: slack)
   // k·s_i + c·ṡ_i whatever the signs: the string pulls while this and s_i are both positive. Its zeros and
   // the stretch's are where the right-hand side jumps (what an event-locating solver looks for).
-  double spring[spidar::kStrings]{};   // N
-  Vec3d string_force{};                // Σ T_i u_i on the grip, N
-  Vec3d string_torque{};               // Σ T_i m_i about the grip centre, N·m
-  Vec3d finger_force{};                // force of the grip on the finger (zero without a finger), N
-  Vec3d finger_torque{};               // torque of the grip on the finger, N·m
-  std::uint32_t taut = 0;              // bit i: string i taut (s_i > 0)
-  std::uint32_t near_taut = 0;         // bit i: s_i > −kJacobianSlackMargin (see smooth_derivative())
-  spidar::Flags geometry_flags = 0;    // short_string / outside_workspace / invalid_input from the geometry
+  double spring[spidar::kStrings]{};  // N
+  Vec3d string_force{};               // Σ T_i u_i on the grip, N
+  Vec3d string_torque{};              // Σ T_i m_i about the grip centre, N·m
+  Vec3d finger_force{};               // force of the grip on the finger (zero without a finger), N
+  Vec3d finger_torque{};              // torque of the grip on the finger, N·m
+  std::uint32_t taut = 0;             // bit i: string i taut (s_i > 0)
+  std::uint32_t near_taut = 0;        // bit i: s_i > −kJacobianSlackMargin (see smooth_derivative())
+  spidar::Flags geometry_flags = 0;   // short_string / outside_workspace / invalid_input from the geometry
 };
 
 class PlantDynamics final : public OdeSystem {

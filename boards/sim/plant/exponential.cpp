@@ -52,7 +52,9 @@ struct Linearisation {
 class Exponential final : public Integrator {
  public:
   Exponential()
-      : cache_(kCacheSize), jacobian_(kMaxState * kMaxState), gradient_(kMaxSwitches * kMaxState),
+      : cache_(kCacheSize),
+        jacobian_(kMaxState * kMaxState),
+        gradient_(kMaxSwitches * kMaxState),
         tmp_(kMaxSwitches * kMaxState) {}
   Method method() const override { return Method::exponential; }
   void invalidate() override {
@@ -175,8 +177,8 @@ class Exponential final : public Integrator {
 
   // Whether the piece changes at any checkpoint from `first` on, predicted from the state whose switch
   // functions are g0 and derivative f_.
-  bool switch_within(const OdeSystem& system, const Linearisation& lin, const double* g0, std::uint32_t piece,
-                     int ng, int first = 0, int last = kCheckpoints - 1) const {
+  bool switch_within(const OdeSystem& system, const Linearisation& lin, const double* g0, std::uint32_t piece, int ng,
+                     int first = 0, int last = kCheckpoints - 1) const {
     const int n = lin.n;
     double g[kMaxSwitches];
     for (int c = first; c <= last; ++c) {
@@ -343,7 +345,7 @@ class Exponential final : public Integrator {
   std::vector<Linearisation> cache_;
   std::uint64_t clock_ = 0;
   const Linearisation* stepping_ = nullptr;  // the one the last whole step started on
-  bool carrying_ = false;  // the last whole step went more than kFarStep (saved_ holds its start)
+  bool carrying_ = false;                    // the last whole step went more than kFarStep (saved_ holds its start)
   std::vector<double> jacobian_, gradient_, tmp_;
   Vector f_{}, f1_{}, a_{}, f0_{}, col_{}, tmp_y_{}, saved_{}, f_saved_{}, mid_{};
 };

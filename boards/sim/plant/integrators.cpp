@@ -113,7 +113,11 @@ class LinearlyImplicit : public Integrator {
     const int n = n_;
     for (int i = 0; i < n; ++i) {
       const int p = pivot_[i];
-      if (p != i) { const double t = x[i]; x[i] = x[p]; x[p] = t; }
+      if (p != i) {
+        const double t = x[i];
+        x[i] = x[p];
+        x[p] = t;
+      }
     }
     for (int i = 1; i < n; ++i) x[i] -= sparse_dot(row_start_[i], row_middle_[i], x);
     for (int i = n - 1; i >= 0; --i)
@@ -143,10 +147,18 @@ class LinearlyImplicit : public Integrator {
       row_start_[i] = k;
       const double* row = &lu_[i * kMaxState];
       for (int j = 0; j < i; ++j)
-        if (row[j] != 0.0) { value_[k] = row[j]; column_[k] = j; ++k; }
+        if (row[j] != 0.0) {
+          value_[k] = row[j];
+          column_[k] = j;
+          ++k;
+        }
       row_middle_[i] = k;
       for (int j = i + 1; j < n; ++j)
-        if (row[j] != 0.0) { value_[k] = row[j]; column_[k] = j; ++k; }
+        if (row[j] != 0.0) {
+          value_[k] = row[j];
+          column_[k] = j;
+          ++k;
+        }
       inv_diagonal_[i] = 1.0 / row[i];
     }
     row_start_[n] = k;
@@ -162,7 +174,10 @@ class LinearlyImplicit : public Integrator {
       double best = std::fabs(lu_[k * kMaxState + k]);
       for (int i = k + 1; i < n; ++i) {
         const double v = std::fabs(lu_[i * kMaxState + k]);
-        if (v > best) { best = v; p = i; }
+        if (v > best) {
+          best = v;
+          p = i;
+        }
       }
       pivot_[k] = p;
       if (p != k)

@@ -38,8 +38,9 @@ enum class Method : std::uint8_t {
   rosenbrock2,
   exponential
 };
-inline constexpr Method kAllMethods[] = {Method::explicit_euler, Method::semi_implicit_euler, Method::rk4,
-                                         Method::linear_implicit_euler, Method::rosenbrock2, Method::exponential};
+inline constexpr Method kAllMethods[] = {
+    Method::explicit_euler,        Method::semi_implicit_euler, Method::rk4,
+    Method::linear_implicit_euler, Method::rosenbrock2,         Method::exponential};
 std::string_view method_name(Method m);
 // The step each method takes by default: the exponential integrator is exact while the duty is held, so
 // one step per tick of up to 1 ms; the others need 125 µs to keep a 250 Hz vibration's force error at

@@ -37,8 +37,14 @@ void balance(const double* a, double* b, int ld, double* scale, int n) {
       if (c == 0 || r == 0) continue;
       const double s = c + r;
       double f = 1;
-      while (c < r / 2) { c *= 4; f *= 2; }
-      while (c > r * 2) { c /= 4; f /= 2; }
+      while (c < r / 2) {
+        c *= 4;
+        f *= 2;
+      }
+      while (c > r * 2) {
+        c /= 4;
+        f /= 2;
+      }
       if ((c + r) / f < 0.95 * s) {
         done = false;
         scale[i] *= f;
@@ -130,8 +136,8 @@ HMP_VECTOR_CLONES void sparse_product4(const SparseRows& a, const double* b, dou
 }
 
 #if defined(__x86_64__)
-__attribute__((target("arch=x86-64-v4"))) void sparse_product8(const SparseRows& a, const double* b, double* c,
-                                                                int n, int ld) {
+__attribute__((target("arch=x86-64-v4"))) void sparse_product8(const SparseRows& a, const double* b, double* c, int n,
+                                                               int ld) {
   sparse_rows_of<Vector8>(LaneGroups{}, a, b, c, n, ld);
 }
 #endif
@@ -160,8 +166,17 @@ void multiply_rows(const double* a, int m, const double* b, double* c, int n) { 
 
 PhiChain::PhiChain(int max_levels)
     : max_levels_(max_levels < 1 ? 1 : (max_levels > kMaxLevels ? kMaxLevels : max_levels)),
-      e_(max_levels_ * kStride), p_(max_levels_ * kStride), q_(max_levels_ * kStride), b_(kPadded), x_(kPadded),
-      phi_(kPadded), tmp_(kPadded), we_(kPadded), wp_(kPadded), wq_(kPadded), scale_(kMaxState) {}
+      e_(max_levels_ * kStride),
+      p_(max_levels_ * kStride),
+      q_(max_levels_ * kStride),
+      b_(kPadded),
+      x_(kPadded),
+      phi_(kPadded),
+      tmp_(kPadded),
+      we_(kPadded),
+      wp_(kPadded),
+      wq_(kPadded),
+      scale_(kMaxState) {}
 
 void PhiChain::compute(const double* a, int n, double h, int levels) {
   n_ = n;
@@ -222,9 +237,9 @@ void PhiChain::series(int level) {
   }
   double *e = we_.data(), *p = wp_.data(), *q = wq_.data();
   sparse_product(rows_, q, p, n, ld);
-  for (int i = 0; i < n; ++i) p[i * ld + i] += 1;                   // φ₁(X) = I + X·φ₂(X)
+  for (int i = 0; i < n; ++i) p[i * ld + i] += 1;  // φ₁(X) = I + X·φ₂(X)
   sparse_product(rows_, p, e, n, ld);
-  for (int i = 0; i < n; ++i) e[i * ld + i] += 1;                   // E = e^X = I + X·φ₁(X)
+  for (int i = 0; i < n; ++i) e[i * ld + i] += 1;  // E = e^X = I + X·φ₁(X)
   for (int i = 0; i < size; ++i) {
     q[i] *= tau * tau;  // Q = τ²·φ₂(X)
     p[i] *= tau;        // P = τ·φ₁(X)

@@ -48,7 +48,8 @@ class PhiChain {
 
  private:
   static constexpr std::size_t kStride = static_cast<std::size_t>(kMaxState) * kMaxState;
-  static constexpr std::size_t kPadded = static_cast<std::size_t>(kMaxState) * ((kMaxState + kLanes - 1) / kLanes * kLanes);
+  static constexpr std::size_t kPadded =
+      static_cast<std::size_t>(kMaxState) * ((kMaxState + kLanes - 1) / kLanes * kLanes);
   const double* at(const std::vector<double>& functions, int level) {
     if (!ready_[static_cast<std::size_t>(level)]) sum_level(level);
     return &functions[static_cast<std::size_t>(level) * kStride];
@@ -61,13 +62,13 @@ class PhiChain {
   void sum_level(int level);
 
   int max_levels_, n_ = 0, ld_ = 0;  // ld_: the work matrices' row stride
-  double h_ = 0, norm_ = 0;  // the step and ‖B‖₁ of the balanced matrix
+  double h_ = 0, norm_ = 0;          // the step and ‖B‖₁ of the balanced matrix
   std::array<bool, kMaxLevels> ready_{};
-  std::vector<double> e_, p_, q_;      // max_levels × kStride each
+  std::vector<double> e_, p_, q_;          // max_levels × kStride each
   std::vector<double> b_, x_, phi_, tmp_;  // B = D⁻¹·A·D, τ·B, φ₂ and a product: kPadded each
-  std::vector<double> we_, wp_, wq_;   // E, P, Q of B at the level being worked on: kPadded each
-  std::vector<double> scale_;          // balancing: A = D·B·D⁻¹, D = diag(scale_)
-  SparseRows rows_;                    // the left factor of the products being taken
+  std::vector<double> we_, wp_, wq_;       // E, P, Q of B at the level being worked on: kPadded each
+  std::vector<double> scale_;              // balancing: A = D·B·D⁻¹, D = diag(scale_)
+  SparseRows rows_;                        // the left factor of the products being taken
 };
 
 // c = a·b for an m×n a and an n×n b (row-major); c must not alias. Zeros in a are skipped.

@@ -9,9 +9,9 @@ using spidar::kStrings;
 namespace {
 constexpr double kTwoPi = 6.28318530717958647692;
 // Plausibility limits that are not motor-specific: the frame is ~0.2 m across, a hand moves at ~1 m/s.
-constexpr double kMaxDistance = 1.0;          // m from the frame centre
-constexpr double kMaxVelocity = 50.0;         // m/s
-constexpr double kMaxAngularVelocity = 1e4;   // rad/s
+constexpr double kMaxDistance = 1.0;         // m from the frame centre
+constexpr double kMaxVelocity = 50.0;        // m/s
+constexpr double kMaxAngularVelocity = 1e4;  // rad/s
 }  // namespace
 
 Plant::Plant(const PlantParams& params)

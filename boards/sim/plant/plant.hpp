@@ -23,16 +23,16 @@ namespace hmp::sim::plant {
 enum class Status : std::uint8_t { ok, unstable };
 
 struct PlantOutput {
-  double tension[spidar::kStrings]{};  // N, at the end of the step
-  Vec3d string_force{};                // Σ T_i u_i on the grip, N
-  Vec3d string_torque{};               // Σ T_i m_i, N·m
-  Vec3d finger_force{};                // the grip pushing on the finger, N (zero without a finger model)
-  Vec3d finger_torque{};               // N·m
-  Vec3d band_string_force{};           // string_force's part below kBandHz (Scene::band_force only), N
+  double tension[spidar::kStrings]{};       // N, at the end of the step
+  Vec3d string_force{};                     // Σ T_i u_i on the grip, N
+  Vec3d string_torque{};                    // Σ T_i m_i, N·m
+  Vec3d finger_force{};                     // the grip pushing on the finger, N (zero without a finger model)
+  Vec3d finger_torque{};                    // N·m
+  Vec3d band_string_force{};                // string_force's part below kBandHz (Scene::band_force only), N
   std::int32_t counts[spidar::kStrings]{};  // encoders: 2048 per pulley turn, growing as string pays out
-  std::uint32_t taut = 0;              // bit i: string i taut
-  spidar::Flags flags = 0;             // this step: saturated (a duty clamped to ±1), invalid_input (NaN duty,
-                                       // driven as 0), plus the geometry's short_string / outside_workspace
+  std::uint32_t taut = 0;                   // bit i: string i taut
+  spidar::Flags flags = 0;                  // this step: saturated (a duty clamped to ±1), invalid_input (NaN duty,
+                                            // driven as 0), plus the geometry's short_string / outside_workspace
   Status status = Status::ok;
 };
 

@@ -39,8 +39,8 @@ struct GripParams {
 // to the grip centre, and a torsional one towards the rest orientation. The torsional terms default to
 // the linear ones acting at the grip surface (k·ρ², c·ρ²): a finger pad pressing on the ball.
 struct FingerParams {
-  double stiffness = 500.0;  // N/m
-  double damping = 2.0;      // N·s/m
+  double stiffness = 500.0;                              // N/m
+  double damping = 2.0;                                  // N·s/m
   double torsional_stiffness = 500.0 * 0.0225 * 0.0225;  // N·m/rad
   double torsional_damping = 2.0 * 0.0225 * 0.0225;      // N·m·s/rad
   Vec3d anchor{};                                        // device frame, m
@@ -48,8 +48,8 @@ struct FingerParams {
 
 // design §16: the simulator integrates only what the scene asks for.
 struct Scene {
-  bool translation_only = false;  // grip keeps its rest orientation: 30 states instead of 37
-  bool finger = true;             // without it the grip floats on its strings alone
+  bool translation_only = false;   // grip keeps its rest orientation: 30 states instead of 37
+  bool finger = true;              // without it the grip floats on its strings alone
   Vec3d gravity{0.0, -9.81, 0.0};  // device frame is Y up
   // The string force's part below kBandHz, the band a finger feels, carried as 6 more states (see
   // dynamics.hpp): a measurement's option (the work-precision error of that band), off for simulation.

@@ -54,9 +54,8 @@ class FluidBackend final : public AudioBackend {
     }
   }
 
-  std::unique_ptr<OutputStream> open_output(Synth& synth, const std::string& driver, int period_frames,
-                                            int periods, RenderCallback callback, void* context,
-                                            std::string& error) const override {
+  std::unique_ptr<OutputStream> open_output(Synth& synth, const std::string& driver, int period_frames, int periods,
+                                            RenderCallback callback, void* context, std::string& error) const override {
     // Every Synth this back-end hands out is a SongSynth.
     fluid_settings_t* settings = static_cast<SongSynth&>(synth).fluid_settings();
     fluid_settings_setint(settings, "audio.period-size", period_frames);

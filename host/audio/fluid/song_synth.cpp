@@ -63,9 +63,7 @@ SongSynth::~SongSynth() {
   delete_fluid_settings(fluid_settings_);
 }
 
-std::int64_t SongSynth::frame_of(std::int64_t song_us) const {
-  return nearest_frame(song_us, settings_.sample_rate);
-}
+std::int64_t SongSynth::frame_of(std::int64_t song_us) const { return nearest_frame(song_us, settings_.sample_rate); }
 
 std::int64_t SongSynth::position_us() const { return pos_ * 1'000'000 / settings_.sample_rate; }
 
@@ -203,14 +201,15 @@ void SongSynth::seek(std::int64_t song_us) {
   render_scratch(block_);
   pos_ = frame_of(song_us);
   const auto block = static_cast<std::int64_t>(block_);
-  const std::int64_t phase = (pos_ - static_cast<std::int64_t>(synth_frames_ % static_cast<std::uint64_t>(block))) % block;
+  const std::int64_t phase =
+      (pos_ - static_cast<std::int64_t>(synth_frames_ % static_cast<std::uint64_t>(block))) % block;
   render_scratch(static_cast<std::size_t>((phase + block) % block));
   // Events are ordered by their (lead-shifted) frames: a note starting right at song_us may sit up to
   // max_lead_ frames earlier, so start looking there.
   const std::int64_t from = pos_ - max_lead_;
-  next_ = static_cast<std::size_t>(
-      std::lower_bound(events_.begin(), events_.end(), from, [](const Timed& t, std::int64_t f) { return t.frame < f; }) -
-      events_.begin());
+  next_ = static_cast<std::size_t>(std::lower_bound(events_.begin(), events_.end(), from,
+                                                    [](const Timed& t, std::int64_t f) { return t.frame < f; }) -
+                                   events_.begin());
   restore_controls(next_);
 }
 

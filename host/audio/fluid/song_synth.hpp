@@ -1,7 +1,7 @@
 #pragma once
-// Part of the audio module (fluid/). FluidSynth rendering the song's audio events against a sample position it owns (design §14). The same
-// object feeds the live audio driver and the offline renderer, so what a test measures offline is what
-// the speaker plays.
+// Part of the audio module (fluid/). FluidSynth rendering the song's audio events against a sample position it owns
+// (design §14). The same object feeds the live audio driver and the offline renderer, so what a test measures offline
+// is what the speaker plays.
 //
 // Timing (design §10: audio-haptic skew ≤ 1 ms):
 //  - FluidSynth starts voices only at the start of one of its internal blocks (64 frames, 1.33 ms at
@@ -29,7 +29,6 @@ struct _fluid_hashtable_t;  // FluidSynth's fluid_settings_t
 struct _fluid_synth_t;      // FluidSynth's fluid_synth_t
 
 namespace hmp::audio {
-
 
 class SongSynth final : public Synth {
  public:
@@ -91,7 +90,7 @@ class SongSynth final : public Synth {
   SynthSettings settings_;
   _fluid_hashtable_t* fluid_settings_ = nullptr;
   _fluid_synth_t* synth_ = nullptr;
-  int initial_cc_[16][128] = {};        // a fresh synthesizer's controllers (restore_controls)
+  int initial_cc_[16][128] = {};  // a fresh synthesizer's controllers (restore_controls)
   int initial_bend_range_[16] = {};
   int soundfont_id_ = -1;
   std::string load_error_;

@@ -78,8 +78,9 @@ std::string draw_bar_chart_png(const std::string& path, const std::vector<BarPan
       for (const double v : g.values) max_value = std::max(max_value, v);
     }
   }
-  ch::Surface surface(cairo_image_surface_create(CAIRO_FORMAT_RGB24, static_cast<int>(kWidth), static_cast<int>(kHeight)),
-                      cairo_surface_destroy);
+  ch::Surface surface(
+      cairo_image_surface_create(CAIRO_FORMAT_RGB24, static_cast<int>(kWidth), static_cast<int>(kHeight)),
+      cairo_surface_destroy);
   ch::Context cr(cairo_create(surface.get()), cairo_destroy);
   cairo_set_source_rgb(cr.get(), 1, 1, 1);
   cairo_paint(cr.get());

@@ -133,8 +133,10 @@ std::string draw_loglog_png(const std::string& path, const std::vector<LogLogPan
       bool first = true;
       for (const auto& pt : s.points) {
         if (!usable(pt)) continue;
-        if (first) cairo_move_to(cr, px(pt.first), py(pt.second));
-        else cairo_line_to(cr, px(pt.first), py(pt.second));
+        if (first)
+          cairo_move_to(cr, px(pt.first), py(pt.second));
+        else
+          cairo_line_to(cr, px(pt.first), py(pt.second));
         first = false;
       }
       cairo_stroke(cr);

@@ -98,7 +98,10 @@ void draw_waveform(cairo_t* cr, const Box& b, std::span<const float> s) {
     for (std::size_t i = 0; i < s.size(); ++i) {
       const double x = b.x + (static_cast<double>(i) + 0.5) / static_cast<double>(s.size()) * b.w;
       const double y = b.y + (1.0 - static_cast<double>(s[i])) / 2 * b.h;
-      if (i == 0) cairo_move_to(cr, x, y); else cairo_line_to(cr, x, y);
+      if (i == 0)
+        cairo_move_to(cr, x, y);
+      else
+        cairo_line_to(cr, x, y);
     }
   }
   cairo_set_line_width(cr, 1.0);

@@ -94,7 +94,10 @@ std::string draw_traces_png(const std::string& path, const std::vector<Trace>& t
       for (std::size_t i = 0; i < s.size(); ++i) {
         const double x = x_of(t0 + static_cast<double>(i) / spec.rate_hz);
         const double y = y_of(static_cast<double>(s[i]));
-        if (i == 0) cairo_move_to(cr, x, y); else cairo_line_to(cr, x, y);
+        if (i == 0)
+          cairo_move_to(cr, x, y);
+        else
+          cairo_line_to(cr, x, y);
       }
     }
     cairo_set_line_width(cr, 1.2);

@@ -37,8 +37,8 @@ struct Track {
   CodecContextPtr codec;
   AVStream* stream = nullptr;
   FramePtr frame;
-  std::int64_t next_pts = 0;                 // in the codec's time base
-  std::vector<std::vector<float>> pending;   // audio: samples not yet a whole codec frame, per channel
+  std::int64_t next_pts = 0;                // in the codec's time base
+  std::vector<std::vector<float>> pending;  // audio: samples not yet a whole codec frame, per channel
 };
 
 class Mp4Encoder final : public VideoEncoder {
@@ -60,7 +60,7 @@ class Mp4Encoder final : public VideoEncoder {
   }
   bool open_video(std::string& error);
   bool open_audio(const AudioStreamSetup& a, std::string& error);
-  bool encode(Track& t, AVFrame* frame);   // frame null: flush
+  bool encode(Track& t, AVFrame* frame);  // frame null: flush
   bool encode_audio_frames(Track& t, bool last);
 
   VideoSetup setup_;
@@ -106,7 +106,8 @@ bool Mp4Encoder::open_video(std::string& error) {
   const int rc = avcodec_open2(c, codec, &options);
   av_dict_free(&options);
   if (rc < 0) {
-    error = std::string("cannot open the ") + codec->name + " encoder (preset " + setup_.preset + "): " + av_message(rc);
+    error =
+        std::string("cannot open the ") + codec->name + " encoder (preset " + setup_.preset + "): " + av_message(rc);
     return false;
   }
   video_.stream = avformat_new_stream(format_, nullptr);
@@ -122,7 +123,8 @@ bool Mp4Encoder::open_video(std::string& error) {
     return false;
   }
   summary_ = "h264 (libx264 " + setup_.preset + ", crf " + std::to_string(setup_.crf) + ")";
-  summary_ += " " + std::to_string(c->width) + "x" + std::to_string(c->height) + " " + std::to_string(setup_.fps) + " fps";
+  summary_ +=
+      " " + std::to_string(c->width) + "x" + std::to_string(c->height) + " " + std::to_string(setup_.fps) + " fps";
   return true;
 }
 
@@ -162,7 +164,8 @@ bool Mp4Encoder::open_audio(const AudioStreamSetup& a, std::string& error) {
   }
   t.pending.resize(static_cast<std::size_t>(a.channels));
   audio_.push_back(std::move(t));
-  summary_ += std::string(" + aac ") + std::to_string(setup_.sample_rate) + " Hz " + (a.channels == 1 ? "mono" : "stereo");
+  summary_ +=
+      std::string(" + aac ") + std::to_string(setup_.sample_rate) + " Hz " + (a.channels == 1 ? "mono" : "stereo");
   if (!a.title.empty()) summary_ += " (" + a.title + ")";
   return true;
 }
@@ -214,7 +217,8 @@ bool Mp4Encoder::encode(Track& t, AVFrame* frame) {
     if (rc < 0) return fail("encoding", rc);
     av_packet_rescale_ts(packet_.get(), t.codec->time_base, t.stream->time_base);
     packet_->stream_index = t.stream->index;
-    if (const int w = av_interleaved_write_frame(format_, packet_.get()); w < 0) return fail("writing " + setup_.path, w);
+    if (const int w = av_interleaved_write_frame(format_, packet_.get()); w < 0)
+      return fail("writing " + setup_.path, w);
   }
 }
 
@@ -256,7 +260,8 @@ bool Mp4Encoder::encode_audio_frames(Track& t, bool last) {
 bool Mp4Encoder::add_audio(int stream, const float* const* planes, std::size_t count) {
   if (finished_ || stream < 0 || static_cast<std::size_t>(stream) >= audio_.size()) return false;
   Track& t = audio_[static_cast<std::size_t>(stream)];
-  for (std::size_t ch = 0; ch < t.pending.size(); ++ch) t.pending[ch].insert(t.pending[ch].end(), planes[ch], planes[ch] + count);
+  for (std::size_t ch = 0; ch < t.pending.size(); ++ch)
+    t.pending[ch].insert(t.pending[ch].end(), planes[ch], planes[ch] + count);
   return encode_audio_frames(t, false);
 }
 

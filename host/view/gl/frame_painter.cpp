@@ -36,13 +36,15 @@ void FramePainter::paint(const FrameState& state, int width_px, int height_px, f
   layout.set_depth_blend(state.previous_haptic, state.depth_blend);
   const Chrome chrome = chrome_layout(p, scale);
   auto hidden = [&](std::uint32_t t) {
-    return std::any_of(state.legend.begin(), state.legend.end(), [t](const LegendEntry& e) { return e.track == t && e.hidden; });
+    return std::any_of(state.legend.begin(), state.legend.end(),
+                       [t](const LegendEntry& e) { return e.track == t && e.hidden; });
   };
 
   // Back to front: the deepest layer first, the haptic track last (on top). Only the visible bars.
   order_.resize(tracks);
   for (std::uint32_t t = 0; t < tracks; ++t) order_[t] = t;
-  std::sort(order_.begin(), order_.end(), [&](std::uint32_t a, std::uint32_t b) { return layout.depth_of(a) > layout.depth_of(b); });
+  std::sort(order_.begin(), order_.end(),
+            [&](std::uint32_t a, std::uint32_t b) { return layout.depth_of(a) > layout.depth_of(b); });
   instances_.clear();
   const std::int64_t t0 = layout.window_begin_us(state.song_us), t1 = layout.window_end_us(state.song_us);
   for (const std::uint32_t t : order_) {
@@ -52,7 +54,8 @@ void FramePainter::paint(const FrameState& state, int width_px, int height_px, f
     } else {
       index_.visible(t, t0, t1, visible_);
     }
-    for (const Bar& b : visible_) instances_.push_back({layout.bar_rect(b, state.song_us), layout.colour(b, state.song_us)});
+    for (const Bar& b : visible_)
+      instances_.push_back({layout.bar_rect(b, state.song_us), layout.colour(b, state.song_us)});
   }
   // The present: a thin line at the roll's centre, over it.
   const float cx = roll_width(p) * 0.5f;
@@ -77,7 +80,9 @@ void FramePainter::paint(const FrameState& state, int width_px, int height_px, f
   // The legend: in its panel beside the roll, a row per track with its colour swatch (hidden tracks dimmed).
   instances_.push_back({chrome.legend, kPanel});
   std::vector<TextItem> text;
-  if (!state.overlay.empty()) text.push_back({6.0f * scale, (chrome.overlay.y1 - chrome.text_px * 1.2f) * 0.5f, chrome.text_px, kText, state.overlay});
+  if (!state.overlay.empty())
+    text.push_back(
+        {6.0f * scale, (chrome.overlay.y1 - chrome.text_px * 1.2f) * 0.5f, chrome.text_px, kText, state.overlay});
   for (std::size_t row = 0; row < state.legend.size(); ++row) {
     const LegendEntry& entry = state.legend[row];
     if (entry.track >= tracks) continue;
@@ -97,15 +102,18 @@ void FramePainter::paint(const FrameState& state, int width_px, int height_px, f
     const float x = state.cursor_x, y = state.cursor_y;
     instances_.push_back({{x - c, y - t, x + c, y + t}, kCursor});
     instances_.push_back({{x - t, y - c, x + t, y + c}, kCursor});
-    if (state.cursor_pressing) instances_.push_back({{x - c * 0.5f, y - c * 0.5f, x + c * 0.5f, y + c * 0.5f}, kSoundingYellow});
+    if (state.cursor_pressing)
+      instances_.push_back({{x - c * 0.5f, y - c * 0.5f, x + c * 0.5f, y + c * 0.5f}, kSoundingYellow});
   }
   // Help: a panel in the middle.
   if (!state.help.empty()) {
     const float line = chrome.text_px * 1.5f, width = 420.0f * scale;
     const float x0 = (static_cast<float>(p.width_px) - width) * 0.5f, y0 = chrome.overlay.y1 + 20.0f * scale;
-    instances_.push_back({{x0, y0, x0 + width, y0 + line * static_cast<float>(state.help.size()) + 12.0f * scale}, kPanel});
+    instances_.push_back(
+        {{x0, y0, x0 + width, y0 + line * static_cast<float>(state.help.size()) + 12.0f * scale}, kPanel});
     for (std::size_t i = 0; i < state.help.size(); ++i) {
-      text.push_back({x0 + 10.0f * scale, y0 + 6.0f * scale + line * static_cast<float>(i), chrome.text_px, kText, state.help[i]});
+      text.push_back(
+          {x0 + 10.0f * scale, y0 + 6.0f * scale + line * static_cast<float>(i), chrome.text_px, kText, state.help[i]});
     }
   }
   text_->prepare(p.width_px, p.height_px, text);

@@ -32,27 +32,36 @@ char key_of(SDL_Keycode k, Uint16 mod) {
     case SDLK_SPACE: return ' ';
     case SDLK_LEFT: return '<';
     case SDLK_RIGHT: return '>';
-    case SDLK_q: case SDLK_ESCAPE: return 'q';
+    case SDLK_q:
+    case SDLK_ESCAPE: return 'q';
     case SDLK_t: return shift ? 'T' : 't';
     case SDLK_e: return 'e';
     case SDLK_m: return 'm';
     case SDLK_f: return 'f';
     case SDLK_h: return 'h';
-    case SDLK_PLUS: case SDLK_KP_PLUS: case SDLK_EQUALS: return '+';
-    case SDLK_MINUS: case SDLK_KP_MINUS: return '-';
+    case SDLK_PLUS:
+    case SDLK_KP_PLUS:
+    case SDLK_EQUALS: return '+';
+    case SDLK_MINUS:
+    case SDLK_KP_MINUS: return '-';
     case SDLK_LEFTBRACKET: return '[';
     case SDLK_RIGHTBRACKET: return ']';
     case SDLK_n: return 'n';  // next song (and, in the study, next round, as Enter)
-    case SDLK_p: return 'p';  // previous song
+    case SDLK_p:
+      return 'p';  // previous song
     // The study's keys: 0/1/2 switch, a/b/c rank, u undo, Enter next.
-    case SDLK_0: case SDLK_KP_0: return '0';
-    case SDLK_1: case SDLK_KP_1: return '1';
-    case SDLK_2: case SDLK_KP_2: return '2';
+    case SDLK_0:
+    case SDLK_KP_0: return '0';
+    case SDLK_1:
+    case SDLK_KP_1: return '1';
+    case SDLK_2:
+    case SDLK_KP_2: return '2';
     case SDLK_a: return 'a';
     case SDLK_b: return 'b';
     case SDLK_c: return 'c';
     case SDLK_u: return 'u';
-    case SDLK_RETURN: case SDLK_KP_ENTER: return '\n';
+    case SDLK_RETURN:
+    case SDLK_KP_ENTER: return '\n';
     default: return 0;
   }
 }
@@ -150,9 +159,7 @@ bool SdlGlWindow::poll(std::vector<ViewEvent>& events) {
       case SDL_MOUSEBUTTONUP:
         if (e.button.button == SDL_BUTTON_LEFT) events.push_back(at(ViewEvent::Kind::release, e.button.x, e.button.y));
         break;
-      case SDL_MOUSEMOTION:
-        events.push_back(at(ViewEvent::Kind::cursor, e.motion.x, e.motion.y));
-        break;
+      case SDL_MOUSEMOTION: events.push_back(at(ViewEvent::Kind::cursor, e.motion.x, e.motion.y)); break;
       default: break;
     }
   }

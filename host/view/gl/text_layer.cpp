@@ -131,7 +131,8 @@ void TextLayer::draw() {
   glBindVertexArray(vao_);
   for (const Placed& p : placed_) {
     glBindTexture(GL_TEXTURE_2D, p.line->texture);
-    glUniform4f(rect_uniform_, p.x, p.y, p.x + static_cast<float>(p.line->width), p.y + static_cast<float>(p.line->height));
+    glUniform4f(rect_uniform_, p.x, p.y, p.x + static_cast<float>(p.line->width),
+                p.y + static_cast<float>(p.line->height));
     glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
   }
   glBindVertexArray(0);

@@ -14,7 +14,7 @@
 namespace hmp::view::gl {
 
 struct TextItem {
-  float x = 0, y = 0;   // the text's top left, pixels
+  float x = 0, y = 0;  // the text's top left, pixels
   float size_px = 13;
   Rgb colour{1, 1, 1};
   std::string text;     // UTF-8, one line

@@ -47,7 +47,7 @@ void closed_form(const Oscillator& o, Real t, Real (&e)[4], Real (&p)[4], Real (
   for (int i = 0; i < 4; ++i) e[i] = decay * (s * (a[i] + (i == 0 || i == 3 ? z * w : 0)) + (i == 0 || i == 3 ? c : 0));
   // A⁻¹ = [[−2ζω, −1], [ω², 0]] / ω².
   const Real inv[4] = {-2 * z * w / (w * w), -1 / (w * w), 1, 0};
-  const auto apply = [&](const Real (&m)[4], Real (&out)[4]) {
+  const auto apply = [&](const Real(&m)[4], Real(&out)[4]) {
     for (int i = 0; i < 2; ++i)
       for (int j = 0; j < 2; ++j) out[i * 2 + j] = inv[i * 2] * m[j] + inv[i * 2 + 1] * m[2 + j];
   };
@@ -61,7 +61,8 @@ void check(const std::vector<Oscillator>& oscillators, double h, double toleranc
   const int n = 2 * static_cast<int>(oscillators.size());
   // The similarity: state i scaled by 10^(8·i/n − 4), alternating up and down the range.
   std::vector<Real> d(static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i) d[static_cast<std::size_t>(i)] = std::pow(10.0L, (i % 2 ? 4.0L : -4.0L) * (i * 2.0L / n - 1));
+  for (int i = 0; i < n; ++i)
+    d[static_cast<std::size_t>(i)] = std::pow(10.0L, (i % 2 ? 4.0L : -4.0L) * (i * 2.0L / n - 1));
   std::vector<double> a(static_cast<std::size_t>(n * n), 0.0);
   for (std::size_t k = 0; k < oscillators.size(); ++k) {
     const Real w = oscillators[k].omega, z = oscillators[k].zeta;
@@ -69,8 +70,8 @@ void check(const std::vector<Oscillator>& oscillators, double h, double toleranc
     const Real block[4] = {0, 1, -w * w, -2 * z * w};
     for (int i = 0; i < 2; ++i)
       for (int j = 0; j < 2; ++j)
-        a[static_cast<std::size_t>((b + i) * n + b + j)] =
-            static_cast<double>(block[i * 2 + j] * d[static_cast<std::size_t>(b + i)] / d[static_cast<std::size_t>(b + j)]);
+        a[static_cast<std::size_t>((b + i) * n + b + j)] = static_cast<double>(
+            block[i * 2 + j] * d[static_cast<std::size_t>(b + i)] / d[static_cast<std::size_t>(b + j)]);
   }
   PhiChain chain(6);
   chain.compute(a.data(), n, h, eager_levels);
@@ -87,7 +88,8 @@ void check(const std::vector<Oscillator>& oscillators, double h, double toleranc
         for (int i = 0; i < 2; ++i)
           for (int j = 0; j < 2; ++j) {
             const std::size_t at = static_cast<std::size_t>((b + i) * n + b + j);
-            const Real unscaled = static_cast<Real>(got[f][at]) * d[static_cast<std::size_t>(b + j)] / d[static_cast<std::size_t>(b + i)];
+            const Real unscaled =
+                static_cast<Real>(got[f][at]) * d[static_cast<std::size_t>(b + j)] / d[static_cast<std::size_t>(b + i)];
             scale = std::fmax(scale, std::fabs(want[f][i * 2 + j]));
             worst = std::fmax(worst, std::fabs(unscaled - want[f][i * 2 + j]));
           }
@@ -105,7 +107,8 @@ void check(const std::vector<Oscillator>& oscillators, double h, double toleranc
 
 TEST(PhiChain, OscillatorsFromSoftToWireLikeStrings) {
   std::vector<Oscillator> set;
-  for (int k = 0; k < 18; ++k) set.push_back({2 * 3.14159265358979L * 10 * std::pow(700.0L, k / 17.0L), 0.005L + 0.02L * k});
+  for (int k = 0; k < 18; ++k)
+    set.push_back({2 * 3.14159265358979L * 10 * std::pow(700.0L, k / 17.0L), 0.005L + 0.02L * k});
   for (int eager : {6, 3, 1}) check(set, 1e-3, 1e-10, eager);
 }
 

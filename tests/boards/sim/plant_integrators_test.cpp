@@ -54,9 +54,9 @@ TEST(PlantIntegrators, EachConvergesAtItsOrder) {
     Method m;
     double ratio_lo, ratio_hi;
   };
-  const Expect expect[] = {{Method::explicit_euler, 1.8, 2.2},        {Method::semi_implicit_euler, 1.8, 2.2},
-                           {Method::rk4, 13.0, 19.0},                 {Method::linear_implicit_euler, 1.8, 2.2},
-                           {Method::rosenbrock2, 3.5, 4.5},           {Method::exponential, 3.5, 4.5}};
+  const Expect expect[] = {{Method::explicit_euler, 1.8, 2.2}, {Method::semi_implicit_euler, 1.8, 2.2},
+                           {Method::rk4, 13.0, 19.0},          {Method::linear_implicit_euler, 1.8, 2.2},
+                           {Method::rosenbrock2, 3.5, 4.5},    {Method::exponential, 3.5, 4.5}};
   for (const Expect& e : expect) {
     double previous = 0;
     for (int n = 64; n <= 256; n *= 2) {
@@ -118,8 +118,8 @@ TEST(PlantIntegrators, DefaultIsStableAtTheTickForAllStringStiffnesses) {
         p.stepper.method = m;
         p.stepper.max_step = tick;  // one step per tick
         const VibrationRun r = vibrate(p, tick, 0.4);
-        const std::string what = std::string(method_name(m)) + ", k = " + std::to_string(k) + ", tick " +
-                                 std::to_string(tick);
+        const std::string what =
+            std::string(method_name(m)) + ", k = " + std::to_string(k) + ", tick " + std::to_string(tick);
         EXPECT_TRUE(r.stable) << what;
         double worst = 0;
         for (double t : r.mean_tension) worst = std::fmax(worst, std::fabs(t - 0.5));
@@ -183,7 +183,8 @@ TEST(PlantIntegrators, TranslationOnlyAgreesWithSixDofWithoutTorques) {
   double worst = 0;
   for (int k = 0; k < 300; ++k) {
     double duty[8];
-    for (int i = 0; i < 8; ++i) duty[i] = full.holding_duty(0.4) + 0.05 * std::sin(kTwoPi * (100.0 + 20 * i) * k * 1e-3);
+    for (int i = 0; i < 8; ++i)
+      duty[i] = full.holding_duty(0.4) + 0.05 * std::sin(kTwoPi * (100.0 + 20 * i) * k * 1e-3);
     const PlantOutput& a = full.step(duty, 1e-3);
     const PlantOutput& b = translation.step(duty, 1e-3);
     for (int i = 0; i < 8; ++i) worst = std::fmax(worst, std::fabs(a.tension[i] - b.tension[i]));

@@ -20,8 +20,8 @@ inline double stall_tension(double duty) { return kKt * duty * kSupply / (kR * k
 inline double no_load_speed(double duty) { return duty * kSupply / kKt; }
 
 // Net force on a grip held by a finger spring at `anchor`, strings at the given tensions, at rest.
-inline V3 static_force(const spidar_ref::Device& d, const V3& pos, const spidar_ref::M3& rot, const double (&tension)[8],
-                       double finger_k, const V3& anchor, double mass, const V3& gravity) {
+inline V3 static_force(const spidar_ref::Device& d, const V3& pos, const spidar_ref::M3& rot,
+                       const double (&tension)[8], double finger_k, const V3& anchor, double mass, const V3& gravity) {
   const spidar_ref::Strings s = spidar_ref::strings_at(d, pos, rot);
   V3 f = spidar_ref::scale(mass, gravity);
   for (int i = 0; i < 8; ++i) f = spidar_ref::add(f, spidar_ref::scale(tension[i], s.u[i]));

@@ -83,7 +83,8 @@ TEST(PlantStatics, ResetHoldsTheBiasTensionAtTheCentre) {
     // The current that holds 0.7 N at standstill, and the duty that drives it (stall equation).
     EXPECT_NEAR(plant.motor_current(i), 0.7 * plant_ref::kRadius / plant_ref::kKt, 1e-15);
   }
-  EXPECT_NEAR(plant.holding_duty(0.7) * plant_ref::kSupply / plant_ref::kR, 0.7 * plant_ref::kRadius / plant_ref::kKt, 1e-12);
+  EXPECT_NEAR(plant.holding_duty(0.7) * plant_ref::kSupply / plant_ref::kR, 0.7 * plant_ref::kRadius / plant_ref::kKt,
+              1e-12);
   EXPECT_EQ(plant.output().taut, 0xFFu);
   EXPECT_EQ(plant.output().status, Status::ok);
 }
@@ -131,8 +132,8 @@ TEST(PlantStatics, SettlesToForceAndTorqueBalanceSixDof) {
   const auto q = plant.orientation();
   const spidar_ref::M3 rot = plant_ref::rotation_of(q.w, q.x, q.y, q.z);
   const V3 pos = v3(plant.position());
-  const V3 force = plant_ref::static_force(spidar_ref::x3_device(), pos, rot, tension, p.finger.stiffness, v3(p.finger.anchor),
-                                           p.grip.mass, v3(p.scene.gravity));
+  const V3 force = plant_ref::static_force(spidar_ref::x3_device(), pos, rot, tension, p.finger.stiffness,
+                                           v3(p.finger.anchor), p.grip.mass, v3(p.scene.gravity));
   const spidar_ref::Strings s = spidar_ref::strings_at(spidar_ref::x3_device(), pos, rot);
   V3 torque{};
   for (int i = 0; i < 8; ++i) torque = spidar_ref::add(torque, spidar_ref::scale(tension[i], s.m[i]));
@@ -194,7 +195,8 @@ TEST(PlantStatics, SlackStringsCarryNoForce) {
   EXPECT_LT(spidar_ref::len3(spidar_ref::sub(v3(plant.position()), x)), 1e-10);
   for (int i = 4; i < 8; ++i) EXPECT_NEAR(plant.motor_speed(i), plant_ref::no_load_speed(-0.05), 1e-6) << i;
   // The net string force is the bottom strings' alone.
-  const spidar_ref::Strings s = spidar_ref::strings_at(spidar_ref::x3_device(), x, spidar_ref::M3{V3{1, 0, 0}, V3{0, 1, 0}, V3{0, 0, 1}});
+  const spidar_ref::Strings s =
+      spidar_ref::strings_at(spidar_ref::x3_device(), x, spidar_ref::M3{V3{1, 0, 0}, V3{0, 1, 0}, V3{0, 0, 1}});
   V3 f{};
   for (int i = 0; i < 4; ++i) f = spidar_ref::add(f, spidar_ref::scale(tension[i], s.u[i]));
   EXPECT_LT(spidar_ref::len3(spidar_ref::sub(v3(plant.output().string_force), f)), 1e-8);
@@ -276,7 +278,8 @@ TEST(PlantStatics, EncodersCountQuarterLinesAndWrap) {
   for (int i = 0; i < 8; ++i) y[state::angle + i] = -(static_cast<double>(mid[i]) + 0.5) * per_count;
   plant.set_state(y);
   for (int i = 0; i < 8; ++i)
-    EXPECT_EQ(plant.output().counts[i], static_cast<std::int32_t>(static_cast<std::uint32_t>(mid[i] & 0xFFFFFFFFLL))) << i;
+    EXPECT_EQ(plant.output().counts[i], static_cast<std::int32_t>(static_cast<std::uint32_t>(mid[i] & 0xFFFFFFFFLL)))
+        << i;
   // One full turn of paying out is 2048 counts.
   for (int i = 0; i < 8; ++i) y[state::angle + i] = -0.25 * per_count;
   plant.set_state(y);
@@ -303,7 +306,8 @@ TEST(PlantStatics, BalancesNearTheFrameEdge) {
   PlantParams p;
   p.scene.translation_only = true;
   const auto& f = p.frame;
-  p.finger.anchor = f.workspace_axes * Vec3d{0.95 * f.workspace_half.x, -0.95 * f.workspace_half.y, 0.5 * f.workspace_half.z};
+  p.finger.anchor =
+      f.workspace_axes * Vec3d{0.95 * f.workspace_half.x, -0.95 * f.workspace_half.y, 0.5 * f.workspace_half.z};
   p.finger.stiffness = 1000.0;
   Plant plant(p);
   plant.reset(0.3);

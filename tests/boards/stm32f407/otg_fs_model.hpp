@@ -268,10 +268,10 @@ class OtgModel {
     namespace otg = board::stm32::otg;
     const std::uint32_t reg = in ? otg::diepctl(n) : otg::doepctl(n);
     const std::uint32_t old = regs[reg];
-    constexpr std::uint32_t kCommands = otg::kEpctlCnak | otg::kEpctlSnak | otg::kEpctlSd0pid | (1u << 29) |
-                                        otg::kEpctlEpdis;
-    std::uint32_t now = (v & ~kCommands & ~otg::kEpctlEpena & ~kNaksts) | (old & kNaksts) |
-                        ((old | v) & otg::kEpctlEpena);
+    constexpr std::uint32_t kCommands =
+        otg::kEpctlCnak | otg::kEpctlSnak | otg::kEpctlSd0pid | (1u << 29) | otg::kEpctlEpdis;
+    std::uint32_t now =
+        (v & ~kCommands & ~otg::kEpctlEpena & ~kNaksts) | (old & kNaksts) | ((old | v) & otg::kEpctlEpena);
     if (v & otg::kEpctlSnak) now |= kNaksts;
     if (v & otg::kEpctlCnak) now &= ~kNaksts;
     if ((v & otg::kEpctlEpdis) && (old & otg::kEpctlEpena)) {

@@ -73,8 +73,14 @@ struct Rig {
     irq();
   }
   static Bytes pkt(std::uint8_t type, std::uint8_t req, std::uint16_t value, std::uint16_t index, std::uint16_t len) {
-    return {type, req, std::uint8_t(value), std::uint8_t(value >> 8), std::uint8_t(index), std::uint8_t(index >> 8),
-            std::uint8_t(len), std::uint8_t(len >> 8)};
+    return {type,
+            req,
+            std::uint8_t(value),
+            std::uint8_t(value >> 8),
+            std::uint8_t(index),
+            std::uint8_t(index >> 8),
+            std::uint8_t(len),
+            std::uint8_t(len >> 8)};
   }
   bool stalled0() { return (io.regs[otg::diepctl(0)] & otg::kEpctlStall) != 0; }
 
@@ -169,9 +175,9 @@ TEST(Stm32OtgFs, EnumerationDescriptorsThroughTheFifos) {
   EXPECT_EQ(r.io.regs[otg::doeptsiz(0)] >> 29, 3u) << "three back-to-back SETUPs allowed after reset";
   const Bytes d8 = r.control_in(Rig::pkt(0x80, 6, 0x0100, 0, 8));
   ASSERT_EQ(d8.size(), 8u);
-  EXPECT_EQ(d8[0], 18);   // bLength
-  EXPECT_EQ(d8[1], 1);    // DEVICE
-  EXPECT_EQ(d8[7], 64);   // bMaxPacketSize0
+  EXPECT_EQ(d8[0], 18);  // bLength
+  EXPECT_EQ(d8[1], 1);   // DEVICE
+  EXPECT_EQ(d8[7], 64);  // bMaxPacketSize0
   const Bytes d = r.control_in(Rig::pkt(0x80, 6, 0x0100, 0, 64));
   ASSERT_EQ(d.size(), 18u);
   EXPECT_EQ(d[8] | d[9] << 8, 0x1209);
@@ -273,7 +279,7 @@ TEST(Stm32OtgFs, HidOutReportReachesTheCoreAndTheReplyComesBackOnEp1In) {
 TEST(Stm32OtgFs, OddRxEntriesArePoppedWholeAndTheNextSetupIsRead) {
   Rig r;
   const std::uint8_t junk[64] = {0xAA, 0xAA, 0xAA, 0xAA, 0xAA, 0xAA, 0xAA, 0xAA};
-  r.io.push_entry(FakeOtg::status(0, 8, 7), junk, 8);   // PKTSTS 7: reserved
+  r.io.push_entry(FakeOtg::status(0, 8, 7), junk, 8);                          // PKTSTS 7: reserved
   r.io.push_entry(FakeOtg::status(0, 12, otg::kPktstsOutComplete), junk, 12);  // a status word with data
   r.io.push_entry(FakeOtg::status(9, 64, otg::kPktstsOutData), junk, 64);      // no endpoint 9
   r.irq();
@@ -348,7 +354,7 @@ TEST(Stm32OtgFs, AStaleEp0InCompletionIsNotTakenForTheNewTransfer) {
   r.irq();                                   // the SETUP's entries popped
   ASSERT_TRUE(r.io.host_in(0).has_value());  // the ZLP's completion, not seen yet
   r.io.regs[otg::doepint(0)] |= otg::kDoepintStup;
-  r.irq();                                   // STUP and the old completion in one run
+  r.irq();  // STUP and the old completion in one run
   Bytes all;
   for (int guard = 0; guard < 4; ++guard) {
     auto p = r.in(0);

@@ -98,7 +98,8 @@ StopResult stop_and_watch(std::uint32_t tick_hz, StopFn stop, sim::SimOptions op
   rig.trace.force.clear();
   for (std::size_t i = 0; i < tick_hz / 10; ++i) rig.dev.advance(1);  // the host says nothing now
   for (std::size_t i = 0; i < rig.trace.t.size(); ++i) {
-    if (rig.trace.t[i] >= t_stop + 0.020) out.worst_after_20ms = std::max(out.worst_after_20ms, std::fabs(rig.trace.force[i] - out.bias));
+    if (rig.trace.t[i] >= t_stop + 0.020)
+      out.worst_after_20ms = std::max(out.worst_after_20ms, std::fabs(rig.trace.force[i] - out.bias));
   }
   out.faults = rig.dev.core().faults();
   return out;
@@ -153,17 +154,23 @@ TEST(DriveClosedLoop, SplitDriveAt10kHzFollowsUpTo1kHz) {
 TEST(DriveClosedLoop, SplitDriveStopsWithin20ms) {
   sim::SimOptions split;
   split.drive.plan_hz = 1000;
-  const StopResult w = stop_and_watch(10000, [](DriveRig& rig) {
-    while (rig.dev.core().state() != protocol::State::fault) rig.dev.advance(1);
-    return rig.dev.plant()->time();
-  }, split);
+  const StopResult w = stop_and_watch(
+      10000,
+      [](DriveRig& rig) {
+        while (rig.dev.core().state() != protocol::State::fault) rig.dev.advance(1);
+        return rig.dev.plant()->time();
+      },
+      split);
   EXPECT_TRUE(w.faults & protocol::fault_watchdog);
   EXPECT_LT(w.worst_after_20ms, 0.02);
-  const StopResult e = stop_and_watch(10000, [](DriveRig& rig) {
-    const double t = rig.dev.plant()->time();
-    rig.host.estop();
-    return t;
-  }, split);
+  const StopResult e = stop_and_watch(
+      10000,
+      [](DriveRig& rig) {
+        const double t = rig.dev.plant()->time();
+        rig.host.estop();
+        return t;
+      },
+      split);
   EXPECT_TRUE(e.faults & protocol::fault_estop);
   EXPECT_LT(e.worst_after_20ms, 0.02);
 }

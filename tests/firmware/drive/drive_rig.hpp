@@ -137,7 +137,8 @@ inline ToneResult measure_tone(std::uint32_t tick_hz, double hz, double amp, sim
   DriveRig rig(tick_hz, tick_hz >= 10000 ? 1 : 4, options);
   rig.start(settings);
   const std::uint64_t begin = rig.dev.tick() + 20;
-  const auto settle = static_cast<std::size_t>(settle_s * tick_hz), window = static_cast<std::size_t>(window_s * tick_hz);
+  const auto settle = static_cast<std::size_t>(settle_s * tick_hz),
+             window = static_cast<std::size_t>(window_s * tick_hz);
   rig.tone(begin, static_cast<std::uint32_t>(settle + window + 100), hz, amp);
   rig.run(begin - rig.dev.tick() + settle, settings.peak_force_n, false);
   rig.trace.on = true;
@@ -159,10 +160,11 @@ inline ToneResult measure_tone(std::uint32_t tick_hz, double hz, double amp, sim
 }
 
 inline void print_tone(const char* what, double hz, const ToneResult& r) {
-  std::printf("%s %5.0f Hz: commanded %.4f N, actual %.4f N, error %+.2f%%, lag %.1f deg (%.3f ms), "
-              "tension %.3f..%.3f N%s\n",
-              what, hz, r.commanded, r.actual, 100.0 * r.error, r.lag_deg, r.lag_ms, r.min_tension, r.max_tension,
-              r.taut ? "" : ", a string went slack");
+  std::printf(
+      "%s %5.0f Hz: commanded %.4f N, actual %.4f N, error %+.2f%%, lag %.1f deg (%.3f ms), "
+      "tension %.3f..%.3f N%s\n",
+      what, hz, r.commanded, r.actual, 100.0 * r.error, r.lag_deg, r.lag_ms, r.min_tension, r.max_tension,
+      r.taut ? "" : ", a string went slack");
 }
 
 }  // namespace hmp::test

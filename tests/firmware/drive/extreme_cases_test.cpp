@@ -29,7 +29,7 @@ constexpr std::size_t kRecoveryTicks = 20;  // 20 ms at 1 kHz
 constexpr double kTensionTolerance = 0.05;  // relative to each bias tension
 // The closed-loop tests' bound for "the force is back at the bias" (2% of their 1 N peak). The calm noise
 // each case measures must stay below half of it, or the tolerance would not tell recovery from noise.
-constexpr double kForceTolerance = 0.02;   // N
+constexpr double kForceTolerance = 0.02;  // N
 constexpr std::size_t kCalmTicks = 100;
 // Before the calm stretch: the grip sags onto the finger after power-up (0.3 N of gravity on 500 N/m, lightly
 // damped) and rings after the hand stops; 600 ms leaves well under a millinewton of it.
@@ -255,10 +255,11 @@ std::size_t vibrate_then_recover(Bench& b, std::uint32_t ticks, const char* what
   b.until_silent();
   std::string why;
   const std::size_t r = b.recovery(&why);
-  std::printf("%s: calm noise %.5f N, tensions at the bias after %zu ticks, back at the bias after %zu ticks, worst "
-              "|F - calm| after %zu ticks %.4f N%s%s\n",
-              what, b.calm_noise(), b.tensions_settled, r, kRecoveryTicks, b.worst_after_recovery_ticks,
-              why.empty() ? "" : "; last off: ", why.c_str());
+  std::printf(
+      "%s: calm noise %.5f N, tensions at the bias after %zu ticks, back at the bias after %zu ticks, worst "
+      "|F - calm| after %zu ticks %.4f N%s%s\n",
+      what, b.calm_noise(), b.tensions_settled, r, kRecoveryTicks, b.worst_after_recovery_ticks,
+      why.empty() ? "" : "; last off: ", why.c_str());
   return r;
 }
 
@@ -279,10 +280,11 @@ void stiff_strings(bool model_knows) {
   int worst_string = -1;
   const double calm_error = b.tension_error(&worst_string);
   const double commanded = static_cast<double>(b.core().drive().tensions()[worst_string < 0 ? 0 : worst_string]);
-  std::printf("%s: at rest, plant tension off the commanded by up to %.4f N (string %d: plant %.4f, commanded %.4f), "
-              "pre-emphasis %.4f\n",
-              what, calm_error, worst_string, worst_string >= 0 ? b.plant().tension[worst_string] : 0.0, commanded,
-              static_cast<double>(b.core().drive().compensator().emphasis()));
+  std::printf(
+      "%s: at rest, plant tension off the commanded by up to %.4f N (string %d: plant %.4f, commanded %.4f), "
+      "pre-emphasis %.4f\n",
+      what, calm_error, worst_string, worst_string >= 0 ? b.plant().tension[worst_string] : 0.0, commanded,
+      static_cast<double>(b.core().drive().compensator().emphasis()));
   EXPECT_LE(calm_error, kTensionTolerance * static_cast<double>(exact_settings().t_min_n)) << what;
   const std::size_t r = vibrate_then_recover(b, 200, what);
   expect_sound(b, what);
@@ -295,9 +297,7 @@ void stiff_strings(bool model_knows) {
 TEST(DriveExtremeCases, StiffStrings1e7ModelDefault) { stiff_strings(false); }
 
 // The drive's model told 10⁷ N/m (a calibrated device).
-TEST(DriveExtremeCases, StiffStrings1e7ModelMatched) {
-  stiff_strings(true);
-}
+TEST(DriveExtremeCases, StiffStrings1e7ModelMatched) { stiff_strings(true); }
 
 // Every string slack: the motors' duties forced to 0 for 40 ms (a driver that lets go) while a vibration
 // plays; the strings lose their tension, then the drive takes over again.
@@ -309,7 +309,7 @@ TEST(DriveExtremeCases, EveryStringSlackThenResumes) {
   b.run(50);
   double loosest = 1e9;  // the largest plant tension on the tick where it was smallest
   bool all_slack = false;
-  b.rig().dev.set_duty_hook([](float (&duty)[8]) {
+  b.rig().dev.set_duty_hook([](float(&duty)[8]) {
     for (float& d : duty) d = 0.0f;
   });
   for (int i = 0; i < 40; ++i) {
@@ -328,9 +328,10 @@ TEST(DriveExtremeCases, EveryStringSlackThenResumes) {
   b.until_silent();
   std::string why;
   const std::size_t r = b.recovery(&why);
-  std::printf("slack: every string slack %s, largest tension at the loosest %.5f N; all taut again after %zu ticks; "
-              "after the note back at the bias after %zu ticks %s\n",
-              all_slack ? "yes" : "no", loosest, retensioned, r, why.c_str());
+  std::printf(
+      "slack: every string slack %s, largest tension at the loosest %.5f N; all taut again after %zu ticks; "
+      "after the note back at the bias after %zu ticks %s\n",
+      all_slack ? "yes" : "no", loosest, retensioned, r, why.c_str());
   expect_sound(b, "every string slack");
   EXPECT_TRUE(all_slack) << "the injected fault did slacken every string";
   EXPECT_GT(retensioned, 0u);
@@ -447,10 +448,11 @@ void saturate(float t_max) {
   const auto ticks = [](std::size_t last) {
     return last == kWatchTicks ? std::string("> ") + std::to_string(kWatchTicks) : std::to_string(last);
   };
-  std::printf("%s: after the note, out of saturation after %zu ticks, tensions at the bias after %zu; measured, not "
-              "asserted: duties at the bias's stall duty after %s ticks, plant string force back at the calm one "
-              "(%.3f N) after %s ticks\n",
-              what.c_str(), saturated, tensions, ticks(duties).c_str(), kForceTolerance, ticks(plant).c_str());
+  std::printf(
+      "%s: after the note, out of saturation after %zu ticks, tensions at the bias after %zu; measured, not "
+      "asserted: duties at the bias's stall duty after %s ticks, plant string force back at the calm one "
+      "(%.3f N) after %s ticks\n",
+      what.c_str(), saturated, tensions, ticks(duties).c_str(), kForceTolerance, ticks(plant).c_str());
   expect_sound(b, what.c_str());
   EXPECT_EQ(b.core().faults(), 0u) << what;
   EXPECT_LE(saturated, kRecoveryTicks) << what;
@@ -473,7 +475,7 @@ void encoder_jump(bool persists) {
   b.rig().tone(b.rig().dev.tick() + 2, 400, 100.0, 1.0);
   b.run(50);
   int n = 0;
-  b.rig().dev.set_encoder_hook([&n, persists](std::int32_t (&counts)[8]) {
+  b.rig().dev.set_encoder_hook([&n, persists](std::int32_t(&counts)[8]) {
     if (persists || n++ == 0) counts[2] += 1000;
   });
   b.tick();

@@ -22,7 +22,8 @@ sim::SimOptions with_stiffness(double k, bool model_knows) {
 }
 
 bool logged(const sim::SimDevice& dev, const std::string& what) {
-  return std::any_of(dev.log().begin(), dev.log().end(), [&](const std::string& l) { return l.find(what) != std::string::npos; });
+  return std::any_of(dev.log().begin(), dev.log().end(),
+                     [&](const std::string& l) { return l.find(what) != std::string::npos; });
 }
 
 // Stiffness from soft line to steel wire. The drive's model is told the stiffness (a calibrated device):

@@ -30,13 +30,14 @@ struct Faulted {
     EXPECT_EQ(core.state(), protocol::State::fault);
     EXPECT_EQ(rig.dev.last_output(), 0.0f) << "no vibration";
     EXPECT_EQ(core.engine().active_voices(), 0u);
-    for (float d : rig.dev.duties()) EXPECT_NEAR(d, stall_duty(exact_settings().t_min_n), 1e-5) << "every string at t_min";
+    for (float d : rig.dev.duties())
+      EXPECT_NEAR(d, stall_duty(exact_settings().t_min_n), 1e-5) << "every string at t_min";
   }
   DriveRig rig{1000, 1};
 };
 
 TEST(DriveFaults, EncoderJumpLatchesAndGoesSafe) {
-  Faulted f([](std::int32_t (&counts)[8]) { counts[5] += 5000; });  // a counter that lost 2.4 turns at once
+  Faulted f([](std::int32_t(&counts)[8]) { counts[5] += 5000; });  // a counter that lost 2.4 turns at once
   EXPECT_TRUE(f.rig.dev.core().faults() & protocol::fault_encoder_jump);
   f.expect_safe_state();
   // Latched: play is refused until the host acknowledges.
@@ -49,10 +50,12 @@ TEST(DriveFaults, EncoderJumpLatchesAndGoesSafe) {
 // Fast but possible motion is not a jump: a counter moving at 80% of the no-load speed's counts per tick.
 TEST(DriveFaults, FastCounterIsNotAJump) {
   std::int32_t extra = 0;
-  Faulted f([&](std::int32_t (&counts)[8]) {
-    if (extra < 2000) extra += 140;  // 183 counts/ms at no load
-    counts[0] += extra;
-  }, 5);
+  Faulted f(
+      [&](std::int32_t(&counts)[8]) {
+        if (extra < 2000) extra += 140;  // 183 counts/ms at no load
+        counts[0] += extra;
+      },
+      5);
   EXPECT_FALSE(f.rig.dev.core().faults() & protocol::fault_encoder_jump);
 }
 
@@ -65,13 +68,15 @@ TEST(DriveFaults, DegeneratePoseLatchesPoseDiverged) {
   const spidar_ref::Strings far = spidar_ref::strings_at(dev, {0, 0.09, 0}, identity);
   const double metres_per_count = 2.0 * M_PI * 0.005 / 2048.0;
   int step = 0;
-  Faulted f([&](std::int32_t (&counts)[8]) {
-    step = std::min(step + 1, 100);
-    for (int i = 0; i < 8; ++i) {
-      const double change = (far.length[i] - rest.length[i]) / metres_per_count * step / 100.0;
-      counts[i] += static_cast<std::int32_t>(std::lround(change));
-    }
-  }, 150);
+  Faulted f(
+      [&](std::int32_t(&counts)[8]) {
+        step = std::min(step + 1, 100);
+        for (int i = 0; i < 8; ++i) {
+          const double change = (far.length[i] - rest.length[i]) / metres_per_count * step / 100.0;
+          counts[i] += static_cast<std::int32_t>(std::lround(change));
+        }
+      },
+      150);
   EXPECT_TRUE(f.rig.dev.core().faults() & protocol::fault_pose_diverged);
   EXPECT_FALSE(f.rig.dev.core().faults() & protocol::fault_encoder_jump) << "fed in below the jump limit";
   f.expect_safe_state();
@@ -84,9 +89,10 @@ TEST(DriveFaults, ReelingOutMotorLatchesStringSlack) {
   rig.start(exact_settings());
   rig.tone(rig.dev.tick() + 5, 5000, 100.0, 0.5);
   rig.run(200, 1.0, false);
-  rig.dev.set_duty_hook([](float (&duty)[8]) { duty[3] = -0.3f; });
+  rig.dev.set_duty_hook([](float(&duty)[8]) { duty[3] = -0.3f; });
   bool plant_slack = false;
-  rig.dev.set_plant_observer([&](double, const sim::plant::PlantOutput& out) { plant_slack = plant_slack || !(out.taut & 8u); });
+  rig.dev.set_plant_observer(
+      [&](double, const sim::plant::PlantOutput& out) { plant_slack = plant_slack || !(out.taut & 8u); });
   rig.run(200, 1.0, false);
   EXPECT_TRUE(plant_slack) << "the injected fault did slacken the string";
   EXPECT_TRUE(rig.dev.core().faults() & protocol::fault_string_slack);
@@ -100,7 +106,7 @@ TEST(DriveFaults, StopClearsAndTheDriveRecovers) {
   DriveRig rig(1000, 1);
   rig.start(exact_settings());
   rig.run(100, 1.0, false);
-  rig.dev.set_duty_hook([](float (&duty)[8]) { duty[3] = -0.3f; });
+  rig.dev.set_duty_hook([](float(&duty)[8]) { duty[3] = -0.3f; });
   rig.run(30, 1.0, false);  // reeling out at ~0.8 m/s: a few mm of slack
   ASSERT_TRUE(rig.dev.core().faults() & protocol::fault_string_slack);
   rig.dev.set_duty_hook({});

@@ -83,8 +83,8 @@ TEST(DriveModel, OnARampTheModelFollowsTheContinuousSteadyState) {
       worst_force = std::fmax(worst_force, std::fabs(force - want_force));
       worst_speed = std::fmax(worst_speed, std::fabs(speed - want_speed));
     }
-    std::printf("k %.0e N/m, ramp %.0f N/s: worst |u - exact| %.2e N, |speed - exact| %.2e rad/s (exact %.2e)\n", k,
-                a, worst_force, worst_speed, a / (k * r));
+    std::printf("k %.0e N/m, ramp %.0f N/s: worst |u - exact| %.2e N, |speed - exact| %.2e rad/s (exact %.2e)\n", k, a,
+                worst_force, worst_speed, a / (k * r));
     // Float's rounding of a 1.3 N target is 10⁻⁷ N; 10⁻⁵ N leaves a margin (with the damper force taken as
     // T_r − k x_s from two float states the error was 3.4·10⁻⁴ N at 10⁷ N/m).
     EXPECT_LT(worst_force, 1e-5) << "k " << k;

@@ -31,8 +31,8 @@ struct FakeController {
   std::optional<std::uint8_t> address;
   std::map<std::uint8_t, std::uint16_t> open;  // ep → max packet
   std::map<std::uint8_t, bool> stalled;
-  std::vector<std::uint8_t> toggle_resets;     // ep_clear_stall calls
-  using Pending = host::Packet;                // buffer and room (OUT) or the bytes as handed over (IN)
+  std::vector<std::uint8_t> toggle_resets;  // ep_clear_stall calls
+  using Pending = host::Packet;             // buffer and room (OUT) or the bytes as handed over (IN)
   std::map<std::uint8_t, Pending> pending;  // armed OUT / queued IN packet per endpoint
 
   usb::Dcd dcd() {
@@ -121,7 +121,8 @@ struct Rig {
 
   // A control read as a host controller does it: IN packets until a short one or wLength bytes, then the
   // status stage (a ZLP OUT).
-  Result control_in(std::uint8_t type, std::uint8_t req, std::uint16_t value, std::uint16_t index, std::uint16_t length) {
+  Result control_in(std::uint8_t type, std::uint8_t req, std::uint16_t value, std::uint16_t index,
+                    std::uint16_t length) {
     const host::ControlResult c = host::control_transfer(*dev, ep0, usb::Setup{type, req, value, index, length});
     if (c.outcome == host::ControlOutcome::no_data_packet) ADD_FAILURE() << "no IN packet";
     EXPECT_NE(c.outcome, host::ControlOutcome::no_status_stage) << "status stage not armed";
@@ -137,7 +138,8 @@ struct Rig {
 
   // A control write with a data stage (SET_REPORT), in 64-byte packets each into the buffer the device
   // armed; false when the device stalls or leaves the host waiting.
-  bool control_out_data(std::uint8_t type, std::uint8_t req, std::uint16_t value, std::uint16_t index, const Bytes& data) {
+  bool control_out_data(std::uint8_t type, std::uint8_t req, std::uint16_t value, std::uint16_t index,
+                        const Bytes& data) {
     const usb::Setup s{type, req, value, index, static_cast<std::uint16_t>(data.size())};
     const host::ControlResult c = host::control_transfer(*dev, ep0, s, data.data());
     EXPECT_EQ(c.cut_packets, 0u) << "the device armed less room than a packet of the data stage";
@@ -205,8 +207,8 @@ std::string utf16_string(const Bytes& d) {
 
 // The vendor report descriptor docs/protocol.md describes: usage page 0xFF00, usage 1, one 64-byte input
 // and one 64-byte output report of 8-bit fields, no report ID (HID 1.11 §6.2.2 item encodings).
-const Bytes kExpectedReportDescriptor = {0x06, 0x00, 0xFF, 0x09, 0x01, 0xA1, 0x01, 0x15, 0x00, 0x26, 0xFF, 0x00,
-                                         0x75, 0x08, 0x95, 0x40, 0x09, 0x01, 0x81, 0x02, 0x09, 0x01, 0x91, 0x02, 0xC0};
+const Bytes kExpectedReportDescriptor = {0x06, 0x00, 0xFF, 0x09, 0x01, 0xA1, 0x01, 0x15, 0x00, 0x26, 0xFF, 0x00, 0x75,
+                                         0x08, 0x95, 0x40, 0x09, 0x01, 0x81, 0x02, 0x09, 0x01, 0x91, 0x02, 0xC0};
 
 TEST(UsbDevice, EnumerationAsLinuxDoesIt) {
   Rig rig;
@@ -238,12 +240,14 @@ TEST(UsbDevice, EnumerationAsLinuxDoesIt) {
   const std::uint16_t total = static_cast<std::uint16_t>(r.data[2] | r.data[3] << 8);
   EXPECT_EQ(total, 9 + 9 + 9 + 7 + 7);
   r = rig.control_in(0x80, 6, 0x0200, 0, total);
-  const Bytes expected_config = {
-      9, 2, 41, 0, 1, 1, 0, 0x80, 50,                                           // one configuration, 100 mA
-      9, 4, 0, 0, 2, 3, 0, 0, 0,                                                // interface 0: HID, 2 endpoints
-      9, 0x21, 0x11, 0x01, 0, 1, 0x22, std::uint8_t(kExpectedReportDescriptor.size()), 0,  // HID 1.11
-      7, 5, 0x81, 3, 64, 0, 1,                                                  // interrupt IN, 64 B, 1 ms
-      7, 5, 0x01, 3, 64, 0, 1};                                                 // interrupt OUT, 64 B, 1 ms
+  const Bytes expected_config = {9,  2,    41,   0,    1,  1, 0,    0x80,
+                                 50,  // one configuration, 100 mA
+                                 9,  4,    0,    0,    2,  3, 0,    0,
+                                 0,  // interface 0: HID, 2 endpoints
+                                 9,  0x21, 0x11, 0x01, 0,  1, 0x22, std::uint8_t(kExpectedReportDescriptor.size()),
+                                 0,                                // HID 1.11
+                                 7,  5,    0x81, 3,    64, 0, 1,   // interrupt IN, 64 B, 1 ms
+                                 7,  5,    0x01, 3,    64, 0, 1};  // interrupt OUT, 64 B, 1 ms
   EXPECT_EQ(r.data, expected_config);
   // 5. Strings: the language list, then each string in US English.
   r = rig.control_in(0x80, 6, 0x0300, 0, 255);
@@ -317,7 +321,8 @@ TEST(UsbDevice, UnsupportedRequestsStallUntilTheNextSetup) {
                              std::uint16_t length = 0) {
     const auto before = rig.dev->stats().stalls;
     const bool in = type & 0x80;
-    const bool stalled = in ? rig.control_in(type, req, value, index, length).stalled : !rig.control_out(type, req, value, index);
+    const bool stalled =
+        in ? rig.control_in(type, req, value, index, length).stalled : !rig.control_out(type, req, value, index);
     EXPECT_EQ(rig.dev->stats().stalls, before + (stalled ? 1 : 0));
     return stalled;
   };
@@ -438,7 +443,9 @@ TEST(UsbDevice, OutReportsFasterThanTheCoreDrainsAreHeldNotLost) {
   int sent = 0, naks = 0;
   std::vector<std::uint16_t> acked;
   while (sent < total) {
-    while (sent < total && rig.interrupt_out(report_of(p::make(p::Type::sync, 0), static_cast<std::uint16_t>(sent + 1)))) ++sent;
+    while (sent < total &&
+           rig.interrupt_out(report_of(p::make(p::Type::sync, 0), static_cast<std::uint16_t>(sent + 1))))
+      ++sent;
     if (sent < total) ++naks;
     rig.tick();
   }
@@ -497,7 +504,8 @@ TEST(UsbDevice, SuspendMidNoteFadesTheOutputWithin20ms) {
   write(note);
   rig.tick(100);
   float peak = 0;
-  for (std::size_t i = rig.outputs.size() - 20; i < rig.outputs.size(); ++i) peak = std::max(peak, std::abs(rig.outputs[i]));
+  for (std::size_t i = rig.outputs.size() - 20; i < rig.outputs.size(); ++i)
+    peak = std::max(peak, std::abs(rig.outputs[i]));
   ASSERT_GT(peak, 0.5f) << "the note sounds before the suspend";
   rig.dev->on_suspend();
   const std::size_t at = rig.outputs.size();

@@ -43,8 +43,8 @@ TEST(AudioEvents, SortedWithOffsBeforeOnsAtEqualTimes) {
       note(250, 750, 1, 64, 70, 40),                              // violin on channel 2
   };
   const std::vector<AudioEvent> want = {
-      on(0, 0, 60, 90, 0),     on(250, 1, 64, 70, 40), off(500, 0, 60),
-      on(500, 0, 60, 80, 0),   off(750, 1, 64),        off(1000, 0, 60),
+      on(0, 0, 60, 90, 0),   on(250, 1, 64, 70, 40), off(500, 0, 60),
+      on(500, 0, 60, 80, 0), off(750, 1, 64),        off(1000, 0, 60),
   };
   EXPECT_EQ(audio_events(notes), want);
 }
@@ -83,8 +83,8 @@ TEST(AudioEvents, TimesComeFromTheTempoMap) {
   // 0.5 s + 48/96 × 1 s = 1 s. Two notes given out of time order, as two tracks' notes come.
   const hmp::midi::TempoMap map = hmp::midi::TempoMap::metrical(96, {{96, 1'000'000}});
   const std::vector<hmp::midi::Note> notes = {note(144, 192, 0, 64), note(48, 144, 1, 60)};
-  const std::vector<AudioEvent> want = {on(250'000, 1, 60, 100, 0), off(1'000'000, 1, 60),
-                                        on(1'000'000, 0, 64, 100, 0), off(1'500'000, 0, 64)};
+  const std::vector<AudioEvent> want = {on(250'000, 1, 60, 100, 0), off(1'000'000, 1, 60), on(1'000'000, 0, 64, 100, 0),
+                                        off(1'500'000, 0, 64)};
   EXPECT_EQ(hmp::audio::audio_events(notes, map), want);
   // The Song overload uses the song's own map.
   hmp::midi::Song song;

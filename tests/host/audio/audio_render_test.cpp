@@ -38,7 +38,8 @@ struct TestNote {
 // after the note-on), flute, snare drum (channel 10, kit 0). Times are arbitrary, not multiples of any
 // block.
 const std::vector<TestNote> kNotes = {
-    {1'000'000, 0, 0, 60}, {1'750'300, 1, 19, 67}, {2'501'100, 2, 24, 60}, {3'222'200, 3, 73, 72}, {3'987'600, 9, 0, 38},
+    {1'000'000, 0, 0, 60},  {1'750'300, 1, 19, 67}, {2'501'100, 2, 24, 60},
+    {3'222'200, 3, 73, 72}, {3'987'600, 9, 0, 38},
 };
 constexpr std::int64_t kNoteLengthUs = 300'000;
 constexpr std::int64_t kSongEndUs = 5'000'000;
@@ -194,7 +195,8 @@ TEST(AudioRender, SilentBeforeTheFirstNoteAndSoundingAfter) {
   ASSERT_EQ(audio.left.size(), static_cast<std::size_t>(kSongEndUs * audio.sample_rate / 1'000'000));
   const auto first = static_cast<std::size_t>(0.999 * audio.sample_rate);  // 1 ms before the first note
   float before = 0, after = 0;
-  for (std::size_t i = 0; i < first; ++i) before = std::max({before, std::fabs(audio.left[i]), std::fabs(audio.right[i])});
+  for (std::size_t i = 0; i < first; ++i)
+    before = std::max({before, std::fabs(audio.left[i]), std::fabs(audio.right[i])});
   for (std::size_t i = first; i < audio.left.size(); ++i) after = std::max(after, std::fabs(audio.left[i]));
   // Silence is below −120 dBFS, not exactly 0: FluidSynth's reverb adds a ~1e-8 anti-denormal offset.
   EXPECT_LT(before, 1e-6f);
@@ -222,8 +224,8 @@ TEST(AudioRender, SeekStartsWithTheNextNote) {
 TEST(AudioRender, WavHoldsTheRenderedSamples) {
   AudioOptions options;
   options.soundfont = "/nonexistent/for-speed.sf2";  // silence is enough to check the file format
-  const auto audio = hmp::audio::render_offline(events_without(kNotes.size()), 500'000, 750'000, options,
-                                                [](const std::string&) {});
+  const auto audio =
+      hmp::audio::render_offline(events_without(kNotes.size()), 500'000, 750'000, options, [](const std::string&) {});
   const auto path = std::filesystem::temp_directory_path() / ("hmp-audio-" + std::to_string(::getpid()) + ".wav");
   hmp::audio::write_wav(path.string(), audio);
   SF_INFO info{};

@@ -47,7 +47,8 @@ audio::RenderedAudio render(const midi::Song& song, double from_s, double to_s) 
 
 // RMS level in dB of both channels over song time [t0, t1) of a render that starts at `start_s`.
 double level_db(const audio::RenderedAudio& a, double t0, double t1, double start_s = 0, int which = 2) {
-  const auto i0 = static_cast<std::size_t>((t0 - start_s) * kRate), i1 = static_cast<std::size_t>((t1 - start_s) * kRate);
+  const auto i0 = static_cast<std::size_t>((t0 - start_s) * kRate),
+             i1 = static_cast<std::size_t>((t1 - start_s) * kRate);
   double sum = 0;
   for (std::size_t i = i0; i < i1 && i < a.left.size(); ++i) {
     const auto l = static_cast<double>(a.left[i]), r = static_cast<double>(a.right[i]);
@@ -62,10 +63,12 @@ double pitch_hz(const audio::RenderedAudio& a, double t0, double t1, double gues
   const auto i0 = static_cast<std::size_t>(t0 * kRate), n = static_cast<std::size_t>((t1 - t0) * kRate);
   auto corr = [&](std::size_t lag) {
     double s = 0;
-    for (std::size_t i = 0; i + lag < n; ++i) s += static_cast<double>(a.left[i0 + i]) * static_cast<double>(a.left[i0 + i + lag]);
+    for (std::size_t i = 0; i + lag < n; ++i)
+      s += static_cast<double>(a.left[i0 + i]) * static_cast<double>(a.left[i0 + i + lag]);
     return s / static_cast<double>(n - lag);
   };
-  const auto lo = static_cast<std::size_t>(kRate / guess_hz / 1.8), hi = static_cast<std::size_t>(kRate / guess_hz / 0.55);
+  const auto lo = static_cast<std::size_t>(kRate / guess_hz / 1.8),
+             hi = static_cast<std::size_t>(kRate / guess_hz / 0.55);
   std::size_t best = lo;
   double best_c = -1e300;
   for (std::size_t lag = lo; lag <= hi; ++lag) {
@@ -106,7 +109,10 @@ TEST_F(ControlsRender, VolumeAndExpressionFollowTheGmLevelLaw) {
   // scaled per channel the same way), one render per value of CC7, then of CC11, each held from the start.
   auto level = [](int cc, int v) {
     Events e;
-    e.program(0, 0, 19).raw(0, {0xB0, 91, 0}).raw(0, {0xB0, 93, 0}).raw(0, {0xB0, static_cast<std::uint8_t>(cc), static_cast<std::uint8_t>(v)});
+    e.program(0, 0, 19)
+        .raw(0, {0xB0, 91, 0})
+        .raw(0, {0xB0, 93, 0})
+        .raw(0, {0xB0, static_cast<std::uint8_t>(cc), static_cast<std::uint8_t>(v)});
     e.on(0, 0, 57).off(1000, 0, 57);
     return level_db(render(song_of(e), 0, 1.2), 0.4, 0.9);
   };
@@ -120,7 +126,11 @@ TEST_F(ControlsRender, VolumeAndExpressionFollowTheGmLevelLaw) {
   // window (the organ's own swell cancels), measured after the step settles.
   auto crescendo = [](bool ramp) {
     Events e;
-    e.program(0, 0, 19).raw(0, {0xB0, 91, 0}).raw(0, {0xB0, 93, 0}).raw(0, {0xB0, 7, static_cast<std::uint8_t>(ramp ? 40 : 127)}).on(0, 0, 57);
+    e.program(0, 0, 19)
+        .raw(0, {0xB0, 91, 0})
+        .raw(0, {0xB0, 93, 0})
+        .raw(0, {0xB0, 7, static_cast<std::uint8_t>(ramp ? 40 : 127)})
+        .on(0, 0, 57);
     if (ramp) e.raw(500, {0xB0, 7, 64}).raw(500, {0xB0, 7, 90}).raw(500, {0xB0, 7, 127}).off(500, 0, 57);
     if (!ramp) e.off(2000, 0, 57);
     return render(song_of(e), 0, 2.2);
@@ -129,18 +139,25 @@ TEST_F(ControlsRender, VolumeAndExpressionFollowTheGmLevelLaw) {
   const int values[] = {40, 64, 90, 127};
   for (int k = 0; k < 4; ++k) {
     const double t = 0.5 * k;
-    EXPECT_NEAR(level_db(ramped, t + 0.2, t + 0.45) - level_db(constant, t + 0.2, t + 0.45), 40 * std::log10(values[k] / 127.0), 0.5)
+    EXPECT_NEAR(level_db(ramped, t + 0.2, t + 0.45) - level_db(constant, t + 0.2, t + 0.45),
+                40 * std::log10(values[k] / 127.0), 0.5)
         << "step " << values[k];
   }
 }
 
 TEST_F(ControlsRender, PitchBendFollowsItsRpnRange) {
-  // Church organ A4 (no vibrato); the bend range set to 7 semitones by RPN 0 (CC101 0, CC100 0, data entry 7), then bent up
-  // fully (16383) and down by half (4096).
+  // Church organ A4 (no vibrato); the bend range set to 7 semitones by RPN 0 (CC101 0, CC100 0, data entry 7), then
+  // bent up fully (16383) and down by half (4096).
   Events e;
   e.program(0, 0, 19)
-      .raw(0, {0xB0, 101, 0}).raw(0, {0xB0, 100, 0}).raw(0, {0xB0, 6, 7}).raw(0, {0xB0, 38, 0})
-      .on(0, 0, 69).raw(600, {0xE0, 0x7F, 0x7F}).raw(600, {0xE0, 0x00, 0x20}).off(600, 0, 69);
+      .raw(0, {0xB0, 101, 0})
+      .raw(0, {0xB0, 100, 0})
+      .raw(0, {0xB0, 6, 7})
+      .raw(0, {0xB0, 38, 0})
+      .on(0, 0, 69)
+      .raw(600, {0xE0, 0x7F, 0x7F})
+      .raw(600, {0xE0, 0x00, 0x20})
+      .off(600, 0, 69);
   const auto a = render(song_of(e), 0, 2.0);
   const double f0 = pitch_hz(a, 0.2, 0.55, 440);
   const double up = pitch_hz(a, 0.8, 1.15, 440 * 1.5), down = pitch_hz(a, 1.4, 1.75, 440 / 1.2);
@@ -183,22 +200,31 @@ TEST_F(ControlsRender, ASeekRestoresTheControllersOfItsPosition) {
   // semitones. After it an organ note from 2.5 s, released at 2.8 s under the pedal, which lifts at 3.6 s.
   Events e;
   e.program(0, 0, 19)
-      .raw(100, {0xB0, 64, 127}).raw(100, {0xB0, 7, 64}).raw(100, {0xB0, 10, 20})
-      .raw(100, {0xB0, 101, 0}).raw(0, {0xB0, 100, 0}).raw(0, {0xB0, 6, 12}).raw(100, {0xE0, 0x00, 0x60})
-      .on(2100, 0, 69).off(300, 0, 69).raw(800, {0xB0, 64, 0});
+      .raw(100, {0xB0, 64, 127})
+      .raw(100, {0xB0, 7, 64})
+      .raw(100, {0xB0, 10, 20})
+      .raw(100, {0xB0, 101, 0})
+      .raw(0, {0xB0, 100, 0})
+      .raw(0, {0xB0, 6, 12})
+      .raw(100, {0xE0, 0x00, 0x60})
+      .on(2100, 0, 69)
+      .off(300, 0, 69)
+      .raw(800, {0xB0, 64, 0});
   const midi::Song song = song_of(e);
   const auto full = render(song, 0, 4.5);
   const auto from2 = render(song, 2.0, 4.5);
   for (double t = 2.6; t < 4.4; t += 0.2) {
     for (int ch = 0; ch < 2; ++ch) {
-      EXPECT_NEAR(level_db(from2, t, t + 0.2, 2.0, ch), level_db(full, t, t + 0.2, 0, ch), 0.5) << t << " s, channel " << ch;
+      EXPECT_NEAR(level_db(from2, t, t + 0.2, 2.0, ch), level_db(full, t, t + 0.2, 0, ch), 0.5)
+          << t << " s, channel " << ch;
     }
   }
   // The bend survived the seek: the note sounds a tritone up (6 of 12 semitones at bend 12288).
   audio::RenderedAudio shifted = from2;
   shifted.left.insert(shifted.left.begin(), static_cast<std::size_t>(2 * kRate), 0.0f);
   const double expected = std::pow(2.0, 12700.0 * 12 / 128 * 4096 / 8192 / 1200);  // as in PitchBendFollowsItsRpnRange
-  EXPECT_NEAR(pitch_hz(shifted, 2.55, 2.8, 622) / pitch_hz(full, 2.55, 2.8, 622), 1.0, 0.002) << "not the full render's pitch";
+  EXPECT_NEAR(pitch_hz(shifted, 2.55, 2.8, 622) / pitch_hz(full, 2.55, 2.8, 622), 1.0, 0.002)
+      << "not the full render's pitch";
   EXPECT_NEAR(pitch_hz(full, 2.55, 2.8, 622) / 442.0, expected, 0.006);
 }
 
@@ -207,9 +233,18 @@ TEST_F(ControlsRender, ASeekBackUndoesControllersSetLater) {
   // right, bend range 12 and a bend, pedal down), then seeks back to 0.5 s: the note at 1.0 s must sound
   // as it does from a fresh synthesizer seeking there (the controllers of 0.5 s are the defaults).
   Events e;
-  e.program(0, 0, 19).on(1000, 0, 69).off(300, 0, 69)
-      .raw(200, {0xB0, 91, 127}).raw(0, {0xB0, 93, 127}).raw(0, {0xB0, 7, 30}).raw(0, {0xB0, 10, 127})
-      .raw(0, {0xB0, 101, 0}).raw(0, {0xB0, 100, 0}).raw(0, {0xB0, 6, 12}).raw(0, {0xE0, 0, 0x7F}).raw(0, {0xB0, 64, 127});
+  e.program(0, 0, 19)
+      .on(1000, 0, 69)
+      .off(300, 0, 69)
+      .raw(200, {0xB0, 91, 127})
+      .raw(0, {0xB0, 93, 127})
+      .raw(0, {0xB0, 7, 30})
+      .raw(0, {0xB0, 10, 127})
+      .raw(0, {0xB0, 101, 0})
+      .raw(0, {0xB0, 100, 0})
+      .raw(0, {0xB0, 6, 12})
+      .raw(0, {0xE0, 0, 0x7F})
+      .raw(0, {0xB0, 64, 127});
   const std::vector<audio::AudioEvent> events = audio::audio_events(song_of(e));
   audio::SynthSettings settings;
   settings.sample_rate = kRate;
@@ -230,7 +265,8 @@ TEST_F(ControlsRender, ASeekBackUndoesControllersSetLater) {
   const auto again = run(true), fresh = run(false);
   for (int ch = 0; ch < 2; ++ch) {
     EXPECT_NEAR(level_db(again, 1.0, 1.3, 0.5, ch), level_db(fresh, 1.0, 1.3, 0.5, ch), 0.2) << "channel " << ch;
-    EXPECT_NEAR(level_db(again, 1.35, 1.5, 0.5, ch), level_db(fresh, 1.35, 1.5, 0.5, ch), 1.0) << "release, channel " << ch;
+    EXPECT_NEAR(level_db(again, 1.35, 1.5, 0.5, ch), level_db(fresh, 1.35, 1.5, 0.5, ch), 1.0)
+        << "release, channel " << ch;
   }
   audio::RenderedAudio a = again, f = fresh;
   a.left.insert(a.left.begin(), static_cast<std::size_t>(kRate / 2), 0.0f);
@@ -264,10 +300,26 @@ TEST(ControlsRead, InfoListsTheControllersOfEachTracksChannels) {
   // Track 1 on channel 0: sustain, volume (twice), a bend, a program set once then again the same; track 2
   // on channel 1: the RPN bend range, pan and a change to another program; track 3: notes only.
   Events a, b, c;
-  a.program(0, 0, 0).raw(0, {0xB0, 64, 127}).raw(0, {0xB0, 7, 90}).raw(0, {0xB0, 7, 100}).raw(0, {0xE0, 0, 0x50})
-      .program(0, 0, 0).on(0, 0, 60).off(100, 0, 60).end();
-  b.program(0, 1, 0).raw(0, {0xB1, 101, 0}).raw(0, {0xB1, 100, 0}).raw(0, {0xB1, 6, 12}).raw(0, {0xB1, 10, 0})
-      .on(0, 1, 60).off(100, 1, 60).program(0, 1, 40).on(0, 1, 62).off(100, 1, 62).end();
+  a.program(0, 0, 0)
+      .raw(0, {0xB0, 64, 127})
+      .raw(0, {0xB0, 7, 90})
+      .raw(0, {0xB0, 7, 100})
+      .raw(0, {0xE0, 0, 0x50})
+      .program(0, 0, 0)
+      .on(0, 0, 60)
+      .off(100, 0, 60)
+      .end();
+  b.program(0, 1, 0)
+      .raw(0, {0xB1, 101, 0})
+      .raw(0, {0xB1, 100, 0})
+      .raw(0, {0xB1, 6, 12})
+      .raw(0, {0xB1, 10, 0})
+      .on(0, 1, 60)
+      .off(100, 1, 60)
+      .program(0, 1, 40)
+      .on(0, 1, 62)
+      .off(100, 1, 62)
+      .end();
   c.on(0, 2, 60).off(100, 2, 60).end();
   Events conductor;
   conductor.tempo(0, 500000).end();
@@ -281,13 +333,17 @@ TEST(ControlsRead, InfoListsTheControllersOfEachTracksChannels) {
 
 TEST(ControlsRead, TheReaderKeepsTheSoundsControllersOnly) {
   Events e;
-  e.raw(0, {0xB3, 64, 127}).raw(10, {0xB3, 20, 5})          // sustain kept; CC 20 (undefined) dropped
-      .raw(10, {0xE3, 0x01, 0x40}).raw(10, {0xD3, 77})        // pitch bend 8193, channel pressure 77
-      .raw(10, {0xC3, 42}).raw(10, {0xB3, 121, 0}).raw(10, {0xB3, 123, 0});
+  e.raw(0, {0xB3, 64, 127})
+      .raw(10, {0xB3, 20, 5})  // sustain kept; CC 20 (undefined) dropped
+      .raw(10, {0xE3, 0x01, 0x40})
+      .raw(10, {0xD3, 77})  // pitch bend 8193, channel pressure 77
+      .raw(10, {0xC3, 42})
+      .raw(10, {0xB3, 121, 0})
+      .raw(10, {0xB3, 123, 0});
   const midi::Song song = song_of(e);
   using K = midi::Control::Kind;
   const std::vector<midi::Control> expected = {{0, K::controller, 3, 64, 127}, {20, K::pitch_bend, 3, 0, 8193},
-                                               {30, K::pressure, 3, 0, 77},   {40, K::program, 3, 42, 0},
+                                               {30, K::pressure, 3, 0, 77},    {40, K::program, 3, 42, 0},
                                                {50, K::controller, 3, 121, 0}, {60, K::controller, 3, 123, 0}};
   ASSERT_EQ(song.controls.size(), expected.size());
   for (std::size_t i = 0; i < expected.size(); ++i) {

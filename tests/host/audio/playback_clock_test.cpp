@@ -51,7 +51,8 @@ double tracking_error_us(double ppm, double jitter_us, double seconds, unsigned 
     if (p > 2e6) {  // after two seconds: compare the reading with the truth half a period later
       const double t = heard + period_us / 2;
       const double truth = t * speed;
-      worst = std::max(worst, std::fabs(static_cast<double>(c.song_us(t0 + microseconds(static_cast<std::int64_t>(t)))) - truth));
+      worst = std::max(
+          worst, std::fabs(static_cast<double>(c.song_us(t0 + microseconds(static_cast<std::int64_t>(t)))) - truth));
     }
   }
   return worst;
@@ -99,7 +100,8 @@ double error_with_late_callbacks(double late_us, double fraction, unsigned seed,
     c.observe(static_cast<std::int64_t>(p), t0 + microseconds(static_cast<std::int64_t>(p + lateness)));
     if (p > 1e6) {
       const double t = p + period_us / 2;
-      worst = std::max(worst, std::fabs(static_cast<double>(c.song_us(t0 + microseconds(static_cast<std::int64_t>(t)))) - t));
+      worst = std::max(worst,
+                       std::fabs(static_cast<double>(c.song_us(t0 + microseconds(static_cast<std::int64_t>(t)))) - t));
     }
   }
   restarts = c.restarts();

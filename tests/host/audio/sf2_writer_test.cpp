@@ -56,8 +56,8 @@ std::int16_t igen_amount(const Bytes& b, std::size_t inst, unsigned op) {
   return 0;
 }
 
-const Sf2Preset kSlow{3, "slow attack", {0, 0.2, 0, 0, 0, 0.1}};        // 200 ms attack, full sustain
-const Sf2Preset kPerc{7, "percussive", {0, 0, 0, 0.3, 1000, 0.1}};      // 0.3 s decay to 1000 cB
+const Sf2Preset kSlow{3, "slow attack", {0, 0.2, 0, 0, 0, 0.1}};    // 200 ms attack, full sustain
+const Sf2Preset kPerc{7, "percussive", {0, 0, 0, 0.3, 1000, 0.1}};  // 0.3 s decay to 1000 cB
 
 TEST(Sf2Writer, LayoutFollowsTheSpec) {
   const hmp::test::Sf2Sample s = hmp::test::sine_sample(48000, 440.0, 11);
@@ -145,8 +145,9 @@ float peak(const std::vector<float>& x) {
 }
 
 TEST(Sf2Writer, FluidSynthPlaysEachPresetWithItsEnvelope) {
-  const std::string path = (std::filesystem::temp_directory_path() /
-                            ("hmp_sf2_writer_test_" + std::to_string(::getpid()) + ".sf2")).string();
+  const std::string path =
+      (std::filesystem::temp_directory_path() / ("hmp_sf2_writer_test_" + std::to_string(::getpid()) + ".sf2"))
+          .string();
   hmp::test::write_sf2(path, {kSlow, kPerc});
   // The envelope times the file holds (attackVolEnv 34, decayVolEnv 36): the callers' within 0.1 %.
   const Bytes file = hmp::test::build_sf2({kSlow, kPerc});

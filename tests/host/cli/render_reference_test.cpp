@@ -1,7 +1,7 @@
 // `hmp render` of real tracks equals an independent reference sample for sample (to 1e-4 of full scale):
 // the notes come from `hmp info --json --notes`; frequency/amplitude from design §5 (Eq. 5–7 as linear
-// interpolation between the song's lowest and highest pitched key, dB → linear), envelopes from design §6 Table 1 (values typed in here from the spec), ticks
-// from design §6 "Ticks", voices summed.
+// interpolation between the song's lowest and highest pitched key, dB → linear), envelopes from design §6 Table 1
+// (values typed in here from the spec), ticks from design §6 "Ticks", voices summed.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -47,8 +47,8 @@ hmp::envelope::Adsr table1(const std::string& name) {
 
 // Reference signal of one track over [0, ticks) at 1 kHz, default ranges 50–250 Hz, 7.5–30 dB, 2 ms fade.
 // `keys`: the song's pitched keys (the 2015 paper's k_min and k_max "in the song").
-std::vector<double> reference(const std::vector<RefNote>& notes, const std::set<int>& keys, const hmp::envelope::Adsr& env,
-                              std::size_t ticks) {
+std::vector<double> reference(const std::vector<RefNote>& notes, const std::set<int>& keys,
+                              const hmp::envelope::Adsr& env, std::size_t ticks) {
   const double kmin = *keys.begin(), kmax = *keys.rbegin();
   std::vector<double> y(ticks, 0.0);
   for (const auto& n : notes) {
@@ -60,8 +60,9 @@ std::vector<double> reference(const std::vector<RefNote>& notes, const std::set<
     const long long count = std::max(1LL, end - start);
     for (long long i = 0; i < count && start + i < static_cast<long long>(ticks); ++i) {
       const double x_ms = static_cast<double>(i);
-      y[static_cast<std::size_t>(start + i)] += hmp::reference::envelope(env, a, static_cast<double>(count), x_ms, 2.0) *
-                                                std::sin(2 * std::numbers::pi * f * x_ms / 1000);
+      y[static_cast<std::size_t>(start + i)] +=
+          hmp::reference::envelope(env, a, static_cast<double>(count), x_ms, 2.0) *
+          std::sin(2 * std::numbers::pi * f * x_ms / 1000);
     }
   }
   return y;
@@ -97,7 +98,8 @@ void check_track(const std::string& name, int expected_track) {
     const double e = std::abs(got[i] - ref[i]);
     if (e > worst) worst = e, worst_at = i;
   }
-  EXPECT_LE(worst, 1e-4) << name << ": worst at tick " << worst_at << " got " << got[worst_at] << " ref " << ref[worst_at];
+  EXPECT_LE(worst, 1e-4) << name << ": worst at tick " << worst_at << " got " << got[worst_at] << " ref "
+                         << ref[worst_at];
   EXPECT_EQ(overlaps, 0u) << "reference exceeded full scale (limiter territory)";
   ::testing::Test::RecordProperty(name + "_max_abs_error", std::to_string(worst));
   std::printf("%s: %zu samples, max |error| = %.3g\n", name.c_str(), got.size(), worst);

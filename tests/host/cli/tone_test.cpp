@@ -44,8 +44,8 @@ double max_error(const std::string& envelope_args, const hmp::envelope::Adsr& pr
                  double ms, int tick_hz, double fade_ms) {
   int rc = -1;
   char args[512];
-  std::snprintf(args, sizeof args, "--freq %.9g --amp %.9g --ms %.9g --tick-hz %d --end-fade-ms %.9g %s", freq,
-                amp, ms, tick_hz, fade_ms, envelope_args.c_str());
+  std::snprintf(args, sizeof args, "--freq %.9g --amp %.9g --ms %.9g --tick-hz %d --end-fade-ms %.9g %s", freq, amp, ms,
+                tick_hz, fade_ms, envelope_args.c_str());
   const auto rows = run_tone(args, &rc);
   EXPECT_EQ(rc, 0) << args;
   const double n_ticks = std::max(1.0, std::round(ms * tick_hz / 1000.0));

@@ -25,17 +25,23 @@ TEST(Printable, NulAndControlCharactersAreEscaped) {
   EXPECT_EQ(printable("\x1B[31mred"), "\\x1B[31mred");  // a terminal escape sequence, made harmless
   EXPECT_EQ(printable("\x7F"), "\\x7F");
   EXPECT_EQ(printable("back\\slash"), "back\\\\slash");
-  EXPECT_EQ(printable("\xC2\x9B" "2J"), "\\u009B2J");  // C1 CSI
+  EXPECT_EQ(printable("\xC2\x9B"
+                      "2J"),
+            "\\u009B2J");  // C1 CSI
 }
 
 TEST(Printable, InvalidUtf8BytesAreEscapedOneByOne) {
-  EXPECT_EQ(printable("v\xFF" "1"), "v\\xFF1");
-  EXPECT_EQ(printable("caf\xE9"), "caf\\xE9");                  // Latin-1 é
-  EXPECT_EQ(printable("\xE2\x82"), "\\xE2\\x82");               // cut short
-  EXPECT_EQ(printable("\xC0\xAF"), "\\xC0\\xAF");               // overlong '/'
-  EXPECT_EQ(printable("\xED\xA0\x80"), "\\xED\\xA0\\x80");      // a surrogate
+  EXPECT_EQ(printable("v\xFF"
+                      "1"),
+            "v\\xFF1");
+  EXPECT_EQ(printable("caf\xE9"), "caf\\xE9");                       // Latin-1 é
+  EXPECT_EQ(printable("\xE2\x82"), "\\xE2\\x82");                    // cut short
+  EXPECT_EQ(printable("\xC0\xAF"), "\\xC0\\xAF");                    // overlong '/'
+  EXPECT_EQ(printable("\xED\xA0\x80"), "\\xED\\xA0\\x80");           // a surrogate
   EXPECT_EQ(printable("\xF4\x90\x80\x80"), "\\xF4\\x90\\x80\\x80");  // past U+10FFFF
-  EXPECT_EQ(printable("\x80" "é"), "\\x80é");                   // stray continuation, then valid text
+  EXPECT_EQ(printable("\x80"
+                      "é"),
+            "\\x80é");  // stray continuation, then valid text
 }
 
 TEST(ValidUtf8, AcceptsTextRefusesBrokenSequences) {

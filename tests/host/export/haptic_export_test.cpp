@@ -56,7 +56,8 @@ const hmp::test::JsonSchema& ahap_schema() {
   return s;
 }
 const hmp::test::JsonSchema& haptic_schema() {
-  static const hmp::test::JsonSchema s(read_json(fs::path(HMP_REPO_DIR) / "tests/host/export/schema/haptic.schema.json"));
+  static const hmp::test::JsonSchema s(
+      read_json(fs::path(HMP_REPO_DIR) / "tests/host/export/schema/haptic.schema.json"));
   return s;
 }
 
@@ -83,7 +84,8 @@ std::vector<std::string> ahap_errors(const json& j) {
       if (t0 < curve_end - 1e-9) errors.push_back("curve at " + std::to_string(t0) + " s overlaps the previous curve");
       double last = -1;
       for (const json& pt : c["ParameterCurveControlPoints"]) {
-        if (pt["Time"].get<double>() < last) errors.push_back("curve at " + std::to_string(t0) + " s: control points out of order");
+        if (pt["Time"].get<double>() < last)
+          errors.push_back("curve at " + std::to_string(t0) + " s: control points out of order");
         last = pt["Time"];
       }
       curve_end = t0 + last;
@@ -111,7 +113,8 @@ std::vector<std::string> haptic_errors(const json& j) {
   const double end = am.back()["time"];
   if (!(end > am.front()["time"].get<double>())) errors.push_back("amplitude envelope of zero duration");
   for (const json& p : env["frequency"]) {
-    if (p["time"].get<double>() > end + 1e-12) errors.push_back("frequency breakpoint after the amplitude envelope's end");
+    if (p["time"].get<double>() > end + 1e-12)
+      errors.push_back("frequency breakpoint after the amplitude envelope's end");
   }
   return errors;
 }
@@ -151,8 +154,10 @@ std::vector<double> rebuild_ahap(const json& j, std::size_t ticks, double hz) {
       const json& ev = e["Event"];
       const double t0 = ev["Time"], dur = ev["EventDuration"];
       double inten = 0;
-      for (const json& p : ev["EventParameters"]) if (p["ParameterID"] == "HapticIntensity") inten = p["ParameterValue"];
-      for (auto k = static_cast<std::size_t>(std::llround(t0 * hz)); k < ticks && static_cast<double>(k) / hz < t0 + dur - 1e-9; ++k) {
+      for (const json& p : ev["EventParameters"])
+        if (p["ParameterID"] == "HapticIntensity") inten = p["ParameterValue"];
+      for (auto k = static_cast<std::size_t>(std::llround(t0 * hz));
+           k < ticks && static_cast<double>(k) / hz < t0 + dur - 1e-9; ++k) {
         intensity2_sum[k] += inten * inten;
       }
     } else {
@@ -198,7 +203,8 @@ std::pair<double, double> event_and_curve_end(const json& j) {
       events = std::max(events, e["Event"]["Time"].get<double>() + e["Event"]["EventDuration"].get<double>());
     } else {
       const json& c = e["ParameterCurve"];
-      curves = std::max(curves, c["Time"].get<double>() + c["ParameterCurveControlPoints"].back()["Time"].get<double>());
+      curves =
+          std::max(curves, c["Time"].get<double>() + c["ParameterCurveControlPoints"].back()["Time"].get<double>());
     }
   }
   return {events, curves};
@@ -206,7 +212,8 @@ std::pair<double, double> event_and_curve_end(const json& j) {
 
 int run_hmp(const std::string& args, std::string* err = nullptr) {
   const std::string errfile = (fs::temp_directory_path() / "hmp-export-test-stderr.txt").string();
-  const int rc = std::system((std::string(HMP_BIN_DIR) + "/hmp render " + args + " 2>" + errfile + " </dev/null").c_str());
+  const int rc =
+      std::system((std::string(HMP_BIN_DIR) + "/hmp render " + args + " 2>" + errfile + " </dev/null").c_str());
   if (err) {
     std::ifstream f(errfile);
     *err = std::string(std::istreambuf_iterator<char>(f), {});
@@ -216,7 +223,8 @@ int run_hmp(const std::string& args, std::string* err = nullptr) {
 
 std::string write_midi(const std::string& name, const midi_test::Bytes& bytes) {
   const fs::path p = fs::temp_directory_path() / name;
-  std::ofstream(p, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  std::ofstream(p, std::ios::binary)
+      .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
   return p.string();
 }
 
@@ -224,7 +232,8 @@ TEST(HapticExport, TheCheckersRejectWhatTheRulesForbid) {
   // Hand-made documents that break one rule each: the checkers must say so.
   const json good_ahap = json::parse(R"({"Version": 1.0, "Pattern": [
       {"Event": {"Time": 0.0, "EventType": "HapticContinuous", "EventDuration": 1.0, "EventParameters": [
-          {"ParameterID": "HapticIntensity", "ParameterValue": 0.5}, {"ParameterID": "HapticSharpness", "ParameterValue": 0.2}]}},
+          {"ParameterID": "HapticIntensity", "ParameterValue": 0.5},
+          {"ParameterID": "HapticSharpness", "ParameterValue": 0.2}]}},
       {"ParameterCurve": {"ParameterID": "HapticIntensityControl", "Time": 0.0, "ParameterCurveControlPoints": [
           {"Time": 0.0, "ParameterValue": 0.0}, {"Time": 0.5, "ParameterValue": 1.0}]}}]})");
   EXPECT_TRUE(ahap_errors(good_ahap).empty()) << joined(ahap_errors(good_ahap));
@@ -242,20 +251,27 @@ TEST(HapticExport, TheCheckersRejectWhatTheRulesForbid) {
     }
     return j;
   };
-  EXPECT_FALSE(ahap_errors(broken(good_ahap, "/Pattern/0/Event/EventDuration", 31.0)).empty()) << "31 s continuous event";
+  EXPECT_FALSE(ahap_errors(broken(good_ahap, "/Pattern/0/Event/EventDuration", 31.0)).empty())
+      << "31 s continuous event";
   EXPECT_FALSE(ahap_errors(broken(good_ahap, "/Pattern/0/Event/EventDuration", nullptr)).empty()) << "no duration";
   EXPECT_FALSE(ahap_errors(broken(good_ahap, "/Pattern/0/Event/EventType", "HapticBuzz")).empty());
   EXPECT_FALSE(ahap_errors(broken(good_ahap, "/Pattern/0/Event/EventParameters/0/ParameterValue", 1.5)).empty());
-  EXPECT_FALSE(ahap_errors(broken(good_ahap, "/Pattern/1/ParameterCurve/ParameterCurveControlPoints/1/Time", -0.1)).empty());
-  EXPECT_FALSE(ahap_errors(broken(good_ahap, "/Pattern/1/ParameterCurve/ParameterCurveControlPoints/0/Time", 0.7)).empty()) << "out of order";
+  EXPECT_FALSE(
+      ahap_errors(broken(good_ahap, "/Pattern/1/ParameterCurve/ParameterCurveControlPoints/1/Time", -0.1)).empty());
+  EXPECT_FALSE(
+      ahap_errors(broken(good_ahap, "/Pattern/1/ParameterCurve/ParameterCurveControlPoints/0/Time", 0.7)).empty())
+      << "out of order";
   EXPECT_FALSE(ahap_errors(broken(good_ahap, "/Pattern/0/Sound", json::object())).empty()) << "two keys in one entry";
   EXPECT_FALSE(ahap_errors(broken(good_ahap, "/Version", nullptr)).empty());
   json seventeen = good_ahap;
-  for (int i = 2; i < 17; ++i) seventeen["Pattern"][1]["ParameterCurve"]["ParameterCurveControlPoints"].push_back({{"Time", i}, {"ParameterValue", 0.5}});
+  for (int i = 2; i < 17; ++i)
+    seventeen["Pattern"][1]["ParameterCurve"]["ParameterCurveControlPoints"].push_back(
+        {{"Time", i}, {"ParameterValue", 0.5}});
   EXPECT_FALSE(ahap_errors(seventeen).empty()) << "17 control points";
 
   const json good_haptic = json::parse(R"({"version": {"major": 1, "minor": 0, "patch": 0}, "metadata": {},
-      "signals": {"continuous": {"envelopes": {"amplitude": [{"time": 0.0, "amplitude": 0.0}, {"time": 1.0, "amplitude": 0.3,
+      "signals": {"continuous": {"envelopes": {"amplitude": [{"time": 0.0, "amplitude": 0.0},
+      {"time": 1.0, "amplitude": 0.3,
       "emphasis": {"amplitude": 0.5, "frequency": 0.5}}], "frequency": []}}}})");
   EXPECT_TRUE(haptic_errors(good_haptic).empty()) << joined(haptic_errors(good_haptic));
   const std::string amp = "/signals/continuous/envelopes/amplitude";
@@ -264,7 +280,9 @@ TEST(HapticExport, TheCheckersRejectWhatTheRulesForbid) {
   EXPECT_FALSE(haptic_errors(broken(good_haptic, amp + "/0/time", 2.0)).empty()) << "times decrease";
   EXPECT_FALSE(haptic_errors(broken(good_haptic, amp + "/1/amplitude", 1.2)).empty());
   EXPECT_FALSE(haptic_errors(broken(good_haptic, amp + "/1/emphasis/amplitude", 0.1)).empty()) << "emphasis below";
-  EXPECT_FALSE(haptic_errors(broken(good_haptic, "/signals/continuous/envelopes/frequency", json::parse(R"([{"time": 2.0, "frequency": 0.5}])"))).empty())
+  EXPECT_FALSE(haptic_errors(broken(good_haptic, "/signals/continuous/envelopes/frequency",
+                                    json::parse(R"([{"time": 2.0, "frequency": 0.5}])")))
+                   .empty())
       << "frequency after the end";
   EXPECT_FALSE(haptic_errors(broken(good_haptic, "/version/minor", "0")).empty());
   EXPECT_FALSE(haptic_errors(broken(good_haptic, "/metadata", nullptr)).empty());
@@ -322,7 +340,8 @@ TEST(HapticExport, MetaAmplitudeFollowsTheSummedEnvelope) {
   const json& am = j["signals"]["continuous"]["envelopes"]["amplitude"];
   for (std::size_t i = 0; i < am.size(); ++i) {
     // Each point is the envelope at its tick; the last stands at the window's end with the last tick's value.
-    const auto k = std::min(static_cast<std::size_t>(std::llround(am[i]["time"].get<double>() * l.opts.tick_hz)), want.size() - 1);
+    const auto k =
+        std::min(static_cast<std::size_t>(std::llround(am[i]["time"].get<double>() * l.opts.tick_hz)), want.size() - 1);
     EXPECT_NEAR(am[i]["amplitude"].get<double>(), std::min(want[k], 1.0), 1e-6) << i;
   }
   EXPECT_NEAR(am.back()["time"].get<double>(), static_cast<double>(want.size()) / l.opts.tick_hz, 1e-9);
@@ -369,7 +388,15 @@ TEST(HapticExport, AhapIntensityIsTheSquareRootOfTheAmplitude) {
   // Three keys under the paper mapping: the lowest gets the range's quietest amplitude, a_min = 7.5 dB,
   // 22.5 dB below full scale: 10^(−22.5/20) = 0.0750, whose square root is 0.2738.
   midi_test::Events t;
-  t.tempo(0, 500000).program(0, 0, 73).on(0, 0, 48).off(480, 0, 48).on(0, 0, 72).off(480, 0, 72).on(0, 0, 60).off(480, 0, 60).end();
+  t.tempo(0, 500000)
+      .program(0, 0, 73)
+      .on(0, 0, 48)
+      .off(480, 0, 48)
+      .on(0, 0, 72)
+      .off(480, 0, 72)
+      .on(0, 0, 60)
+      .off(480, 0, 60)
+      .end();
   const std::string song = write_midi("hmp-export-sqrt.mid", midi_test::smf(0, 480, {t}));
   const Loaded l = load(song, "0");
   const json a = ex::ahap_json(l.spec());
@@ -398,14 +425,16 @@ TEST(HapticExport, AhapIntensityIsTheSquareRootOfTheAmplitude) {
     if (!e.contains("ParameterCurve")) continue;
     const json& c = e["ParameterCurve"];
     for (const json& p : c["ParameterCurveControlPoints"]) {
-      auto k = static_cast<std::uint64_t>(std::llround((c["Time"].get<double>() + p["Time"].get<double>()) * hz)) + l.w.first_tick;
+      auto k = static_cast<std::uint64_t>(std::llround((c["Time"].get<double>() + p["Time"].get<double>()) * hz)) +
+               l.w.first_tick;
       const auto& last = notes.back().note;
       if (k == last.start_tick + last.duration_ticks) --k;
       for (const auto& hn : notes) {
         if (k < hn.note.start_tick || k >= hn.note.start_tick + hn.note.duration_ticks) continue;
         const double v = p["ParameterValue"];
         const double amp = static_cast<double>(hn.note.amp_q16) / 65535.0;
-        const double env = ex::note_envelope(l.w.haptic, l.opts, hn.note).at(static_cast<std::uint32_t>(k - hn.note.start_tick));
+        const double env =
+            ex::note_envelope(l.w.haptic, l.opts, hn.note).at(static_cast<std::uint32_t>(k - hn.note.start_tick));
         EXPECT_NEAR(v * v * amp, env, 1e-6) << "tick " << k;
         ++checked;
       }
@@ -443,7 +472,8 @@ TEST(HapticExport, WindowWithoutNotesIsRefused) {
   EXPECT_TRUE(a["Pattern"].empty());
   const json m = ex::meta_haptic_json(l.spec());
   check_meta(m);
-  for (const json& p : m["signals"]["continuous"]["envelopes"]["amplitude"]) EXPECT_EQ(p["amplitude"].get<double>(), 0.0);
+  for (const json& p : m["signals"]["continuous"]["envelopes"]["amplitude"])
+    EXPECT_EQ(p["amplitude"].get<double>(), 0.0);
   // …but writing one is refused with a message naming the window, and nothing is written.
   for (const char* ext : {".ahap", ".haptic"}) {
     const fs::path out = fs::temp_directory_path() / (std::string("hmp-export-silent") + ext);
@@ -480,7 +510,8 @@ TEST(HapticExport, MetadataNamesTheSongFileNotItsPath) {
 
 TEST(HapticExport, OneNoteAndOneTickWindowsAreValid) {
   midi_test::Events t;
-  t.tempo(0, 500000).program(0, 0, 73).on(0, 0, 60).off(1, 0, 60).on(960, 0, 62).off(960, 0, 62).end();  // a 1-tick note
+  t.tempo(0, 500000).program(0, 0, 73).on(0, 0, 60).off(1, 0, 60).on(960, 0, 62).off(960, 0, 62).end();  // a 1-tick
+                                                                                                         // note
   const std::string song = write_midi("hmp-export-tiny.mid", midi_test::smf(0, 480, {t}));
   for (const auto& [from, to] : {std::pair{0.0, 0.001}, {0.0, 3.0}, {1.5, 1.501}}) {
     const Loaded l = load(song, "0", from, to);

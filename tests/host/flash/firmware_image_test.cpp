@@ -40,7 +40,8 @@ class FlashImage : public ::testing::Test {
 
 TEST_F(FlashImage, DefaultPaths) {
   EXPECT_EQ(flash::default_image("/src", true), fs::path("/src/build/stm32f407/boards/stm32f407/hmp_fw_stm32f407.elf"));
-  EXPECT_EQ(flash::default_image("/src", false), fs::path("/src/build/stm32f407/boards/stm32f407/hmp_fw_stm32f407.bin"));
+  EXPECT_EQ(flash::default_image("/src", false),
+            fs::path("/src/build/stm32f407/boards/stm32f407/hmp_fw_stm32f407.bin"));
   EXPECT_FALSE(flash::build_configured(root_));
   write("build/stm32f407/CMakeCache.txt", std::chrono::seconds(0));
   EXPECT_TRUE(flash::build_configured(root_));
@@ -55,8 +56,9 @@ TEST_F(FlashImage, MissingIsStale) {
 
 TEST_F(FlashImage, NewerThanEverySourceIsFresh) {
   using std::chrono::hours;
-  for (const char* rel : {"firmware/core.cpp", "shared/protocol.hpp", "boards/stm32f407/main.cpp"}) write(rel, hours(3));
-  write("host/cli/main.cpp", hours(0));        // not what the image is built from
+  for (const char* rel : {"firmware/core.cpp", "shared/protocol.hpp", "boards/stm32f407/main.cpp"})
+    write(rel, hours(3));
+  write("host/cli/main.cpp", hours(0));           // not what the image is built from
   write("boards/qemu-an386/main.cpp", hours(0));  // another board
   const fs::path image = write("build/stm32f407/boards/stm32f407/hmp_fw_stm32f407.bin", hours(1));
   const flash::Freshness f = flash::image_freshness(image, root_);
@@ -66,14 +68,15 @@ TEST_F(FlashImage, NewerThanEverySourceIsFresh) {
 
 TEST_F(FlashImage, OlderThanAnySourceIsStale) {
   using std::chrono::hours;
-  for (const char* changed : {"firmware/sub/dir/voice.hpp", "shared/protocol.hpp", "boards/stm32f407/pins.hpp",
-                              "boards/stm32f407/stm32f407.ld", "boards/cortex-m/serial_link.hpp",
-                              "firmware/CMakeLists.txt"}) {
+  for (const char* changed :
+       {"firmware/sub/dir/voice.hpp", "shared/protocol.hpp", "boards/stm32f407/pins.hpp",
+        "boards/stm32f407/stm32f407.ld", "boards/cortex-m/serial_link.hpp", "firmware/CMakeLists.txt"}) {
     SCOPED_TRACE(changed);
     fs::remove_all(root_ / "firmware");
     fs::remove_all(root_ / "shared");
     fs::remove_all(root_ / "boards");
-    for (const char* rel : {"firmware/core.cpp", "shared/framing.hpp", "boards/stm32f407/main.cpp"}) write(rel, hours(3));
+    for (const char* rel : {"firmware/core.cpp", "shared/framing.hpp", "boards/stm32f407/main.cpp"})
+      write(rel, hours(3));
     const fs::path image = write("build/stm32f407/boards/stm32f407/hmp_fw_stm32f407.elf", hours(2));
     write(changed, hours(1));
     const flash::Freshness f = flash::image_freshness(image, root_);

@@ -41,7 +41,8 @@ TEST(FlashPlan, MethodNamesRoundTripAndNothingElseParses) {
   for (flash::Method m : {flash::Method::dfu, flash::Method::stlink, flash::Method::openocd}) {
     EXPECT_EQ(flash::parse_method(flash::method_name(m)), m);
   }
-  for (const char* bad : {"", "DFU", "st-link", "jtag", "dfu "}) EXPECT_FALSE(flash::parse_method(bad).has_value()) << bad;
+  for (const char* bad : {"", "DFU", "st-link", "jtag", "dfu "})
+    EXPECT_FALSE(flash::parse_method(bad).has_value()) << bad;
 }
 
 // The quoted line, given to /bin/sh, reaches a program as exactly the original arguments.
@@ -91,15 +92,17 @@ TEST(FlashPlan, EachMethodWithItsImageKind) {
 
 TEST(FlashPlan, BuildCommands) {
   EXPECT_EQ(flash::build_commands(true), (std::vector<Args>{{"cmake", "--build", "--preset", "stm32f407"}}));
-  EXPECT_EQ(flash::build_commands(false), (std::vector<Args>{{"cmake", "--preset", "stm32f407"},
-                                                             {"cmake", "--build", "--preset", "stm32f407"}}));
+  EXPECT_EQ(flash::build_commands(false),
+            (std::vector<Args>{{"cmake", "--preset", "stm32f407"}, {"cmake", "--build", "--preset", "stm32f407"}}));
 }
 
 TEST(FlashPlan, OneLineErrors) {
-  EXPECT_EQ(flash::missing_tool_message(flash::Method::dfu), "dfu-util not found — install it: sudo apt install dfu-util");
+  EXPECT_EQ(flash::missing_tool_message(flash::Method::dfu),
+            "dfu-util not found — install it: sudo apt install dfu-util");
   EXPECT_EQ(flash::missing_tool_message(flash::Method::stlink),
             "st-flash not found — install it: sudo apt install stlink-tools");
-  EXPECT_EQ(flash::missing_tool_message(flash::Method::openocd), "openocd not found — install it: sudo apt install openocd");
+  EXPECT_EQ(flash::missing_tool_message(flash::Method::openocd),
+            "openocd not found — install it: sudo apt install openocd");
   const std::string dfu_hint =
       "no STM32 in DFU mode found (0483:df11) — hold BOOT0 high (on the STM32F4DISCOVERY: a jumper from BOOT0 to "
       "VDD), press RESET, and run hmp flash again";
@@ -112,7 +115,8 @@ TEST(FlashPlan, OneLineErrors) {
       "no ST-LINK probe found — connect the board's ST-LINK USB port (CN1 on the STM32F4DISCOVERY)";
   EXPECT_EQ(flash::no_board_message(flash::Method::stlink, ""), stlink_hint);
   EXPECT_EQ(flash::no_board_message(flash::Method::openocd, ""), stlink_hint);
-  for (const std::string& m : {flash::no_board_message(flash::Method::dfu, "x"), flash::missing_tool_message(flash::Method::dfu)}) {
+  for (const std::string& m :
+       {flash::no_board_message(flash::Method::dfu, "x"), flash::missing_tool_message(flash::Method::dfu)}) {
     EXPECT_EQ(m.find('\n'), std::string::npos);
   }
 }
@@ -131,7 +135,8 @@ TEST(UdevRule, CompiledInCopyIsTheFile) {
 TEST(UdevRule, EachLineGrantsUaccessToOneId) {
   std::istringstream rules(flash::kUdevRule);
   const std::regex rule(
-      R"re(SUBSYSTEM=="(usb|hidraw)", ATTRS\{idVendor\}=="([0-9a-f]{4})", ATTRS\{idProduct\}=="([0-9a-f]{4})", TAG\+="uaccess")re");
+      R"re(SUBSYSTEM=="(usb|hidraw)", )re"
+      R"re(ATTRS\{idVendor\}=="([0-9a-f]{4})", ATTRS\{idProduct\}=="([0-9a-f]{4})", TAG\+="uaccess")re");
   std::set<std::string> usb, hidraw;
   std::string line;
   int n = 0;

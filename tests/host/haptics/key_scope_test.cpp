@@ -49,7 +49,7 @@ bool pitched(const midi::Note& n) { return n.channel != midi::kDrumChannel; }
 void eq5to7(const Range& r, int key, double& f, double& amp) {
   const double dk = r.k_max - r.k_min;
   const double n = dk > 0 ? r.k_eps * (key - r.k_min) / dk : r.k_eps / 2.0;  // Eq. 5
-  f = 50 + (250.0 - 50) / r.k_eps * n;                                        // Eq. 6
+  f = 50 + (250.0 - 50) / r.k_eps * n;                                       // Eq. 6
   const double a_db = 7.5 + (30 - 7.5) / r.k_eps * n;                        // Eq. 7
   amp = std::pow(10.0, (a_db - 30) / 20);
 }

@@ -70,7 +70,8 @@ TEST(SustainPedal, RandomSongsMatchTheTickByTickReference) {
         song.controls.push_back(cc(tick, ch, 64, static_cast<std::uint16_t>(rng() % 128)));
       }
     }
-    std::stable_sort(song.controls.begin(), song.controls.end(), [](const auto& a, const auto& b) { return a.tick < b.tick; });
+    std::stable_sort(song.controls.begin(), song.controls.end(),
+                     [](const auto& a, const auto& b) { return a.tick < b.tick; });
     song.end_tick = 0;
     for (const midi::Note& n : notes) song.end_tick = std::max(song.end_tick, n.end_tick);
     song.end_tick += rng() % 50;
@@ -87,14 +88,14 @@ TEST(SustainPedal, TheNamedCases) {
   song.end_tick = 1000;
   song.controls = {cc(100, 0, 64, 127), cc(500, 0, 64, 0), cc(600, 0, 64, 64), cc(700, 0, 121, 0), cc(800, 0, 64, 100)};
   const std::vector<midi::Note> notes = {
-      note(0, 60, 0, 50),     // released before the pedal: unchanged
-      note(0, 61, 150, 200),  // released under it: to the lift at 500
-      note(1, 61, 150, 200),  // another channel: unchanged
+      note(0, 60, 0, 50),                            // released before the pedal: unchanged
+      note(0, 61, 150, 200),                         // released under it: to the lift at 500
+      note(1, 61, 150, 200),                         // another channel: unchanged
       note(0, 62, 150, 200), note(0, 62, 300, 350),  // struck again at 300: the first stops there, the second to 500
-      note(0, 63, 550, 560),  // released while up: unchanged
-      note(0, 64, 610, 650),  // pedal 64 counts as down; CC121 at 700 lifts it
-      note(0, 65, 810, 900),  // never lifted: to the song's end
-      note(0, 66, 450, 500),  // released at the lift's tick: the pedal is up then
+      note(0, 63, 550, 560),                         // released while up: unchanged
+      note(0, 64, 610, 650),                         // pedal 64 counts as down; CC121 at 700 lifts it
+      note(0, 65, 810, 900),                         // never lifted: to the song's end
+      note(0, 66, 450, 500),                         // released at the lift's tick: the pedal is up then
   };
   const std::vector<std::uint64_t> expected = {50, 500, 200, 300, 500, 560, 700, 1000, 500};
   EXPECT_EQ(haptics::pedal_end_ticks(song, notes), expected);

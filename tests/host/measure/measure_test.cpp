@@ -35,8 +35,11 @@ struct Expected {
 };
 
 Expected rendered(const VolumeEnvelope& e) {
-  return {blocks_floor(e.delay_s), blocks_floor(e.attack_s) + kBlock, blocks_nearest(e.hold_s),
-          blocks_nearest(e.decay_s), std::pow(10.0, -0.96 * e.sustain_cb / 200.0),
+  return {blocks_floor(e.delay_s),
+          blocks_floor(e.attack_s) + kBlock,
+          blocks_nearest(e.hold_s),
+          blocks_nearest(e.decay_s),
+          std::pow(10.0, -0.96 * e.sustain_cb / 200.0),
           blocks_floor(e.release_s) + kBlock};
 }
 
@@ -140,7 +143,8 @@ TEST_F(MeasureTest, TheSoundFontsProgramsAreReadFromItsPresetHeaders) {
 int hmp(const std::string& args, std::string* err = nullptr) {
   const std::string errfile =
       (std::filesystem::temp_directory_path() / ("hmp-measure-test-" + std::to_string(getpid()) + ".err")).string();
-  const int rc = std::system((std::string(HMP_BIN_DIR) + "/hmp envelope measure " + args + " >/dev/null 2>" + errfile).c_str());
+  const int rc =
+      std::system((std::string(HMP_BIN_DIR) + "/hmp envelope measure " + args + " >/dev/null 2>" + errfile).c_str());
   if (err) {
     std::ifstream f(errfile);
     err->assign(std::istreambuf_iterator<char>(f), {});

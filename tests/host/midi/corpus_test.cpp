@@ -9,7 +9,8 @@
 //   and the illegal byte comes before the first note, so nothing is left to play.
 // - music21 and classical: note counts and times were checked against an independent reading with
 //   python3-mido 1.2.10 (first-in-first-out pairing, global tempo map: every note's ticks equal and its
-//   times within 1 µs; durations equal to mido's MidiFile.length), and the track line-up against tests/data/midi/README.md.
+//   times within 1 µs; durations equal to mido's MidiFile.length), and the track line-up against
+//   tests/data/midi/README.md.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -56,8 +57,8 @@ const std::map<std::string, Pin>& pins() {
       // ---- jazz-soft/midi (96 ticks per quarter, no tempo event: 120 bpm, a quarter is 0.5 s) ----
       // "This file has two tracks instead of one": both scales are read, one logical track per channel.
       {"jazz-soft/midi/test-2-tracks-type-0.mid", ok(16, 2, 4.5, "format 0 file with more than one track chunk")},
-      {"jazz-soft/midi/test-2-tracks-type-1.mid", ok(16, 2, 4.5)},  // "must play simultaneously"
-      {"jazz-soft/midi/test-2-tracks-type-2.mid", ok(16, 2, 9.0)},  // "must play sequentially": twice as long
+      {"jazz-soft/midi/test-2-tracks-type-1.mid", ok(16, 2, 4.5)},        // "must play simultaneously"
+      {"jazz-soft/midi/test-2-tracks-type-2.mid", ok(16, 2, 9.0)},        // "must play sequentially": twice as long
       {"jazz-soft/midi/test-all-gm-percussion.mid", ok(183, 1, 137.25)},  // keys 27–87, three strokes each
       {"jazz-soft/midi/test-all-gm-sounds.mid", ok(512, 1, 352.0)},       // 128 programs × 4 notes
       {"jazz-soft/midi/test-all-gm2-sounds.mid", ok(1060, 1, 728.75)},
@@ -67,8 +68,8 @@ const std::map<std::string, Pin>& pins() {
       {"jazz-soft/midi/test-c-major-scale.mid", scale(1, 4.0)},  // "You must hear a C-Major scale."
       // "Percussion sound on Channel 1 … Melody sound on Channel 10": 4 notes on each channel.
       {"jazz-soft/midi/test-control-00-20-bank-select.mid", ok(8, 2, 5.5)},
-      {"jazz-soft/midi/test-control-40-damper.mid", ok(8, 1, 8.0)},      // two sequences of four
-      {"jazz-soft/midi/test-control-41-portamento.mid", ok(8, 1, 7.0)},  // two sequences of four
+      {"jazz-soft/midi/test-control-40-damper.mid", ok(8, 1, 8.0)},              // two sequences of four
+      {"jazz-soft/midi/test-control-41-portamento.mid", ok(8, 1, 7.0)},          // two sequences of four
       {"jazz-soft/midi/test-control-54-portamento-control.mid", ok(1, 1, 3.0)},  // one gliding note
       // Mode messages only ("Sending the … message"): no note.
       {"jazz-soft/midi/test-control-7c-omni-mode-off.mid", ok(0, 1, 0.5)},
@@ -114,8 +115,8 @@ const std::map<std::string, Pin>& pins() {
       // "Playing C5 with different velocities": velocity 1, 16, 32, … 112, 127.
       {"jazz-soft/midi/test-note-on-velocity.mid", ok(9, 1, 4.5)},
       {"jazz-soft/midi/test-rpn-00-00-pitch-bend-range.mid", ok(5, 1, 29.5)},  // five bend ranges
-      {"jazz-soft/midi/test-rpn-00-01-fine-tuning.mid", ok(25, 2, 12.5)},       // quarter-tone scale, 2 channels
-      {"jazz-soft/midi/test-rpn-00-02-coarse-tuning.mid", ok(8, 1, 4.0)},       // scale by tuning one key
+      {"jazz-soft/midi/test-rpn-00-01-fine-tuning.mid", ok(25, 2, 12.5)},      // quarter-tone scale, 2 channels
+      {"jazz-soft/midi/test-rpn-00-02-coarse-tuning.mid", ok(8, 1, 4.0)},      // scale by tuning one key
       {"jazz-soft/midi/test-rpn-00-05-modulation-depth-range.mid", ok(5, 1, 17.0)},
       // "Running status is interrupted by metaevent/SysEx in the middle of the scale" + "must hear a scale".
       {"jazz-soft/midi/test-running-status-metaevent.mid",
@@ -187,7 +188,8 @@ const std::map<std::string, Pin>& pins() {
 
 bool is_midi_name(const fs::path& p) {
   std::string ext = p.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return ext == ".mid" || ext == ".midi" || ext == ".rmi" || ext == ".kar";
 }
 
@@ -264,7 +266,8 @@ TEST(MidiCorpus, EveryFileHasItsPinnedOutcome) {
     }
     if (pin.c_major) {
       std::vector<Note> notes = s.notes;
-      std::stable_sort(notes.begin(), notes.end(), [](const Note& a, const Note& b) { return a.start_tick < b.start_tick; });
+      std::stable_sort(notes.begin(), notes.end(),
+                       [](const Note& a, const Note& b) { return a.start_tick < b.start_tick; });
       const int want[8] = {60, 62, 64, 65, 67, 69, 71, 72};
       ASSERT_EQ(notes.size(), 8u);
       for (int i = 0; i < 8; ++i) {
@@ -287,10 +290,14 @@ TEST(MidiCorpus, BrandenburgLineUpMatchesSources) {
     const char* gm;
     Preset preset;
   };
-  const Want want[8] = {{73, "Flute", Preset::flute},        {40, "Violin", Preset::violin},
-                        {40, "Violin", Preset::violin},      {41, "Viola", Preset::violin},
-                        {42, "Cello", Preset::cello},        {43, "Contrabass", Preset::contrabass},
-                        {6, "Harpsichord", Preset::harpsichord}, {6, "Harpsichord", Preset::harpsichord}};
+  const Want want[8] = {{73, "Flute", Preset::flute},
+                        {40, "Violin", Preset::violin},
+                        {40, "Violin", Preset::violin},
+                        {41, "Viola", Preset::violin},
+                        {42, "Cello", Preset::cello},
+                        {43, "Contrabass", Preset::contrabass},
+                        {6, "Harpsichord", Preset::harpsichord},
+                        {6, "Harpsichord", Preset::harpsichord}};
   for (std::size_t i = 1; i < 9; ++i) {
     const Track& t = track_of(s, i);
     SCOPED_TRACE(i);
@@ -334,7 +341,8 @@ TEST(MidiCorpus, AllGmSoundsPlaysEveryProgramInOrder) {
   // "Playing all General MIDI 1 sounds": programs 0 … 127 one after another, 4 notes each.
   const Song s = load_song(kCorpus / "jazz-soft/midi/test-all-gm-sounds.mid").song;
   std::vector<Note> notes = s.notes;
-  std::stable_sort(notes.begin(), notes.end(), [](const Note& a, const Note& b) { return a.start_tick < b.start_tick; });
+  std::stable_sort(notes.begin(), notes.end(),
+                   [](const Note& a, const Note& b) { return a.start_tick < b.start_tick; });
   ASSERT_EQ(notes.size(), 512u);
   for (std::size_t i = 0; i < notes.size(); ++i) EXPECT_EQ(notes[i].program, i / 4) << i;
   EXPECT_EQ(s.tracks[0].programs.size(), 128u);
@@ -385,6 +393,7 @@ TEST(MidiCorpus, PercussionFileIsAllDrums) {
 
 TEST(MidiCorpus, ZeroLengthNoteOfMusic21Test16IsKept) {
   const Song s = load_song(kCorpus / "music21/music21/midi/testPrimitive/test16.mid").song;
-  const auto zero = std::count_if(s.notes.begin(), s.notes.end(), [](const Note& n) { return n.start_tick == n.end_tick; });
+  const auto zero =
+      std::count_if(s.notes.begin(), s.notes.end(), [](const Note& n) { return n.start_tick == n.end_tick; });
   EXPECT_EQ(zero, 1);
 }

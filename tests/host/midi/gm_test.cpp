@@ -17,7 +17,8 @@ TEST(MidiGm, NamesAreDistinctAndSpotChecked) {
     names.insert(n);
   }
   EXPECT_EQ(names.size(), 128u);
-  // The demo song's line-up (tests/data/midi/README.md): Flute 73, Violin 40, Viola 41, Cello 42, Contrabass 43, Harpsichord 6.
+  // The demo song's line-up (tests/data/midi/README.md): Flute 73, Violin 40, Viola 41, Cello 42, Contrabass 43,
+  // Harpsichord 6.
   EXPECT_STREQ(gm_program_name(73), "Flute");
   EXPECT_STREQ(gm_program_name(40), "Violin");
   EXPECT_STREQ(gm_program_name(41), "Viola");
@@ -33,9 +34,14 @@ TEST(MidiGm, NamesAreDistinctAndSpotChecked) {
 }
 
 TEST(MidiGm, FamiliesAreEightProgramsEach) {
-  const char* expected[16] = {"Piano", "Chromatic Percussion", "Organ", "Guitar", "Bass", "Strings",
-                              "Ensemble", "Brass", "Reed", "Pipe", "Synth Lead", "Synth Pad",
-                              "Synth Effects", "Ethnic", "Percussive", "Sound Effects"};
+  const char* expected[16] = {"Piano",         "Chromatic Percussion",
+                              "Organ",         "Guitar",
+                              "Bass",          "Strings",
+                              "Ensemble",      "Brass",
+                              "Reed",          "Pipe",
+                              "Synth Lead",    "Synth Pad",
+                              "Synth Effects", "Ethnic",
+                              "Percussive",    "Sound Effects"};
   for (int p = 0; p < 128; ++p) EXPECT_STREQ(gm_family_name(static_cast<std::uint8_t>(p)), expected[p / 8]) << p;
 }
 
@@ -46,20 +52,20 @@ TEST(MidiGm, AutoPresetFollowsSpecTable) {
       EXPECT_EQ(auto_preset(static_cast<std::uint8_t>(p), 0), want) << "program " << p;
     }
   };
-  expect_range(0, 15, Preset::harpsichord);   // Piano, Chromatic Percussion
+  expect_range(0, 15, Preset::harpsichord);  // Piano, Chromatic Percussion
   expect_range(16, 23, Preset::organ);
   expect_range(24, 31, Preset::guitar);
-  expect_range(32, 39, Preset::contrabass);   // Bass
+  expect_range(32, 39, Preset::contrabass);  // Bass
   expect_range(40, 41, Preset::violin);
   expect_range(42, 42, Preset::cello);
   expect_range(43, 43, Preset::contrabass);
   expect_range(44, 47, Preset::guitar);
-  expect_range(48, 55, Preset::violin);       // Ensemble
-  expect_range(56, 63, Preset::trumpet);      // Brass
-  expect_range(64, 79, Preset::flute);        // Reed, Pipe
-  expect_range(80, 87, Preset::organ);        // Synth Lead
-  expect_range(88, 95, Preset::violin);       // Synth Pad
-  expect_range(96, 127, Preset::square);      // everything else
+  expect_range(48, 55, Preset::violin);   // Ensemble
+  expect_range(56, 63, Preset::trumpet);  // Brass
+  expect_range(64, 79, Preset::flute);    // Reed, Pipe
+  expect_range(80, 87, Preset::organ);    // Synth Lead
+  expect_range(88, 95, Preset::violin);   // Synth Pad
+  expect_range(96, 127, Preset::square);  // everything else
 }
 
 TEST(MidiGm, DrumChannelIsGuitarAtConstantFrequency) {

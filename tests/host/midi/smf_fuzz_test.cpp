@@ -62,7 +62,8 @@ void mutate(Bytes& b, std::mt19937& rng) {
         if (b.empty()) break;
         const std::size_t from = pick(b.size());
         const std::size_t len = std::min(b.size() - from, 1 + pick(64));
-        const Bytes span(b.begin() + static_cast<std::ptrdiff_t>(from), b.begin() + static_cast<std::ptrdiff_t>(from + len));
+        const Bytes span(b.begin() + static_cast<std::ptrdiff_t>(from),
+                         b.begin() + static_cast<std::ptrdiff_t>(from + len));
         b.insert(b.begin() + static_cast<std::ptrdiff_t>(pick(b.size() + 1)), span.begin(), span.end());
         break;
       }

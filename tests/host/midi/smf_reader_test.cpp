@@ -17,8 +17,8 @@
 
 using namespace midi_test;
 using hmp::midi::Note;
-using hmp::midi::ReadResult;
 using hmp::midi::read_smf;
+using hmp::midi::ReadResult;
 
 namespace {
 
@@ -126,7 +126,7 @@ TEST(MidiReader, Format2PatternsPlayInSequenceEachWithItsOwnTempo) {
   Events p1;
   p1.tempo(0, 1000000).on(0, 0, 60).off(96, 0, 60).end(96);  // 60 bpm: 2 s long
   Events p2;
-  p2.on(0, 0, 62).off(96, 0, 62).end();                    // default 120 bpm again
+  p2.on(0, 0, 62).off(96, 0, 62).end();  // default 120 bpm again
   Events p3;
   p3.tempo(0, 250000).on(48, 1, 64).off(96, 1, 64).end();  // 240 bpm
   const ReadResult r = read(smf(2, 96, {p1, p2, p3}));
@@ -369,8 +369,8 @@ TEST(MidiReader, RunningStatus) {
 }
 
 TEST(MidiReader, RunningStatusSurvivesMetaAndSysexWithWarning) {
-  for (const Bytes& interruption : {Bytes{0xFF, 0x01, 0x05, 'b', 'r', 'e', 'a', 'k'}, Bytes{0xF0, 0x02, 0x7E, 0xF7},
-                                    Bytes{0xF7, 0x01, 0xF8}}) {
+  for (const Bytes& interruption :
+       {Bytes{0xFF, 0x01, 0x05, 'b', 'r', 'e', 'a', 'k'}, Bytes{0xF0, 0x02, 0x7E, 0xF7}, Bytes{0xF7, 0x01, 0xF8}}) {
     Events t;
     t.on(0, 0, 60).bytes({0x60, 0x3C, 0x00});  // running status note-off
     t.bytes({0x00});
@@ -669,9 +669,9 @@ TEST(MidiReader, ProgramIsTheChannelsProgramAtNoteStart) {
   Events conductor;
   conductor.program(0, 0, 73).program(200, 0, 40).end();  // channel 0: flute, then violin at tick 200
   Events player;
-  player.on(0, 0, 60).off(100, 0, 60);           // starts at 0: flute
-  player.on(100, 0, 62).off(100, 0, 62);         // starts at 200 (same tick as the change): violin
-  player.on(0, 1, 50).off(10, 1, 50);            // channel 1 never set: 0
+  player.on(0, 0, 60).off(100, 0, 60);                   // starts at 0: flute
+  player.on(100, 0, 62).off(100, 0, 62);                 // starts at 200 (same tick as the change): violin
+  player.on(0, 1, 50).off(10, 1, 50);                    // channel 1 never set: 0
   player.program(0, 1, 42).on(0, 1, 52).off(10, 1, 52);  // set just before: cello
   player.end();
   const ReadResult r = read(smf(1, 96, {conductor, player}));
@@ -704,8 +704,8 @@ TEST(MidiReader, NamesBecomeValidUtf8) {
 }
 
 TEST(MidiReader, HugeDeclaredLengthsDoNotAllocateOrHang) {
-  for (const Bytes& tail : {Bytes{0x00, 0xFF, 0x01, 0xFF, 0xFF, 0xFF, 0x7F},   // meta of 256 MB
-                            Bytes{0x00, 0xF0, 0xFF, 0xFF, 0xFF, 0x7F},         // sysex of 256 MB
+  for (const Bytes& tail : {Bytes{0x00, 0xFF, 0x01, 0xFF, 0xFF, 0xFF, 0x7F},  // meta of 256 MB
+                            Bytes{0x00, 0xF0, 0xFF, 0xFF, 0xFF, 0x7F},        // sysex of 256 MB
                             Bytes{0x00, 0xF7, 0xFF, 0xFF, 0xFF, 0x7F}}) {
     Events t = scale_track(0, 60, 1);
     t.data.resize(t.data.size() - 4);

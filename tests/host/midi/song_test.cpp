@@ -36,11 +36,11 @@ TEST(MidiSong, FindTrackByIndexNameOrInstrument) {
   EXPECT_EQ(find_track(s, "0"), 0u);
   EXPECT_FALSE(find_track(s, "4").has_value());
   EXPECT_FALSE(find_track(s, "-1").has_value());
-  EXPECT_EQ(find_track(s, "flute"), 1u);    // GM name of track 1 beats the note-less conductor's name
+  EXPECT_EQ(find_track(s, "flute"), 1u);  // GM name of track 1 beats the note-less conductor's name
   EXPECT_EQ(find_track(s, "FLUTE"), 1u);
-  EXPECT_EQ(find_track(s, "concerto"), 0u); // only the conductor matches
-  EXPECT_EQ(find_track(s, "violino"), 2u);  // track name
-  EXPECT_EQ(find_track(s, "violin"), 2u);   // name and GM name
+  EXPECT_EQ(find_track(s, "concerto"), 0u);  // only the conductor matches
+  EXPECT_EQ(find_track(s, "violino"), 2u);   // track name
+  EXPECT_EQ(find_track(s, "violin"), 2u);    // name and GM name
   EXPECT_EQ(find_track(s, "percussion"), 3u);
   EXPECT_FALSE(find_track(s, "tuba").has_value());
   EXPECT_FALSE(find_track(s, "").has_value());
@@ -79,14 +79,15 @@ TEST(MidiSong, KeyRangeAtTheExtremes) {
 }
 
 TEST(MidiSong, LoadSongReadsFilesAndNamesThePathOnFailure) {
-  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("hmp_midi_song_test_" + std::to_string(getpid()));
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("hmp_midi_song_test_" + std::to_string(getpid()));
   std::filesystem::create_directories(dir);
   const std::filesystem::path good = dir / "scale.mid";
   Events t;
   t.on(0, 0, 60).off(96, 0, 60).end();
   const Bytes bytes = smf(1, 96, {t});
-  std::ofstream(good, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()),
-                                              static_cast<std::streamsize>(bytes.size()));
+  std::ofstream(good, std::ios::binary)
+      .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
   EXPECT_EQ(load_song(good).song.notes.size(), 1u);
 
   auto message = [](const std::filesystem::path& p) -> std::string {

@@ -38,10 +38,10 @@ TEST(MidiDivision, DecodesMetricalAndSmpte) {
   EXPECT_TRUE(s25.smpte);
   EXPECT_EQ(s25.fps, 25);
   EXPECT_EQ(s25.ticks_per_frame, 40);
-  EXPECT_EQ(Division::from_field(0xE850).fps, 24);  // −24
-  EXPECT_EQ(Division::from_field(0xE350).fps, 29);  // −29 (29.97)
-  EXPECT_EQ(Division::from_field(0xE250).fps, 30);  // −30
-  EXPECT_EQ(Division::from_field(0x8001).fps, 128); // extreme: −128
+  EXPECT_EQ(Division::from_field(0xE850).fps, 24);   // −24
+  EXPECT_EQ(Division::from_field(0xE350).fps, 29);   // −29 (29.97)
+  EXPECT_EQ(Division::from_field(0xE250).fps, 30);   // −30
+  EXPECT_EQ(Division::from_field(0x8001).fps, 128);  // extreme: −128
   EXPECT_EQ(Division::from_field(0xFF01).fps, 1);
 }
 
@@ -57,8 +57,8 @@ TEST(MidiTempoMap, DefaultIs120Bpm) {
 TEST(MidiTempoMap, SegmentsMatchIndependentSum) {
   std::vector<TempoMap::Point> pts = {{0, 1000000}, {480, 250000}, {481, 333333}, {10000, 16777215}, {20000, 1}};
   const TempoMap map = TempoMap::metrical(480, pts);
-  for (std::uint64_t t : {0ull, 1ull, 479ull, 480ull, 481ull, 482ull, 9999ull, 10000ull, 15000ull, 20000ull, 20001ull,
-                          1000000ull}) {
+  for (std::uint64_t t :
+       {0ull, 1ull, 479ull, 480ull, 481ull, 482ull, 9999ull, 10000ull, 15000ull, 20000ull, 20001ull, 1000000ull}) {
     const long double ref = reference_us(pts, 480, t);
     EXPECT_NEAR(static_cast<double>(map.micros(t)), static_cast<double>(ref), 0.5 + 1e-9) << "tick " << t;
   }
@@ -79,7 +79,8 @@ TEST(MidiTempoMap, NoDriftOverManyChanges) {
   // 10,000 tempo changes 7 ticks apart with tempi that make every segment's time fractional.
   std::mt19937 rng(7);
   std::vector<TempoMap::Point> pts;
-  for (int i = 0; i < 10000; ++i) pts.push_back({static_cast<std::uint64_t>(i) * 7, static_cast<std::uint32_t>(400000 + rng() % 300001)});
+  for (int i = 0; i < 10000; ++i)
+    pts.push_back({static_cast<std::uint64_t>(i) * 7, static_cast<std::uint32_t>(400000 + rng() % 300001)});
   const TempoMap map = TempoMap::metrical(997, pts);
   const std::uint64_t last = 10000ull * 7 + 123;
   // Exact reference in integers: Σ Δtick·tempo, divided once.
@@ -96,7 +97,8 @@ TEST(MidiTempoMap, NoDriftOverManyChanges) {
 
 TEST(MidiTempoMap, HintedLookupAgreesWithPlain) {
   std::vector<TempoMap::Point> pts;
-  for (int i = 1; i < 50; ++i) pts.push_back({static_cast<std::uint64_t>(i) * 100, 300000u + static_cast<unsigned>(i) * 1000});
+  for (int i = 1; i < 50; ++i)
+    pts.push_back({static_cast<std::uint64_t>(i) * 100, 300000u + static_cast<unsigned>(i) * 1000});
   const TempoMap map = TempoMap::metrical(120, pts);
   std::mt19937_64 rng(3);
   std::size_t hint = 0;

@@ -35,7 +35,7 @@ SyncSample reading(std::int64_t sent_us, double arrival, double pos, double tick
 }
 
 struct FakeDevice {
-  double p0 = 1000.25;       // ticks at host time h0
+  double p0 = 1000.25;  // ticks at host time h0
   std::int64_t h0 = 5'000'000;
   double ticks_per_us = 1e-3;  // 1 kHz × (1 + drift)
 
@@ -135,7 +135,8 @@ TEST(PlayerClockSync, TickGoingBackMeansTheDeviceRestarted) {
   rebooted.h0 = dev.h0 + 100'000;
   EXPECT_EQ(c.add(rebooted.exchange(rebooted.h0, 100.0, 100.0)), ClockSync::Verdict::reset);
   EXPECT_EQ(c.resets(), 1u);
-  for (int i = 1; i < 8; ++i) EXPECT_EQ(c.add(rebooted.exchange(rebooted.h0 + i * 10'000, 100.0, 100.0)), ClockSync::Verdict::used);
+  for (int i = 1; i < 8; ++i)
+    EXPECT_EQ(c.add(rebooted.exchange(rebooted.h0 + i * 10'000, 100.0, 100.0)), ClockSync::Verdict::used);
   const double h = static_cast<double>(rebooted.h0) + 2e5;
   EXPECT_NEAR(*c.position(static_cast<std::int64_t>(h)), rebooted.position(h), 1e-3);
 }
@@ -292,10 +293,13 @@ LoadedRun run_loaded(LoadedHost host) {
   for (const std::int64_t sent : sends) {
     samples.push_back(host.exchange(clock, ticks_per_us, sent, (static_cast<double>(sent) - h0) * 1e-6));
     // Replies come back in the order they left.
-    if (samples.size() > 1) samples.back().received_us = std::max(samples.back().received_us, samples[samples.size() - 2].received_us);
+    if (samples.size() > 1)
+      samples.back().received_us = std::max(samples.back().received_us, samples[samples.size() - 2].received_us);
   }
   const auto first_after = [&](double t) {
-    return static_cast<int>(std::find_if(sends.begin(), sends.end(), [&](std::int64_t s) { return static_cast<double>(s) > t; }) - sends.begin());
+    return static_cast<int>(
+        std::find_if(sends.begin(), sends.end(), [&](std::int64_t s) { return static_cast<double>(s) > t; }) -
+        sends.begin());
   };
   const int step_index = first_after(step_at), reset_index = first_after(reset_at);
 
@@ -308,11 +312,13 @@ LoadedRun run_loaded(LoadedHost host) {
       const int index = static_cast<int>(next);
       out.held += v == Verdict::held ? 1 : 0;
       if (v == Verdict::step && out.step_seen_at == 0 && index >= step_index) out.step_seen_at = index - step_index + 1;
-      if (v == Verdict::reset && out.reset_seen_at == 0 && index >= reset_index) out.reset_seen_at = index - reset_index + 1;
+      if (v == Verdict::reset && out.reset_seen_at == 0 && index >= reset_index)
+        out.reset_seen_at = index - reset_index + 1;
     }
     const double ahead = static_cast<double>(h) + 200'000.0;
     if ((ahead >= step_at && out.step_seen_at == 0) || (ahead >= reset_at && out.reset_seen_at == 0)) continue;
-    out.worst_ticks = std::max(out.worst_ticks, std::fabs(*c.position(static_cast<std::int64_t>(ahead)) - clock(ahead)));
+    out.worst_ticks =
+        std::max(out.worst_ticks, std::fabs(*c.position(static_cast<std::int64_t>(ahead)) - clock(ahead)));
   }
   out.steps = c.steps();
   out.resets = c.resets();

@@ -40,10 +40,12 @@ std::vector<DeviceNote> device_view(const protocol::Message& m, std::uint64_t no
     out.push_back({l.start_tick, l.duration_ticks, l.freq_q20, l.amp_q16, l.preset, l.track});
     return out;
   }
-  const std::int64_t base = static_cast<std::int64_t>(now) + static_cast<std::int32_t>(d.notes.base_tick - static_cast<std::uint32_t>(now));
+  const std::int64_t base =
+      static_cast<std::int64_t>(now) + static_cast<std::int32_t>(d.notes.base_tick - static_cast<std::uint32_t>(now));
   for (std::uint8_t i = 0; i < d.notes.count; ++i) {
     const auto& c = d.notes.notes[i];
-    out.push_back({static_cast<std::uint64_t>(base) + c.offset, c.duration_ticks, c.freq_q20, c.amp_q16, c.preset, d.notes.track});
+    out.push_back({static_cast<std::uint64_t>(base) + c.offset, c.duration_ticks, c.freq_q20, c.amp_q16, c.preset,
+                   d.notes.track});
   }
   return out;
 }
@@ -82,7 +84,8 @@ TEST(PlayerBatcher, StartsBeyondTheOffsetRangeTrackChangesAndLongNotesSplit) {
 }
 
 TEST(PlayerBatcher, LongNoteCarriesTheFull64BitStartAndDuration) {
-  const std::vector<DeviceNote> notes = {note((std::uint64_t{1} << 36) + 17, 0xFFFFFFFFu), note((std::uint64_t{1} << 36) + 18)};
+  const std::vector<DeviceNote> notes = {note((std::uint64_t{1} << 36) + 17, 0xFFFFFFFFu),
+                                         note((std::uint64_t{1} << 36) + 18)};
   protocol::Message m;
   ASSERT_EQ(make_report(notes, m), 1u);
   EXPECT_EQ(m.type, protocol::Type::long_note);
@@ -153,7 +156,9 @@ TEST(PlayerScheduler, HandsOutTheWindowOnceInOrderWithinTheHorizon) {
   for (const double t : starts) expected += (t >= 2.0 && t < 9.0) ? 1 : 0;
   EXPECT_EQ(s.size(), expected);
   // Device tick = song ms + 5000; the horizon walks in 50-tick steps.
-  const auto tick_of = [](const hmp::player::NoteSound& n) { return static_cast<std::uint64_t>(n.start_us / 1000 + 5000); };
+  const auto tick_of = [](const hmp::player::NoteSound& n) {
+    return static_cast<std::uint64_t>(n.start_us / 1000 + 5000);
+  };
   std::vector<hmp::player::NoteOrigin> got;
   for (std::uint64_t horizon = 5000; !s.finished(); horizon += 50) {
     while (auto r = s.next(horizon, 0, tick_of)) {

@@ -64,9 +64,9 @@ namespace {
 TEST(Calibration, ReachFallsAcrossTheBand) {
   double last = 1.0;
   for (const sim::GripMotion& g : sim::reach_band({})) {
-    std::printf("%5.0f Hz at %g N: %.3f mm (force %.2f N, planned %.2f N%s, faults 0x%x), model %.3f mm\n",
-                g.hz, g.peak_force_n, g.displacement_m * 1e3, g.force_n, g.planned_n,
-                g.saturated ? ", saturated" : "", g.faults, model_displacement(g.hz, g.peak_force_n) * 1e3);
+    std::printf("%5.0f Hz at %g N: %.3f mm (force %.2f N, planned %.2f N%s, faults 0x%x), model %.3f mm\n", g.hz,
+                g.peak_force_n, g.displacement_m * 1e3, g.force_n, g.planned_n, g.saturated ? ", saturated" : "",
+                g.faults, model_displacement(g.hz, g.peak_force_n) * 1e3);
     EXPECT_LT(g.displacement_m, last) << g.hz << " Hz";
     EXPECT_LE(g.displacement_m, 1.1 * model_displacement(g.hz, g.peak_force_n));
     last = g.displacement_m;

@@ -22,7 +22,7 @@ using hmp::simulate::PlantTrace;
 using hmp::simulate::ReferenceOptions;
 using Duties = std::array<double, 8>;
 
-constexpr double kBias = 0.3;  // N
+constexpr double kBias = 0.3;   // N
 constexpr double kTick = 1e-3;  // s
 
 // Every motor at the duty that holds the bias tension at standstill; motors 0 and 1 swing by ±`swing` at
@@ -75,8 +75,8 @@ double relative_rms(const std::vector<plant::Vec3d>& a, const std::vector<plant:
 }
 
 void print(const char* what, const hmp::simulate::SolverStats& s) {
-  std::printf("[ reference ] %s: %ld steps, %ld rhs evaluations, %ld roots, %.3f s CPU\n", what, s.steps,
-              s.rhs_evals, s.roots, s.cpu_s);
+  std::printf("[ reference ] %s: %ld steps, %ld rhs evaluations, %ld roots, %.3f s CPU\n", what, s.steps, s.rhs_evals,
+              s.roots, s.cpu_s);
 }
 
 TEST(PlantReference, AgreesWithFineRk4InTheNominalScene) {
@@ -141,12 +141,23 @@ Matrix expm(Matrix m) {
       if (row == 0 || col == 0) continue;
       long double f = 1;
       const long double sum = row + col;
-      while (col < row / 2) { col *= 2; row /= 2; f *= 2; }
-      while (col >= row * 2) { col /= 2; row *= 2; f /= 2; }
+      while (col < row / 2) {
+        col *= 2;
+        row /= 2;
+        f *= 2;
+      }
+      while (col >= row * 2) {
+        col /= 2;
+        row *= 2;
+        f /= 2;
+      }
       if (row + col < 0.95L * sum) {
         changed = true;
         d[i] *= f;
-        for (std::size_t j = 0; j < n; ++j) { m[i][j] /= f; m[j][i] *= f; }
+        for (std::size_t j = 0; j < n; ++j) {
+          m[i][j] /= f;
+          m[j][i] *= f;
+        }
       }
     }
   }
@@ -235,8 +246,8 @@ TEST(PlantReference, MatchesTheExactSolutionOfTheLinearisedStiffPlant) {
 
   // The same linear system through CVODE. Per block of states (angles, speeds, currents, position,
   // velocity): the largest deviation from the exact solution over the largest excursion of it.
-  const int blocks[] = {plant::state::angle, plant::state::speed, plant::state::current, plant::state::position,
-                        plant::state::velocity, n};
+  const int blocks[] = {plant::state::angle,    plant::state::speed,    plant::state::current,
+                        plant::state::position, plant::state::velocity, n};
   constexpr int kBlocks = static_cast<int>(std::size(blocks)) - 1;
   auto solve = [&](const ReferenceOptions& options, std::array<double, kBlocks>& relative) {
     hmp::simulate::SwitchedOde ode;
@@ -325,8 +336,7 @@ TEST(PlantReference, ConvergesWhereStringsGoSlackAndTaut) {
     for (double v : t) slack_ticks += v == 0;
   EXPECT_GT(slack_ticks, 0);
   const double error = relative_rms(a.string_force, b.string_force);
-  std::printf("[ reference ] slack scene: %d slack string-ticks, rtol 1e-10 against 1e-11: %.3g\n", slack_ticks,
-              error);
+  std::printf("[ reference ] slack scene: %d slack string-ticks, rtol 1e-10 against 1e-11: %.3g\n", slack_ticks, error);
   EXPECT_LT(error, 1e-6);
 }
 

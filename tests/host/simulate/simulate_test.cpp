@@ -54,11 +54,11 @@ TEST(SimHostWindow, NotesAreClippedToTheWindowAndMovedToTheBase) {
     n.note.duration_ticks = ticks;
     track.notes.push_back(n);
   };
-  add(0, 50);     // ends before the window
-  add(90, 30);    // starts before it: clipped to 100 … 120
-  add(150, 10);   // inside
-  add(190, 40);   // runs past its end: clipped to 190 … 200
-  add(200, 5);    // starts at its end
+  add(0, 50);    // ends before the window
+  add(90, 30);   // starts before it: clipped to 100 … 120
+  add(150, 10);  // inside
+  add(190, 40);  // runs past its end: clipped to 190 … 200
+  add(200, 5);   // starts at its end
   const std::vector<hmp::synth::Note> got = sim::window_notes(track, 100, 200, 1000);
   ASSERT_EQ(got.size(), 3u);
   EXPECT_EQ(got[0].start_tick, 1000u);

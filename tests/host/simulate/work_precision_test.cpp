@@ -45,10 +45,11 @@ TEST_P(TautScenes, DefaultWithinBoundsAgainstCvode) {
   }
   ASSERT_NE(def, nullptr);
   ASSERT_NE(ros2, nullptr);
-  std::printf("  %s, k = %.0e N/m: default %.3f%% / %.3f%%, rosenbrock2 at 8 steps %.3f%% / %.3f%%, "
-              "reference %.1e / %.1e\n",
-              c.scene, c.stiffness, 100 * def->error.force, 100 * def->error.finger_force, 100 * ros2->error.force,
-              100 * ros2->error.finger_force, wp.reference_convergence.force, wp.reference_convergence.finger_force);
+  std::printf(
+      "  %s, k = %.0e N/m: default %.3f%% / %.3f%%, rosenbrock2 at 8 steps %.3f%% / %.3f%%, "
+      "reference %.1e / %.1e\n",
+      c.scene, c.stiffness, 100 * def->error.force, 100 * def->error.finger_force, 100 * ros2->error.force,
+      100 * ros2->error.finger_force, wp.reference_convergence.force, wp.reference_convergence.finger_force);
   EXPECT_LE(wp.reference_convergence.force, kStringBound / 10);
   EXPECT_LE(wp.reference_convergence.finger_force, kFingerBound / 10);
   ASSERT_TRUE(def->ok);

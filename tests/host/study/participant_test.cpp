@@ -53,7 +53,8 @@ std::string message_of(const auto& action) {
 
 TEST(ParticipantOptions, GoodValuesAndNothingGiven) {
   EXPECT_EQ(parse_participant({"34", "female", "left"}, kOptions, ""), data(34, Sex::female, Handedness::left));
-  EXPECT_EQ(parse_participant({"5", "unstated", "ambidextrous"}, kOptions, ""), data(5, Sex::unstated, Handedness::ambidextrous));
+  EXPECT_EQ(parse_participant({"5", "unstated", "ambidextrous"}, kOptions, ""),
+            data(5, Sex::unstated, Handedness::ambidextrous));
   EXPECT_EQ(parse_participant({"120", "other", "unstated"}, kOptions, ""), data(120, Sex::other, Handedness::unstated));
   EXPECT_EQ(parse_participant({"", "", ""}, kOptions, ""), ParticipantData{});
   EXPECT_EQ(parse_participant({"", "male", ""}, kOptions, ""), data(std::nullopt, Sex::male, std::nullopt));
@@ -97,9 +98,12 @@ TEST(ParticipantColumns, RoundTripAtTheEndOfTheRow) {
 const std::string kOldFile =
     "participant,experiment,phase,position,instrument,mapping,envelope,key,rank,seconds_felt,times_selected,"
     "round_started_utc,ranked_utc,round_ended_utc,seed,version\n"
-    "old,1,main,1,flute,paper,triangle,0,2,3.000,1,2026-01-01T10:00:00.000Z,2026-01-01T10:00:05.000Z,2026-01-01T10:00:09.000Z,4,hmp 0.1.0\n"
-    "old,1,main,1,flute,paper,analogue,1,1,3.000,1,2026-01-01T10:00:00.000Z,2026-01-01T10:00:06.000Z,2026-01-01T10:00:09.000Z,4,hmp 0.1.0\n"
-    "old,1,main,1,flute,paper,square,2,3,3.000,1,2026-01-01T10:00:00.000Z,2026-01-01T10:00:07.000Z,2026-01-01T10:00:09.000Z,4,hmp 0.1.0\n";
+    "old,1,main,1,flute,paper,triangle,0,2,3.000,1,2026-01-01T10:00:00.000Z,2026-01-01T10:00:05.000Z,2026-01-01T10:00:"
+    "09.000Z,4,hmp 0.1.0\n"
+    "old,1,main,1,flute,paper,analogue,1,1,3.000,1,2026-01-01T10:00:00.000Z,2026-01-01T10:00:06.000Z,2026-01-01T10:00:"
+    "09.000Z,4,hmp 0.1.0\n"
+    "old,1,main,1,flute,paper,square,2,3,3.000,1,2026-01-01T10:00:00.000Z,2026-01-01T10:00:07.000Z,2026-01-01T10:00:09."
+    "000Z,4,hmp 0.1.0\n";
 
 TEST(ParticipantColumns, AFileWithTheOldHeaderStillParsesAndAnalyses) {
   EXPECT_EQ(results_columns(kOldFile), Columns::without_participant);
@@ -119,8 +123,10 @@ TEST(ParticipantColumns, AFileWithTheOldHeaderStillParsesAndAnalyses) {
             "age: not given (by none of the 1)\n"
             "handedness: left 0, right 0, ambidextrous 0, unstated 1\n");
   // Rows appended to it keep its layout; a row of the other layout does not fit.
-  const std::string appended = kOldFile + format_row(main_round("new", "violin", {})[0], Columns::without_participant) + "\n";
-  EXPECT_EQ(error_of(appended), "res.csv:5: participant new experiment 1 violin: 1 rows, a round has 3");  // 16 fields: read
+  const std::string appended =
+      kOldFile + format_row(main_round("new", "violin", {})[0], Columns::without_participant) + "\n";
+  EXPECT_EQ(error_of(appended),
+            "res.csv:5: participant new experiment 1 violin: 1 rows, a round has 3");  // 16 fields: read
   EXPECT_EQ(error_of(kOldFile + format_row(rows[0]) + "\n"), "res.csv:5: 19 fields, expected 16");
   EXPECT_EQ(error_of(csv(rows) + "old,1,main\n"), "res.csv:5: 3 fields, expected 19");
 }
@@ -129,7 +135,7 @@ TEST(ParticipantColumns, BadValuesInTheFileNameFileAndLine) {
   auto with_fields = [](const std::string& fields) {
     std::string text = csv(main_round("p1", "flute", {}));
     const std::size_t second = text.find('\n', text.find('\n') + 1);  // the end of line 2
-    return text.replace(second - 2, 2, fields);  // the row ends "v,,,": age, sex, handedness empty
+    return text.replace(second - 2, 2, fields);                       // the row ends "v,,,": age, sex, handedness empty
   };
   EXPECT_EQ(error_of(with_fields(",,")), "");
   EXPECT_EQ(error_of(with_fields("4,,")), "res.csv:2: age 4: whole years from 5 to 120");
@@ -149,11 +155,14 @@ TEST(ParticipantColumns, AParticipantsRowsMustAgree) {
   };
   // Row i is on line i + 2; the first row of p1 is line 2.
   EXPECT_EQ(changed(2, data(31, Sex::male, Handedness::right)), "res.csv:4: participant p1: age 31, but 30 on line 2");
-  EXPECT_EQ(changed(1, data(30, Sex::other, Handedness::right)), "res.csv:3: participant p1: sex other, but male on line 2");
-  EXPECT_EQ(changed(2, data(30, Sex::male, std::nullopt)), "res.csv:4: participant p1: handedness (not given), but right on line 2");
+  EXPECT_EQ(changed(1, data(30, Sex::other, Handedness::right)),
+            "res.csv:3: participant p1: sex other, but male on line 2");
+  EXPECT_EQ(changed(2, data(30, Sex::male, std::nullopt)),
+            "res.csv:4: participant p1: handedness (not given), but right on line 2");
   EXPECT_EQ(changed(0, data(std::nullopt, Sex::male, Handedness::right)),
             "res.csv:3: participant p1: age 30, but (not given) on line 2");
-  EXPECT_EQ(changed(5, data(50, Sex::unstated, Handedness::left)), "res.csv:7: participant p2: sex unstated, but female on line 5");
+  EXPECT_EQ(changed(5, data(50, Sex::unstated, Handedness::left)),
+            "res.csv:7: participant p2: sex unstated, but female on line 5");
 }
 
 TEST(ParticipantColumns, RowsInTwoFilesMustAgreeToo) {
@@ -236,14 +245,19 @@ TEST(ParticipantSession, RowsCarryTheDataAndResumingKeepsIt) {
   EXPECT_EQ(same.participant_data(), data(28, Sex::female, std::nullopt));
 
   // Another value, or one the rows do not have: refused, naming the field, both values and the row.
-  auto resumed_with = [&](const ParticipantData& d) { return message_of([&] { Session s({"p1", 5, {1}, "v", d}, file); }); };
-  EXPECT_EQ(resumed_with(data(29, std::nullopt, std::nullopt)),
-            "participant p1: age 29, but 28 on r.csv:2 (a participant's rows must agree; leave the option out to keep it)");
+  auto resumed_with = [&](const ParticipantData& d) {
+    return message_of([&] { Session s({"p1", 5, {1}, "v", d}, file); });
+  };
+  EXPECT_EQ(
+      resumed_with(data(29, std::nullopt, std::nullopt)),
+      "participant p1: age 29, but 28 on r.csv:2 (a participant's rows must agree; leave the option out to keep it)");
   EXPECT_EQ(resumed_with(data(std::nullopt, Sex::male, std::nullopt)),
-            "participant p1: sex male, but female on r.csv:2 (a participant's rows must agree; leave the option out to keep it)");
-  EXPECT_EQ(resumed_with(data(std::nullopt, std::nullopt, Handedness::left)),
-            "participant p1: handedness left, but (not given) on r.csv:2 (a participant's rows must agree; leave the option "
-            "out to keep it)");
+            "participant p1: sex male, but female on r.csv:2 (a participant's rows must agree; leave the option out to "
+            "keep it)");
+  EXPECT_EQ(
+      resumed_with(data(std::nullopt, std::nullopt, Handedness::left)),
+      "participant p1: handedness left, but (not given) on r.csv:2 (a participant's rows must agree; leave the option "
+      "out to keep it)");
   // Another participant is not bound by p1's data.
   Session other({"p2", 5, {1}, "v", data(60, Sex::male, Handedness::left)}, file);
   EXPECT_EQ(other.participant_data(), data(60, Sex::male, Handedness::left));

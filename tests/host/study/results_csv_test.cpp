@@ -43,7 +43,9 @@ TEST(ResultsCsvText, AByteOrderMarkIsAccepted) {
 
 TEST(ResultsCsvText, ANulIsShownNotCutAt) {
   std::string text = round_text();
-  text.replace(text.find("\np1,") + 1, 2, "p\0" "1"s);
+  text.replace(text.find("\np1,") + 1, 2,
+               "p\0"
+               "1"s);
   const std::string e = error_of(text);
   EXPECT_EQ(e, "res.csv:2: bad participant id \"p\\01\"");
   std::string instrument = round_text();
@@ -52,13 +54,17 @@ TEST(ResultsCsvText, ANulIsShownNotCutAt) {
 }
 
 TEST(ResultsCsvText, NonUtf8FieldsAreRefusedAndEscaped) {
-  EXPECT_EQ(error_of(round_text("v\xFF" "1")), "res.csv:2: version \"v\\xFF1\" is not valid UTF-8");
+  EXPECT_EQ(error_of(round_text("v\xFF"
+                                "1")),
+            "res.csv:2: version \"v\\xFF1\" is not valid UTF-8");
   EXPECT_EQ(error_of(round_text("caf\xE9")), "res.csv:2: version \"caf\\xE9\" is not valid UTF-8");
   EXPECT_EQ(error_of(round_text("v\x1B[2J")), "res.csv:2: version \"v\\x1B[2J\" holds a control character");
   EXPECT_EQ(error_of(round_text("v\0"s)), "res.csv:2: version \"v\\0\" holds a control character");
   EXPECT_EQ(error_of(round_text("v1 — café")), "");  // UTF-8 text is fine
   std::string phase = round_text();
-  phase.replace(phase.find(",practice,"), 10, ",pr\xC3" "actice,");
+  phase.replace(phase.find(",practice,"), 10,
+                ",pr\xC3"
+                "actice,");
   EXPECT_EQ(error_of(phase), "res.csv:2: phase \"pr\\xC3actice\" is not valid UTF-8");
 }
 

@@ -232,8 +232,10 @@ TEST(StudyResultsFile, BadRowsNameFileAndLine) {
     std::vector<std::string> lines;
     std::string cur;
     for (char c : good) {
-      if (c == '\n') lines.push_back(cur), cur.clear();
-      else cur += c;
+      if (c == '\n')
+        lines.push_back(cur), cur.clear();
+      else
+        cur += c;
     }
     lines[static_cast<std::size_t>(line - 1)] = replacement;
     std::string out;
@@ -249,7 +251,8 @@ TEST(StudyResultsFile, BadRowsNameFileAndLine) {
     return with_line(line, text);
   };
   EXPECT_EQ(error_of("participant,oops\n"), "res.csv:1: not a study results file (the header differs)");
-  EXPECT_NE(error_of(replace(9, ",square,", ",sawtooth,")).find("res.csv:9: unknown envelope \"sawtooth\""), std::string::npos);
+  EXPECT_NE(error_of(replace(9, ",square,", ",sawtooth,")).find("res.csv:9: unknown envelope \"sawtooth\""),
+            std::string::npos);
   // The row of line 9 takes another rank of its round: that rank is now used twice.
   {
     const ResultRow& r = rows[7];

@@ -48,7 +48,8 @@ Reference brute_force_copeland(const RankTable& table, int k) {
   }
   for (int x = 0; x < k; ++x) {
     bool best = true;
-    for (int y = 0; y < k; ++y) best = best && r.score[static_cast<std::size_t>(y)] <= r.score[static_cast<std::size_t>(x)];
+    for (int y = 0; y < k; ++y)
+      best = best && r.score[static_cast<std::size_t>(y)] <= r.score[static_cast<std::size_t>(x)];
     if (best) r.winners.push_back(x);
   }
   return r;

@@ -72,7 +72,8 @@ TEST(TransportHid, UnreadableNodeNamesTheUdevRule) {
   if (child == 0) {
     ::close(out[0]);
     constexpr uid_t kNobody = 65534;
-    if (::geteuid() == 0 && (::setresgid(kNobody, kNobody, kNobody) != 0 || ::setresuid(kNobody, kNobody, kNobody) != 0)) {
+    if (::geteuid() == 0 &&
+        (::setresgid(kNobody, kNobody, kNobody) != 0 || ::setresuid(kNobody, kNobody, kNobody) != 0)) {
       _exit(3);
     }
     std::string said = "no exception";

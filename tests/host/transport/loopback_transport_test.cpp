@@ -17,7 +17,8 @@ using hmp::transport::LoopbackTransport;
 using hmp::transport::Received;
 
 void fill(Report& r, std::uint32_t n) {
-  for (std::size_t i = 0; i < hmp::protocol::kReportSize; ++i) r[i] = static_cast<std::uint8_t>((n * 31 + i * 7) & 0xFF);
+  for (std::size_t i = 0; i < hmp::protocol::kReportSize; ++i)
+    r[i] = static_cast<std::uint8_t>((n * 31 + i * 7) & 0xFF);
 }
 
 TEST(TransportLoopback, DeliversInOrderBothWays) {

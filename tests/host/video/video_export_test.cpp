@@ -33,7 +33,14 @@ using test::run_command;
 // 0.5 s and key 76 at 2.0 s for 0.3 s; track 1 a piano: key 48 from 1.5 s for 1 s.
 midi_test::Bytes song_bytes() {
   midi_test::Events flute, piano;
-  flute.name(0, "flute").tempo(0, 500000).program(0, 0, 73).on(1000, 0, 72).off(500, 0, 72).on(500, 0, 76).off(300, 0, 76).end();
+  flute.name(0, "flute")
+      .tempo(0, 500000)
+      .program(0, 0, 73)
+      .on(1000, 0, 72)
+      .off(500, 0, 72)
+      .on(500, 0, 76)
+      .off(300, 0, 76)
+      .end();
   piano.name(0, "piano").program(0, 1, 0).on(1500, 1, 48).off(1000, 1, 48).end();
   return midi_test::smf(1, 500, {flute, piano});
 }
@@ -44,7 +51,8 @@ struct Fixture {
   Fixture() {
     fs::create_directories(dir);
     const midi_test::Bytes b = song_bytes();
-    std::ofstream(midi, std::ios::binary).write(reinterpret_cast<const char*>(b.data()), static_cast<std::streamsize>(b.size()));
+    std::ofstream(midi, std::ios::binary)
+        .write(reinterpret_cast<const char*>(b.data()), static_cast<std::streamsize>(b.size()));
   }
   ~Fixture() { fs::remove_all(dir); }
 };
@@ -57,8 +65,9 @@ nlohmann::json probe(const fs::path& file) {
 }
 
 std::vector<float> decode_audio(const fs::path& file, int stream, int channels) {
-  const test::CommandResult r = run_command("ffmpeg -v error -i '" + file.string() + "' -map 0:a:" + std::to_string(stream) +
-                                            " -f f32le -ac " + std::to_string(channels) + " -ar 44100 -");
+  const test::CommandResult r =
+      run_command("ffmpeg -v error -i '" + file.string() + "' -map 0:a:" + std::to_string(stream) + " -f f32le -ac " +
+                  std::to_string(channels) + " -ar 44100 -");
   EXPECT_EQ(r.status, 0) << r.err;
   std::vector<float> s(r.out.size() / sizeof(float));
   std::memcpy(s.data(), r.out.data(), s.size() * sizeof(float));
@@ -77,7 +86,8 @@ std::vector<std::uint8_t> decode_frame(const fs::path& file, int n) {
 
 // The lag (in samples, |lag| ≤ max_lag) at which `b` best matches `a` over a[from, to): the normalised
 // cross-correlation, so that a growing note (an attack) does not pull the match towards the louder side.
-long best_lag(const std::vector<float>& a, const std::vector<float>& b, std::size_t from, std::size_t to, long max_lag) {
+long best_lag(const std::vector<float>& a, const std::vector<float>& b, std::size_t from, std::size_t to,
+              long max_lag) {
   long best = 0;
   double best_score = -2;
   for (long lag = -max_lag; lag <= max_lag; ++lag) {
@@ -102,7 +112,8 @@ long best_lag(const std::vector<float>& a, const std::vector<float>& b, std::siz
 // One channel of interleaved samples.
 std::vector<float> channel(const std::vector<float>& interleaved, int channels, int c) {
   std::vector<float> out;
-  for (std::size_t i = static_cast<std::size_t>(c); i < interleaved.size(); i += static_cast<std::size_t>(channels)) out.push_back(interleaved[i]);
+  for (std::size_t i = static_cast<std::size_t>(c); i < interleaved.size(); i += static_cast<std::size_t>(channels))
+    out.push_back(interleaved[i]);
   return out;
 }
 
@@ -194,7 +205,8 @@ TEST_F(VideoExport, TheHapticStreamIsTheTracksSignal) {
   settings.synth.end_fade_ms = static_cast<float>(options_.end_fade_ms);
   settings.polyphony = options_.polyphony;
   const auto notes = spec_.haptic->device_notes();
-  const std::vector<float> signal = haptics::render_signal(notes, spec_.haptic->uploads, settings, 0, 3 * options_.tick_hz);
+  const std::vector<float> signal =
+      haptics::render_signal(notes, spec_.haptic->uploads, settings, 0, 3 * options_.tick_hz);
   const std::vector<float> reference = audio::resample(signal, static_cast<int>(options_.tick_hz), 44100);
   EXPECT_EQ(best_lag(reference, decoded, 44100 * 95 / 100, 44100 * 16 / 10, 400), 0);
 }
@@ -220,8 +232,10 @@ TEST_F(VideoExport, AFrameShowsWhatTheWindowWouldAtItsTime) {
   for (int y = 0; y < 720; ++y) {
     for (int x = 0; x < 1280; ++x) {
       for (int c = 0; c < 3; ++c) {
-        const double a = decoded[(static_cast<std::size_t>(y) * 1280 + static_cast<std::size_t>(x)) * 3 + static_cast<std::size_t>(c)];
-        const double b = painted[(static_cast<std::size_t>(719 - y) * 1280 + static_cast<std::size_t>(x)) * 4 + static_cast<std::size_t>(c)];
+        const double a = decoded[(static_cast<std::size_t>(y) * 1280 + static_cast<std::size_t>(x)) * 3 +
+                                 static_cast<std::size_t>(c)];
+        const double b = painted[(static_cast<std::size_t>(719 - y) * 1280 + static_cast<std::size_t>(x)) * 4 +
+                                 static_cast<std::size_t>(c)];
         squared += (a - b) * (a - b);
       }
     }
@@ -254,7 +268,7 @@ TEST(VideoFrames, FrameTimesAndCountsAreExact) {
   }
   EXPECT_EQ(video::frame_count(0, 1'000'000, 60), 60u);
   EXPECT_EQ(video::frame_count(0, 1'000'001, 60), 61u);
-  EXPECT_EQ(video::frame_count(5, 5, 60), 1u);  // never no frame
+  EXPECT_EQ(video::frame_count(5, 5, 60), 1u);                     // never no frame
   EXPECT_EQ(video::frame_count(0, 3'600'000'000LL, 60), 216000u);  // an hour: no overflow
 }
 

@@ -21,8 +21,10 @@ struct Reference {
 // Picture rows from the top: source row (h − 1 − row).
 Reference reference(const std::vector<std::uint8_t>& rgba, int w, int h) {
   auto px = [&](int x, int row, int c) {
-    return rgba[(static_cast<std::size_t>(h - 1 - row) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)) * 4 +
-                static_cast<std::size_t>(c)] / 255.0;
+    return rgba[(static_cast<std::size_t>(h - 1 - row) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)) *
+                    4 +
+                static_cast<std::size_t>(c)] /
+           255.0;
   };
   Reference r;
   for (int row = 0; row < h; ++row) {
@@ -34,7 +36,8 @@ Reference reference(const std::vector<std::uint8_t>& rgba, int w, int h) {
   for (int row = 0; row < h; row += 2) {
     for (int x = 0; x < w; x += 2) {
       double m[3] = {};
-      for (int c = 0; c < 3; ++c) m[c] = (px(x, row, c) + px(x + 1, row, c) + px(x, row + 1, c) + px(x + 1, row + 1, c)) / 4;
+      for (int c = 0; c < 3; ++c)
+        m[c] = (px(x, row, c) + px(x + 1, row, c) + px(x, row + 1, c) + px(x + 1, row + 1, c)) / 4;
       const double luma = 0.2126 * m[0] + 0.7152 * m[1] + 0.0722 * m[2];
       r.u.push_back(128 + 224 * (m[2] - luma) / 1.8556);
       r.v.push_back(128 + 224 * (m[0] - luma) / 1.5748);
@@ -95,7 +98,8 @@ TEST(YuvConvert, ExtremeColoursAreExact) {
   EXPECT_EQ(white[16], 128);
   EXPECT_EQ(white[20], 128);
   for (int g = 0; g < 256; ++g) {
-    const auto grey = convert(fill(2, 2, static_cast<std::uint8_t>(g), static_cast<std::uint8_t>(g), static_cast<std::uint8_t>(g)), 2, 2);
+    const auto grey = convert(
+        fill(2, 2, static_cast<std::uint8_t>(g), static_cast<std::uint8_t>(g), static_cast<std::uint8_t>(g)), 2, 2);
     EXPECT_EQ(grey[4], 128) << g;
     EXPECT_EQ(grey[5], 128) << g;
   }
@@ -103,7 +107,8 @@ TEST(YuvConvert, ExtremeColoursAreExact) {
   EXPECT_EQ(convert(fill(2, 2, 0, 0, 255), 2, 2)[4], 240);
   EXPECT_EQ(convert(fill(2, 2, 255, 0, 0), 2, 2)[5], 240);
   for (const auto& [r, g, b] : {std::tuple{255, 0, 0}, {0, 255, 0}, {0, 0, 255}, {255, 255, 0}, {0, 255, 255}}) {
-    expect_close(fill(6, 4, static_cast<std::uint8_t>(r), static_cast<std::uint8_t>(g), static_cast<std::uint8_t>(b)), 6, 4);
+    expect_close(fill(6, 4, static_cast<std::uint8_t>(r), static_cast<std::uint8_t>(g), static_cast<std::uint8_t>(b)),
+                 6, 4);
   }
 }
 
@@ -112,12 +117,13 @@ TEST(YuvConvert, RowsComeOutTopDown) {
   const int w = 8, h = 6;
   std::vector<std::uint8_t> rgba = fill(w, h, 0, 0, 0);
   for (int x = 0; x < w; ++x) {
-    for (int c = 0; c < 3; ++c) rgba[(static_cast<std::size_t>(h - 1) * w + static_cast<std::size_t>(x)) * 4 + static_cast<std::size_t>(c)] = 255;
+    for (int c = 0; c < 3; ++c)
+      rgba[(static_cast<std::size_t>(h - 1) * w + static_cast<std::size_t>(x)) * 4 + static_cast<std::size_t>(c)] = 255;
   }
   const auto out = convert(rgba, w, h);
   for (int x = 0; x < w; ++x) {
-    EXPECT_EQ(out[static_cast<std::size_t>(x)], 235);                         // picture row 0
-    EXPECT_EQ(out[static_cast<std::size_t>(w * (h - 1) + x)], 16);            // picture's last row
+    EXPECT_EQ(out[static_cast<std::size_t>(x)], 235);               // picture row 0
+    EXPECT_EQ(out[static_cast<std::size_t>(w * (h - 1) + x)], 16);  // picture's last row
   }
 }
 
@@ -128,7 +134,8 @@ TEST(YuvConvert, ChromaIsTheMeanOfTwoByTwo) {
   std::vector<std::uint8_t> rgba;
   for (int i = 0; i < w * h; ++i) {
     const bool red = ((i % w) + (i / w)) % 2 == 0;
-    rgba.insert(rgba.end(), {static_cast<std::uint8_t>(red ? 255 : 0), 0, static_cast<std::uint8_t>(red ? 0 : 255), 255});
+    rgba.insert(rgba.end(),
+                {static_cast<std::uint8_t>(red ? 255 : 0), 0, static_cast<std::uint8_t>(red ? 0 : 255), 255});
   }
   const auto out = convert(rgba, w, h);
   const auto purple = convert(fill(2, 2, 128, 0, 128), 2, 2);

@@ -94,7 +94,8 @@ TEST(LiveViewSync, FramesShowTheAudioClockWhenTheyReachTheScreen) {
     saw_second_seek = saw_second_seek || (f.shown_us >= 60'000'000 && f.shown_us < 62'000'000);
   }
   std::sort(errors.begin(), errors.end());
-  const double p99 = errors.empty() ? 1e12 : errors[static_cast<std::size_t>(0.99 * static_cast<double>(errors.size() - 1))];
+  const double p99 =
+      errors.empty() ? 1e12 : errors[static_cast<std::size_t>(0.99 * static_cast<double>(errors.size() - 1))];
   HMP_SKIP_IF_TOO_LOADED(load, frames.size() >= 120u && p99 <= 16'667.0,
                          frames.size() << " frames in 7.8 s, sync error p99 " << p99 << " µs");
   ASSERT_GE(frames.size(), 120u) << "fewer than 20 frames a second";
@@ -103,8 +104,8 @@ TEST(LiveViewSync, FramesShowTheAudioClockWhenTheyReachTheScreen) {
   RecordProperty("frames", static_cast<int>(frames.size()));
   RecordProperty("sync_error_p50_us", std::to_string(p50));
   RecordProperty("sync_error_p99_us", std::to_string(p99));
-  std::printf("frames %zu, |shown − audio clock at present|: p50 %.0f µs, p99 %.0f µs, max %.0f µs\n", frames.size(), p50,
-              p99, errors.back());
+  std::printf("frames %zu, |shown − audio clock at present|: p50 %.0f µs, p99 %.0f µs, max %.0f µs\n", frames.size(),
+              p50, p99, errors.back());
   EXPECT_LE(p99, 16'667.0) << "p99 beyond one 60 Hz frame";
 
   // While paused the picture stands still: frames wholly inside the pause show one time.

@@ -41,7 +41,8 @@ FrameState state_at(std::int64_t song_us) {
   f.haptic_track = 1;
   f.previous_haptic = 1;
   f.overlay = "offscreen test  0:05.0 / 0:18.0";
-  f.legend = {{0, "0 one (Piano)", false, false}, {1, "1 two (Flute)", true, false}, {2, "2 three (Cello)", false, true}};
+  f.legend = {
+      {0, "0 one (Piano)", false, false}, {1, "1 two (Flute)", true, false}, {2, "2 three (Cello)", false, true}};
   f.vibration_samples = 200;
   for (int i = 0; i < 200; ++i) f.vibration[i] = 0.8f * std::sin(static_cast<float>(i) * 0.3f);
   return f;
@@ -62,7 +63,8 @@ TEST(Offscreen, DrawsWithoutADisplay) {
   ASSERT_NE(px, nullptr);
   // Something was drawn: more than one colour in the frame.
   std::size_t different = 0;
-  for (std::size_t i = 4; i < 320u * 180u * 4u; i += 4) different += px[i] != px[0] || px[i + 1] != px[1] || px[i + 2] != px[2];
+  for (std::size_t i = 4; i < 320u * 180u * 4u; i += 4)
+    different += px[i] != px[0] || px[i + 1] != px[1] || px[i + 2] != px[2];
   EXPECT_GT(different, 1000u);
 }
 
@@ -115,8 +117,10 @@ TEST(Offscreen, FramesEqualTheWindowsFrames) {
     std::size_t differ = 0;
     for (int y = 0; y < h; ++y) {  // the window's shot is top-down RGB, the off-screen frame bottom-up RGBA
       for (int x = 0; x < w; ++x) {
-        const std::uint8_t* a = &shot[(static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)) * 3];
-        const std::uint8_t* b = px + (static_cast<std::size_t>(h - 1 - y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)) * 4;
+        const std::uint8_t* a =
+            &shot[(static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)) * 3];
+        const std::uint8_t* b =
+            px + (static_cast<std::size_t>(h - 1 - y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)) * 4;
         differ += a[0] != b[0] || a[1] != b[1] || a[2] != b[2];
       }
     }

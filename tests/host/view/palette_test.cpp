@@ -27,15 +27,19 @@ struct Vision {
 };
 const std::array<Vision, 4> kVisions{{
     {"normal", {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}}},
-    {"protanopia", {{{0.152286, 1.052583, -0.204868}, {0.114503, 0.786281, 0.099216}, {-0.003882, -0.048116, 1.051998}}}},
-    {"deuteranopia", {{{0.367322, 0.860646, -0.227968}, {0.280085, 0.672501, 0.047413}, {-0.011820, 0.042940, 0.968881}}}},
-    {"tritanopia", {{{1.255528, -0.076749, -0.178779}, {-0.078411, 0.930809, 0.147602}, {0.004733, 0.691367, 0.303900}}}},
+    {"protanopia",
+     {{{0.152286, 1.052583, -0.204868}, {0.114503, 0.786281, 0.099216}, {-0.003882, -0.048116, 1.051998}}}},
+    {"deuteranopia",
+     {{{0.367322, 0.860646, -0.227968}, {0.280085, 0.672501, 0.047413}, {-0.011820, 0.042940, 0.968881}}}},
+    {"tritanopia",
+     {{{1.255528, -0.076749, -0.178779}, {-0.078411, 0.930809, 0.147602}, {0.004733, 0.691367, 0.303900}}}},
 }};
 
 double linear(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
 
 Lab lab(const Rgb& c, const Matrix& m) {
-  const double in[3] = {linear(static_cast<double>(c.r)), linear(static_cast<double>(c.g)), linear(static_cast<double>(c.b))};
+  const double in[3] = {linear(static_cast<double>(c.r)), linear(static_cast<double>(c.g)),
+                        linear(static_cast<double>(c.b))};
   double s[3];
   for (int i = 0; i < 3; ++i) s[i] = std::clamp(m[i][0] * in[0] + m[i][1] * in[1] + m[i][2] * in[2], 0.0, 1.0);
   const double x = 0.4124564 * s[0] + 0.3575761 * s[1] + 0.1804375 * s[2];
@@ -52,7 +56,8 @@ Rgb behind(const Rgb& c) { return mix(kBackground, c, kBehindStrength); }
 
 TEST(ViewPalette, TrackColoursStayApartForCommonColourVisionDeficiencies) {
   std::vector<std::pair<std::string, Rgb>> drawn;
-  for (std::size_t t = 0; t < kTrackColours.size(); ++t) drawn.push_back({"track " + std::to_string(t), behind(kTrackColours[t])});
+  for (std::size_t t = 0; t < kTrackColours.size(); ++t)
+    drawn.push_back({"track " + std::to_string(t), behind(kTrackColours[t])});
   drawn.push_back({"felt blue", kHapticBlue});
   drawn.push_back({"sounding yellow", kSoundingYellow});
   drawn.push_back({"sounding white (behind)", behind(kSoundingWhite)});
@@ -77,7 +82,8 @@ TEST(ViewPalette, TracksBehindAreVisibleAndTheFeltTrackIsTheOnlyBlue) {
     EXPECT_GE(std::hypot(c[1], c[2]), 25.0) << "track " << t << " nearly grey";
     // Hue angle at least 25° from the felt blue's, or clearly lighter or darker than it.
     const double hue = std::remainder(std::atan2(c[2], c[1]) - blue_hue, 2 * M_PI);
-    EXPECT_TRUE(std::fabs(hue) > 25.0 * M_PI / 180.0 || std::fabs(c[0] - blue[0]) > 20.0) << "track " << t << " looks blue";
+    EXPECT_TRUE(std::fabs(hue) > 25.0 * M_PI / 180.0 || std::fabs(c[0] - blue[0]) > 20.0)
+        << "track " << t << " looks blue";
   }
 }
 

@@ -79,7 +79,8 @@ class SixteenTracks : public ::testing::Test {
     state.previous_haptic = kFelt;
     state.seconds_across = 12.0;
     state.overlay = "sixteen tracks  0:20.0 / 0:40.0";
-    for (std::uint32_t t = 0; t < kTracks; ++t) state.legend.push_back({t, std::to_string(t) + " track", t == kFelt, false});
+    for (std::uint32_t t = 0; t < kTracks; ++t)
+      state.legend.push_back({t, std::to_string(t) + " track", t == kFelt, false});
     const std::uint8_t* px = frames_->draw(state);
     ASSERT_NE(px, nullptr);
     frame_.rgba.assign(px, px + static_cast<std::size_t>(kWidth) * kHeight * 4);
@@ -168,7 +169,8 @@ TEST_F(SixteenTracks, EveryOtherTrackShowsAColourOfItsOwn) {
   for (std::size_t i = 0; i < shown.size(); ++i) {
     EXPECT_FALSE(near(shown[i].second, kHapticBlue, 0.1f)) << "track " << shown[i].first;
     for (std::size_t j = i + 1; j < shown.size(); ++j) {
-      EXPECT_FALSE(near(shown[i].second, shown[j].second, 0.05f)) << "tracks " << shown[i].first << " and " << shown[j].first;
+      EXPECT_FALSE(near(shown[i].second, shown[j].second, 0.05f))
+          << "tracks " << shown[i].first << " and " << shown[j].first;
     }
   }
 }
@@ -213,7 +215,8 @@ TEST_F(SixteenTracks, TheDeepestLayerStaysNearTheRoll) {
   EXPECT_GE(highest, layout_->params().margin_px - 30.0f - 1e-3f);
   const Bar probe{kNow + 1'000'000, kNow + 2'000'000, 60, 90, 0};
   const Bar front{kNow + 1'000'000, kNow + 2'000'000, 60, 90, kFelt};
-  EXPECT_NEAR(layout_->bar_rect(probe, kNow).x0 - layout_->bar_rect(front, kNow).x0, 2.0f * static_cast<float>(layout_->depth_of(0)), 1e-3f);
+  EXPECT_NEAR(layout_->bar_rect(probe, kNow).x0 - layout_->bar_rect(front, kNow).x0,
+              2.0f * static_cast<float>(layout_->depth_of(0)), 1e-3f);
 }
 
 }  // namespace

@@ -22,7 +22,8 @@ TEST(ViewCli, PlayWithoutADisplayWarnsOnceAndPlaysOn) {
       test::run_command("env -u DISPLAY -u WAYLAND_DISPLAY " + test::kHmp + " play '" + test::kDemo + "'" + kPassage);
   EXPECT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.err.find("warning: no animation window: no display"), std::string::npos) << r.err;
-  EXPECT_EQ(r.err.find("warning:", r.err.find("warning:") + 1), std::string::npos) << "more than one warning: " << r.err;
+  EXPECT_EQ(r.err.find("warning:", r.err.find("warning:") + 1), std::string::npos)
+      << "more than one warning: " << r.err;
   EXPECT_NE(r.out.find("played "), std::string::npos) << r.out;
 }
 
@@ -65,7 +66,8 @@ TEST(ViewCli, ViewWithoutADisplayFailsInOneLine) {
 }
 
 TEST(ViewCli, ViewRefusesAnEmptyPassage) {
-  const test::CommandResult r = test::run_command(test::kHmp + " view '" + test::kDemo + "' --no-audio --from 40 --to 30");
+  const test::CommandResult r =
+      test::run_command(test::kHmp + " view '" + test::kDemo + "' --no-audio --from 40 --to 30");
   EXPECT_EQ(r.status, 2);
   EXPECT_EQ(lines(r.err), 1u) << r.err;
 }

@@ -118,7 +118,8 @@ TEST(ViewWindow, FramesShowTheNotesWhereTheyBelong) {
     const bool sounding = s_us <= now && now < e_us;
     const Rgb got = s.at(cx, cy);
     EXPECT_TRUE(near(got, sounding ? kSoundingYellow : kHapticBlue))
-        << "track 0 note at " << s_us << " µs key " << int(n.key) << ": (" << got.r << "," << got.g << "," << got.b << ")";
+        << "track 0 note at " << s_us << " µs key " << int(n.key) << ": (" << got.r << "," << got.g << "," << got.b
+        << ")";
     (sounding ? yellow : blue)++;
   }
   EXPECT_GE(blue, 10);
@@ -140,7 +141,8 @@ TEST(ViewWindow, FramesShowTheNotesWhereTheyBelong) {
         covered = covered || (xx > x0 - 2 && xx < x1 + 2 && y > y0 - 2 && y < y0 + row + 2);
       }
       if (covered) continue;
-      EXPECT_TRUE(near(s.at(static_cast<float>(xx), static_cast<float>(y)), background)) << "something drawn at (" << xx << ", " << y << ")";
+      EXPECT_TRUE(near(s.at(static_cast<float>(xx), static_cast<float>(y)), background))
+          << "something drawn at (" << xx << ", " << y << ")";
       ++empty;
     }
   }

@@ -61,8 +61,7 @@ TEST(ViewTouch, TheCursorOnABarStartsThatNoteAndHoldingSwitchesTheTrack) {
   ASSERT_TRUE(flute.has_value());
   auto started = [&](const hmp::view::Bar& b) {
     for (const hmp::player::StartedNote& st : s.started()) {
-      if (st.origin.track == b.track && st.origin.key == b.key &&
-          std::llround(st.origin.start_s * 1e6) == b.start_us) {
+      if (st.origin.track == b.track && st.origin.key == b.key && std::llround(st.origin.start_s * 1e6) == b.start_us) {
         return true;
       }
     }
@@ -86,7 +85,8 @@ TEST(ViewTouch, TheCursorOnABarStartsThatNoteAndHoldingSwitchesTheTrack) {
   view->inject({hmp::view::ViewEvent::Kind::cursor, 0, 640.0f, 360.0f});
   std::this_thread::sleep_for(500ms);
   const std::vector<hmp::player::StartedNote> after = s.started();
-  for (std::size_t i = before; i < after.size(); ++i) EXPECT_EQ(after[i].origin.track, kFlute) << "a resting pointer played a note";
+  for (std::size_t i = before; i < after.size(); ++i)
+    EXPECT_EQ(after[i].origin.track, kFlute) << "a resting pointer played a note";
 
   // Follow a violin bar (the cursor moves with it as it scrolls), button held: after 0.5 s the violin
   // is the haptic track.

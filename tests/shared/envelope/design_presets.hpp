@@ -10,11 +10,9 @@ struct DesignPreset {
 };
 
 inline constexpr DesignPreset kDesignPresets[] = {
-    {"organ", 5, 0, 25, 100, 1},            {"flute", 75, 0, 60, 100, 1},
-    {"harpsichord", 55, 0, 55, 100, 17.39}, {"guitar", 15, 0, 15, 100, 1.36},
-    {"trumpet", 30, 110, 100, 32.09, 1},    {"violin", 66, 376, 225, 57.14, 1},
-    {"cello", 40, 290, 200, 47.45, 1},      {"contrabass", 55, 355, 225, 52.74, 1},
-    {"square", 0, 0, 0, 100, 100},
+    {"organ", 5, 0, 25, 100, 1},       {"flute", 75, 0, 60, 100, 1},           {"harpsichord", 55, 0, 55, 100, 17.39},
+    {"guitar", 15, 0, 15, 100, 1.36},  {"trumpet", 30, 110, 100, 32.09, 1},    {"violin", 66, 376, 225, 57.14, 1},
+    {"cello", 40, 290, 200, 47.45, 1}, {"contrabass", 55, 355, 225, 52.74, 1}, {"square", 0, 0, 0, 100, 100},
 };
 
 }  // namespace hmp::test

@@ -39,9 +39,9 @@ struct Note {
 std::string describe(const Note& c) {
   std::ostringstream o;
   o.precision(9);
-  o << "A=" << c.adsr.attack_ms << " Dc=" << c.adsr.decay_ms << " R=" << c.adsr.release_ms
-    << " s=" << c.adsr.sustain << " r=" << c.adsr.final_ratio << " shape=" << static_cast<int>(c.adsr.shape)
-    << " peak=" << c.peak << " N=" << c.ticks << " tick_hz=" << c.tick_hz << " fade=" << c.fade_ms;
+  o << "A=" << c.adsr.attack_ms << " Dc=" << c.adsr.decay_ms << " R=" << c.adsr.release_ms << " s=" << c.adsr.sustain
+    << " r=" << c.adsr.final_ratio << " shape=" << static_cast<int>(c.adsr.shape) << " peak=" << c.peak
+    << " N=" << c.ticks << " tick_hz=" << c.tick_hz << " fade=" << c.fade_ms;
   return o.str();
 }
 
@@ -82,7 +82,7 @@ class Reference {
       e = x * peak_ / t1_;
     } else if (x < t2_) {
       const double m = (level_ - peak_) / (t2_ - t1_);  // Eq. 9
-      e = m * (x - t1_) + peak_;                         // Eq. 10, second line
+      e = m * (x - t1_) + peak_;                        // Eq. 10, second line
     } else if (x < t3_) {
       e = level_;
     } else if (ratio_ == 0) {
@@ -205,9 +205,9 @@ void check_note(const Note& c, Stats& stats, std::mt19937_64& rng, std::uint32_t
 
 Adsr preset(Preset p) { return hmp::envelope::builtin(p); }
 
-constexpr Preset kAllPresets[] = {Preset::organ,      Preset::flute,  Preset::harpsichord, Preset::guitar,
-                                  Preset::trumpet,    Preset::violin, Preset::cello,       Preset::contrabass,
-                                  Preset::square,     Preset::triangle, Preset::legacy2013};
+constexpr Preset kAllPresets[] = {Preset::organ,   Preset::flute,    Preset::harpsichord, Preset::guitar,
+                                  Preset::trumpet, Preset::violin,   Preset::cello,       Preset::contrabass,
+                                  Preset::square,  Preset::triangle, Preset::legacy2013};
 
 // ---------------------------------------------------------------------------------------------------------
 
@@ -234,8 +234,8 @@ TEST(EnvelopePresets, MatchSpecTable) {
 }
 
 TEST(EnvelopePresets, NamesRoundTripCaseInsensitively) {
-  const char* expected[] = {"organ",  "flute", "harpsichord", "guitar", "trumpet",   "violin",
-                            "cello",  "contrabass", "square", "triangle", "legacy2013"};
+  const char* expected[] = {"organ", "flute",      "harpsichord", "guitar",   "trumpet",   "violin",
+                            "cello", "contrabass", "square",      "triangle", "legacy2013"};
   ASSERT_EQ(std::size(expected), std::size_t{hmp::envelope::kBuiltinCount});
   for (std::uint8_t i = 0; i < hmp::envelope::kBuiltinCount; ++i) {
     const auto p = static_cast<Preset>(i);
@@ -272,11 +272,11 @@ TEST(EnvelopeShape, ViolinByHand) {
   Envelope e;
   e.start(preset(Preset::violin), 0.5f, 1000, 1000.0f, 0.0f);
   EXPECT_NEAR(e.at(0), 0.0, 1e-7);
-  EXPECT_NEAR(e.at(33), 0.25, 1e-6);                          // half-way up the attack
-  EXPECT_NEAR(e.at(66), 0.5, 1e-6);                           // peak
-  EXPECT_NEAR(e.at(66 + 188), 0.5 * (1 + 0.5714) / 2, 1e-6);  // half-way down the decay
-  EXPECT_NEAR(e.at(500), 0.5 * 0.5714, 1e-6);                 // sustain
-  EXPECT_NEAR(e.at(775), 0.5 * 0.5714, 1e-6);                 // release starts at D − R
+  EXPECT_NEAR(e.at(33), 0.25, 1e-6);                                           // half-way up the attack
+  EXPECT_NEAR(e.at(66), 0.5, 1e-6);                                            // peak
+  EXPECT_NEAR(e.at(66 + 188), 0.5 * (1 + 0.5714) / 2, 1e-6);                   // half-way down the decay
+  EXPECT_NEAR(e.at(500), 0.5 * 0.5714, 1e-6);                                  // sustain
+  EXPECT_NEAR(e.at(775), 0.5 * 0.5714, 1e-6);                                  // release starts at D − R
   EXPECT_NEAR(e.at(887), 0.5 * 0.5714 * std::pow(0.01, 112.0 / 225.0), 1e-6);  // 112 ms into the release
   EXPECT_NEAR(e.at(999), 0.5 * 0.5714 * std::pow(0.01, 224.0 / 225.0), 1e-6);
   EXPECT_EQ(e.at(1000), 0.0f);
@@ -345,7 +345,7 @@ TEST(EnvelopeShape, EndFadeRampsTheLastMilliseconds) {
   Envelope e;
   e.start(preset(Preset::square), 1.0f, 100, 1000.0f, 4.0f);
   EXPECT_FLOAT_EQ(e.at(95), 1.0f);
-  EXPECT_FLOAT_EQ(e.at(96), 1.0f);   // (D − x)/F = 4/4
+  EXPECT_FLOAT_EQ(e.at(96), 1.0f);  // (D − x)/F = 4/4
   EXPECT_FLOAT_EQ(e.at(97), 0.75f);
   EXPECT_FLOAT_EQ(e.at(99), 0.25f);
 }
@@ -363,8 +363,7 @@ TEST(EnvelopeAccuracy, PresetsAgainstReference) {
       }
     }
   }
-  std::cout << "presets: max |float - double| = " << stats.max_error << " over " << stats.samples
-            << " samples\n";
+  std::cout << "presets: max |float - double| = " << stats.max_error << " over " << stats.samples << " samples\n";
   EXPECT_LE(stats.max_error, kTolerance);
 }
 

@@ -243,7 +243,7 @@ TEST(Ranges, InvalidRangesFallBackToDefaults) {
   bad[0].f_min_hz = 0;
   bad[1].f_min_hz = 300;  // above f_max
   bad[2].f_max_hz = nan;
-  bad[3].a_min_db = 40;   // above a_max
+  bad[3].a_min_db = 40;  // above a_max
   bad[4].a_max_db = std::numeric_limits<double>::infinity();
   const KeySet keys = make_keys({40, 80});
   for (const Ranges& r : bad) {

@@ -21,9 +21,9 @@ namespace {
 
 using Bytes = std::array<std::uint8_t, kReportSize>;
 
-constexpr Type kAllTypes[] = {Type::hello,     Type::sync,        Type::notes,      Type::long_note, Type::preset,
-                              Type::settings,  Type::transport,   Type::estop,      Type::hello_reply,
-                              Type::sync_reply, Type::status,     Type::started,    Type::error};
+constexpr Type kAllTypes[] = {Type::hello,    Type::sync,      Type::notes, Type::long_note,   Type::preset,
+                              Type::settings, Type::transport, Type::estop, Type::hello_reply, Type::sync_reply,
+                              Type::status,   Type::started,   Type::error};
 
 // Payload ends from docs/protocol.md (first byte that must be zero), written out independently of the
 // implementation's layout walker.
@@ -76,7 +76,9 @@ class Gen {
   std::uint16_t u16() { return static_cast<std::uint16_t>(bits(16)); }
   std::uint32_t u32() { return static_cast<std::uint32_t>(bits(32)); }
   std::uint64_t u64() { return bits(64); }
-  std::uint64_t in(std::uint64_t lo, std::uint64_t hi) { return std::uniform_int_distribution<std::uint64_t>(lo, hi)(rng_); }
+  std::uint64_t in(std::uint64_t lo, std::uint64_t hi) {
+    return std::uniform_int_distribution<std::uint64_t>(lo, hi)(rng_);
+  }
   float real(double lo, double hi) { return static_cast<float>(std::uniform_real_distribution<double>(lo, hi)(rng_)); }
 
   Message message(Type t) {
@@ -95,13 +97,14 @@ class Gen {
         break;
       }
       case Type::long_note:
-        m.long_note = LongNote{u8(), static_cast<std::uint8_t>(in(0, 31)), u64(),
-                               static_cast<std::uint32_t>(in(1, 0xFFFFFFFF)), u32(), u16()};
+        m.long_note = LongNote{u8(),  static_cast<std::uint8_t>(in(0, 31)),
+                               u64(), static_cast<std::uint32_t>(in(1, 0xFFFFFFFF)),
+                               u32(), u16()};
         break;
       case Type::preset:
         m.preset.slot = static_cast<std::uint8_t>(in(16, 31));
-        m.preset.adsr = envelope::Adsr{real(0, 5000), real(0, 5000), real(0, 5000), real(0, 1), real(0, 1),
-                                       static_cast<envelope::Shape>(in(0, 2))};
+        m.preset.adsr = envelope::Adsr{real(0, 5000), real(0, 5000), real(0, 5000),
+                                       real(0, 1),    real(0, 1),    static_cast<envelope::Shape>(in(0, 2))};
         break;
       case Type::settings: {
         Settings& s = m.settings;
@@ -130,9 +133,15 @@ class Gen {
         break;
       case Type::estop: break;
       case Type::hello_reply:
-        m.hello_reply = HelloReply{static_cast<std::uint16_t>(in(1, 0xFFFF)), u8(), u8(), u8(),
-                                   static_cast<Board>(in(0, 2)), static_cast<std::uint32_t>(in(1, 0xFFFFFFFF)),
-                                   static_cast<std::uint8_t>(in(1, 255)), u16(), u8(),
+        m.hello_reply = HelloReply{static_cast<std::uint16_t>(in(1, 0xFFFF)),
+                                   u8(),
+                                   u8(),
+                                   u8(),
+                                   static_cast<Board>(in(0, 2)),
+                                   static_cast<std::uint32_t>(in(1, 0xFFFFFFFF)),
+                                   static_cast<std::uint8_t>(in(1, 255)),
+                                   u16(),
+                                   u8(),
                                    static_cast<std::uint8_t>(in(0, kKnownBoardFlags))};
         break;
       case Type::sync_reply: m.sync_reply = SyncReply{u64(), u64(), u32()}; break;
@@ -161,9 +170,7 @@ class Gen {
           b.entries[i] = StartedEntry{u16(), static_cast<std::uint8_t>(in(0, 4)), u32(), u32()};
         break;
       }
-      case Type::error:
-        m.error = Error{static_cast<ErrorCode>(in(1, 8)), u16(), u8()};
-        break;
+      case Type::error: m.error = Error{static_cast<ErrorCode>(in(1, 8)), u16(), u8()}; break;
     }
     return m;
   }
@@ -245,11 +252,11 @@ TEST(Protocol, StatusLayoutIsByteExact) {
   s.faults = fault_estop | fault_output_limit | fault_string_slack;  // 0x85
   s.state = State::playing;
   s.active_voices = 16;
-  s.output = 0.5f;    // 0x3F000000
-  s.force_n = -2.0f;  // 0xC0000000
-  s.grip_m[0] = 0.25f;   // 0x3E800000
-  s.grip_m[1] = -1.5f;   // 0xBFC00000
-  s.grip_m[2] = 2.0f;    // 0x40000000
+  s.output = 0.5f;      // 0x3F000000
+  s.force_n = -2.0f;    // 0xC0000000
+  s.grip_m[0] = 0.25f;  // 0x3E800000
+  s.grip_m[1] = -1.5f;  // 0xBFC00000
+  s.grip_m[2] = 2.0f;   // 0x40000000
   s.grip_known = 1;
   const std::uint8_t bytes[] = {
       0x83, 0xEF, 0xBE,                                // type, seq
@@ -275,20 +282,19 @@ TEST(Protocol, StatusLayoutIsByteExact) {
 TEST(Protocol, LongNoteAndSettingsLayoutsAreByteExact) {
   Message n = make(Type::long_note, 1);
   n.long_note = LongNote{9, 17, 0x0102030405060708, 0xA1A2A3A4, 0xB1B2B3B4, 0xC1C2};
-  const std::uint8_t nb[] = {0x04, 0x01, 0x00, 9, 17, 0x08, 0x07, 0x06, 0x05, 0x04, 0x03, 0x02, 0x01,
-                             0xA4, 0xA3, 0xA2, 0xA1, 0xB4, 0xB3, 0xB2, 0xB1, 0xC2, 0xC1};
+  const std::uint8_t nb[] = {0x04, 0x01, 0x00, 9,    17,   0x08, 0x07, 0x06, 0x05, 0x04, 0x03, 0x02,
+                             0x01, 0xA4, 0xA3, 0xA2, 0xA1, 0xB4, 0xB3, 0xB2, 0xB1, 0xC2, 0xC1};
   Bytes want{};
   std::memcpy(want.data(), nb, sizeof nb);
   EXPECT_EQ(encoded(n), want);
 
   Message s = make(Type::settings, 2);
   s.settings = Settings{PolicyCode::latest, 0.5f, 2.0f, {0.0f, 0.0f, -1.0f}, 0.25f, 300, 0x1234, 0.25f, 6.0f};
-  const std::uint8_t sb[] = {0x06, 0x02, 0x00, 0x02,
-                             0x00, 0x00, 0x00, 0x3F,  // gain 0.5
-                             0x00, 0x00, 0x00, 0x40,  // peak 2.0
+  const std::uint8_t sb[] = {0x06, 0x02, 0x00, 0x02, 0x00, 0x00, 0x00, 0x3F,                          // gain 0.5
+                             0x00, 0x00, 0x00, 0x40,                                                  // peak 2.0
                              0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x80, 0xBF,  // 0,0,-1
-                             0x00, 0x00, 0x80, 0x3E,  // end fade 0.25
-                             0x2C, 0x01, 0x34, 0x12,  // watchdog 300, ramp-in 0x1234
+                             0x00, 0x00, 0x80, 0x3E,                                                  // end fade 0.25
+                             0x2C, 0x01, 0x34, 0x12,                           // watchdog 300, ramp-in 0x1234
                              0x00, 0x00, 0x80, 0x3E, 0x00, 0x00, 0xC0, 0x40};  // t_min 0.25, t_max 6
   want = Bytes{};
   std::memcpy(want.data(), sb, sizeof sb);
@@ -351,29 +357,41 @@ std::vector<BadField> bad_fields() {
   using E = ErrorCode;
   std::vector<BadField> v;
   auto add = [&](std::string what, Type t, std::size_t off, std::vector<std::uint8_t> b,
-                 std::function<void(Message&)> mut, E e) { v.push_back({what, t, off, b, mut, e}); };
+                 std::function<void(Message&)> mut, E e) {
+    v.push_back({what, t, off, b, mut, e});
+  };
 
-  add("hello version 0", Type::hello, 3, le(0, 2), [](Message& m) { m.hello.protocol_version = 0; }, E::bad_value);
+  add(
+      "hello version 0", Type::hello, 3, le(0, 2), [](Message& m) { m.hello.protocol_version = 0; }, E::bad_value);
 
   for (int c : {0, 6, 255})
-    add("notes count " + std::to_string(c), Type::notes, 3, le(c, 1),
+    add(
+        "notes count " + std::to_string(c), Type::notes, 3, le(c, 1),
         [c](Message& m) { m.notes.count = static_cast<std::uint8_t>(c); }, E::bad_length_field);
-  add("note 0 preset 32", Type::notes, 10, le(32, 1), [](Message& m) { m.notes.notes[0].preset = 32; }, E::bad_slot);
-  add("note 2 preset 200", Type::notes, 9 + 22 + 1, le(200, 1), [](Message& m) { m.notes.notes[2].preset = 200; },
+  add(
+      "note 0 preset 32", Type::notes, 10, le(32, 1), [](Message& m) { m.notes.notes[0].preset = 32; }, E::bad_slot);
+  add(
+      "note 2 preset 200", Type::notes, 9 + 22 + 1, le(200, 1), [](Message& m) { m.notes.notes[2].preset = 200; },
       E::bad_slot);
-  add("note 1 duration 0", Type::notes, 9 + 11 + 2, le(0, 3), [](Message& m) { m.notes.notes[1].duration_ticks = 0; },
+  add(
+      "note 1 duration 0", Type::notes, 9 + 11 + 2, le(0, 3), [](Message& m) { m.notes.notes[1].duration_ticks = 0; },
       E::bad_value);
-  add("note duration 2^24", Type::notes, 0, {}, [](Message& m) { m.notes.notes[0].duration_ticks = 1u << 24; },
+  add(
+      "note duration 2^24", Type::notes, 0, {}, [](Message& m) { m.notes.notes[0].duration_ticks = 1u << 24; },
       E::bad_value);
 
-  add("long preset 32", Type::long_note, 4, le(32, 1), [](Message& m) { m.long_note.preset = 32; }, E::bad_slot);
-  add("long duration 0", Type::long_note, 13, le(0, 4), [](Message& m) { m.long_note.duration_ticks = 0; },
+  add(
+      "long preset 32", Type::long_note, 4, le(32, 1), [](Message& m) { m.long_note.preset = 32; }, E::bad_slot);
+  add(
+      "long duration 0", Type::long_note, 13, le(0, 4), [](Message& m) { m.long_note.duration_ticks = 0; },
       E::bad_value);
 
   for (int s : {0, 10, 15, 32, 255})
-    add("preset slot " + std::to_string(s), Type::preset, 3, le(s, 1),
+    add(
+        "preset slot " + std::to_string(s), Type::preset, 3, le(s, 1),
         [s](Message& m) { m.preset.slot = static_cast<std::uint8_t>(s); }, E::bad_slot);
-  add("preset shape 3", Type::preset, 4, le(3, 1),
+  add(
+      "preset shape 3", Type::preset, 4, le(3, 1),
       [](Message& m) { m.preset.adsr.shape = static_cast<envelope::Shape>(3); }, E::bad_value);
   const struct {
     const char* field;
@@ -387,10 +405,12 @@ std::vector<BadField> bad_fields() {
                      {"final", 21, &envelope::Adsr::final_ratio, {-0.01f, 1.5f, kNaN, -kInf}}};
   for (const auto& a : adsr_fields)
     for (float x : a.bad)
-      add(std::string("preset ") + a.field + " " + std::to_string(x), Type::preset, a.off, le_f32(x),
+      add(
+          std::string("preset ") + a.field + " " + std::to_string(x), Type::preset, a.off, le_f32(x),
           [member = a.member, x](Message& m) { m.preset.adsr.*member = x; }, E::bad_value);
 
-  add("policy 3", Type::settings, 3, le(3, 1), [](Message& m) { m.settings.policy = static_cast<PolicyCode>(3); },
+  add(
+      "policy 3", Type::settings, 3, le(3, 1), [](Message& m) { m.settings.policy = static_cast<PolicyCode>(3); },
       E::bad_value);
   const struct {
     const char* field;
@@ -404,66 +424,91 @@ std::vector<BadField> bad_fields() {
                          {"t_max", 36, &Settings::t_max_n, {0.3f, 0.1f, 20.01f, kNaN, kInf}}};
   for (const auto& s : settings_fields)
     for (float x : s.bad)
-      add(std::string("settings ") + s.field + " " + std::to_string(x), Type::settings, s.off, le_f32(x),
+      add(
+          std::string("settings ") + s.field + " " + std::to_string(x), Type::settings, s.off, le_f32(x),
           [member = s.member, x](Message& m) { m.settings.*member = x; }, E::bad_value);
-  const std::array<float, 3> bad_directions[] = {
-      {0, 0, 0}, {0, 1.0015f, 0}, {0, 0.9985f, 0}, {kNaN, 1, 0}, {0, kInf, 0}, {1, 1, 0}, {0.6f, 0.6f, 0.6f}};
+  const std::array<float, 3> bad_directions[] = {{0, 0, 0},    {0, 1.0015f, 0}, {0, 0.9985f, 0},   {kNaN, 1, 0},
+                                                 {0, kInf, 0}, {1, 1, 0},       {0.6f, 0.6f, 0.6f}};
   for (const auto& d : bad_directions) {
     std::vector<std::uint8_t> b;
     for (float c : d)
       for (std::uint8_t x : le_f32(c)) b.push_back(x);
-    add("direction " + std::to_string(d[0]) + "," + std::to_string(d[1]) + "," + std::to_string(d[2]), Type::settings,
+    add(
+        "direction " + std::to_string(d[0]) + "," + std::to_string(d[1]) + "," + std::to_string(d[2]), Type::settings,
         12, b, [d](Message& m) { std::copy(d.begin(), d.end(), m.settings.direction); }, E::bad_value);
   }
-  add("watchdog 9", Type::settings, 28, le(9, 2), [](Message& m) { m.settings.watchdog_ms = 9; }, E::bad_value);
-  add("watchdog 0", Type::settings, 28, le(0, 2), [](Message& m) { m.settings.watchdog_ms = 0; }, E::bad_value);
+  add(
+      "watchdog 9", Type::settings, 28, le(9, 2), [](Message& m) { m.settings.watchdog_ms = 9; }, E::bad_value);
+  add(
+      "watchdog 0", Type::settings, 28, le(0, 2), [](Message& m) { m.settings.watchdog_ms = 0; }, E::bad_value);
 
-  add("transport op 4", Type::transport, 3, le(4, 1),
-      [](Message& m) { m.transport.op = static_cast<TransportOp>(4); }, E::bad_value);
-  add("play with a tick", Type::transport, 4, le(5, 8), [](Message& m) { m.transport.tick = 5; }, E::bad_value);
+  add(
+      "transport op 4", Type::transport, 3, le(4, 1), [](Message& m) { m.transport.op = static_cast<TransportOp>(4); },
+      E::bad_value);
+  add(
+      "play with a tick", Type::transport, 4, le(5, 8), [](Message& m) { m.transport.tick = 5; }, E::bad_value);
 
-  add("reply version 0", Type::hello_reply, 3, le(0, 2), [](Message& m) { m.hello_reply.protocol_version = 0; },
+  add(
+      "reply version 0", Type::hello_reply, 3, le(0, 2), [](Message& m) { m.hello_reply.protocol_version = 0; },
       E::bad_value);
-  add("board 3", Type::hello_reply, 8, le(3, 1), [](Message& m) { m.hello_reply.board = static_cast<Board>(3); },
+  add(
+      "board 3", Type::hello_reply, 8, le(3, 1), [](Message& m) { m.hello_reply.board = static_cast<Board>(3); },
       E::bad_value);
-  add("tick_hz 0", Type::hello_reply, 9, le(0, 4), [](Message& m) { m.hello_reply.tick_hz = 0; }, E::bad_value);
-  add("voices 0", Type::hello_reply, 13, le(0, 1), [](Message& m) { m.hello_reply.voices = 0; }, E::bad_value);
-  add("board flag 0x10", Type::hello_reply, 17, le(0x10, 1),
-      [](Message& m) { m.hello_reply.board_flags = 0x10; }, E::bad_value);
+  add(
+      "tick_hz 0", Type::hello_reply, 9, le(0, 4), [](Message& m) { m.hello_reply.tick_hz = 0; }, E::bad_value);
+  add(
+      "voices 0", Type::hello_reply, 13, le(0, 1), [](Message& m) { m.hello_reply.voices = 0; }, E::bad_value);
+  add(
+      "board flag 0x10", Type::hello_reply, 17, le(0x10, 1), [](Message& m) { m.hello_reply.board_flags = 0x10; },
+      E::bad_value);
 
-  add("state 5", Type::status, 35, le(5, 1), [](Message& m) { m.status.state = static_cast<State>(5); },
-      E::bad_value);
+  add(
+      "state 5", Type::status, 35, le(5, 1), [](Message& m) { m.status.state = static_cast<State>(5); }, E::bad_value);
   for (std::uint32_t bit : {8u, 31u})
-    add("fault bit " + std::to_string(bit), Type::status, 31, le(std::uint64_t{1} << bit, 4),
+    add(
+        "fault bit " + std::to_string(bit), Type::status, 31, le(std::uint64_t{1} << bit, 4),
         [bit](Message& m) { m.status.faults = 1u << bit; }, E::bad_value);
   for (float x : {1.01f, -1.5f, kNaN, kInf})
-    add("output " + std::to_string(x), Type::status, 37, le_f32(x), [x](Message& m) { m.status.output = x; },
+    add(
+        "output " + std::to_string(x), Type::status, 37, le_f32(x), [x](Message& m) { m.status.output = x; },
         E::bad_value);
   for (float x : {kNaN, kInf, -kInf})
-    add("force " + std::to_string(x), Type::status, 41, le_f32(x), [x](Message& m) { m.status.force_n = x; },
+    add(
+        "force " + std::to_string(x), Type::status, 41, le_f32(x), [x](Message& m) { m.status.force_n = x; },
         E::bad_value);
 
   // The grip: a position only when known, finite and within the range; "known" is 0 or 1.
-  add("grip known 2", Type::status, 57, le(2, 1), [](Message& m) { m.status.grip_known = 2; }, E::bad_value);
-  add("grip position while not known", Type::status, 45, le_f32(0.1f), [](Message& m) { m.status.grip_m[0] = 0.1f; },
+  add(
+      "grip known 2", Type::status, 57, le(2, 1), [](Message& m) { m.status.grip_known = 2; }, E::bad_value);
+  add(
+      "grip position while not known", Type::status, 45, le_f32(0.1f), [](Message& m) { m.status.grip_m[0] = 0.1f; },
       E::bad_value);
   for (float x : {kNaN, kInf, -kInf, 4.01f, -5.0f}) {
     std::vector<std::uint8_t> b;  // bytes 45–57: x = the bad value, y = z = 0, known = 1
     for (std::uint8_t c : le_f32(x)) b.push_back(c);
     b.insert(b.end(), 8, 0);
     b.push_back(1);
-    add("grip x " + std::to_string(x), Type::status, 45, b,
-        [x](Message& m) { m.status.grip_m[0] = x; m.status.grip_known = 1; }, E::bad_value);
+    add(
+        "grip x " + std::to_string(x), Type::status, 45, b,
+        [x](Message& m) {
+          m.status.grip_m[0] = x;
+          m.status.grip_known = 1;
+        },
+        E::bad_value);
   }
 
   for (int c : {0, 6, 200})
-    add("started count " + std::to_string(c), Type::started, 3, le(c, 1),
+    add(
+        "started count " + std::to_string(c), Type::started, 3, le(c, 1),
         [c](Message& m) { m.started.count = static_cast<std::uint8_t>(c); }, E::bad_length_field);
-  add("started index 5", Type::started, 4 + 11 + 2, le(5, 1), [](Message& m) { m.started.entries[1].index = 5; },
+  add(
+      "started index 5", Type::started, 4 + 11 + 2, le(5, 1), [](Message& m) { m.started.entries[1].index = 5; },
       E::bad_value);
 
-  add("error code none", Type::error, 3, le(0, 1), [](Message& m) { m.error.code = ErrorCode::none; }, E::bad_value);
-  add("error code 9", Type::error, 3, le(9, 1), [](Message& m) { m.error.code = static_cast<ErrorCode>(9); },
+  add(
+      "error code none", Type::error, 3, le(0, 1), [](Message& m) { m.error.code = ErrorCode::none; }, E::bad_value);
+  add(
+      "error code 9", Type::error, 3, le(9, 1), [](Message& m) { m.error.code = static_cast<ErrorCode>(9); },
       E::bad_value);
   return v;
 }
@@ -501,20 +546,109 @@ TEST(Protocol, RangeEdgesAreAccepted) {
     EXPECT_EQ(decode_bytes(encoded(m), back), ErrorCode::none) << what;
     EXPECT_TRUE(back == m) << what;
   };
-  check(Type::notes, [](Message& m) { m.notes.count = 5; m.notes.notes[4].duration_ticks = kMaxCompactDuration; }, "u24 max");
-  check(Type::notes, [](Message& m) { m.notes.count = 1; m.notes.notes[0].preset = 31; m.notes.notes[0].duration_ticks = 1; }, "slot 31, 1 tick");
-  check(Type::long_note, [](Message& m) { m.long_note.duration_ticks = 0xFFFFFFFF; m.long_note.start_tick = ~0ull; }, "u32 max");
-  check(Type::preset, [](Message& m) { m.preset.slot = 16; }, "slot 16");
-  check(Type::preset, [](Message& m) { m.preset.slot = 31; m.preset.adsr = {1e7f, 0, 1e7f, 0, 0, envelope::Shape::damped}; }, "slot 31, 1e7 ms, zero levels");
-  check(Type::settings, [](Message& m) { m.settings.gain = 0; m.settings.end_fade_ms = 0; m.settings.t_min_n = 0; m.settings.watchdog_ms = 10; }, "lower edges");
-  check(Type::settings, [](Message& m) { m.settings.gain = 1; m.settings.peak_force_n = 20; m.settings.end_fade_ms = 1000; m.settings.t_max_n = 20; m.settings.ramp_in_ms = 0; }, "upper edges");
-  check(Type::settings, [](Message& m) { m.settings.direction[0] = 0; m.settings.direction[1] = 1.0009f; m.settings.direction[2] = 0; }, "|d| = 1.0009");
-  check(Type::settings, [](Message& m) { m.settings.direction[0] = 0.6f; m.settings.direction[1] = -0.8f; m.settings.direction[2] = 0; }, "(0.6,-0.8,0)");
-  check(Type::status, [](Message& m) { m.status.output = -1; m.status.faults = kKnownFaults; m.status.state = State::fault; }, "output -1, all faults");
-  check(Type::status, [](Message& m) { m.status.output = 1; m.status.force_n = -1e30f; }, "output 1");
-  check(Type::status, [](Message& m) { m.status.grip_known = 1; m.status.grip_m[0] = kGripRangeM; m.status.grip_m[2] = -kGripRangeM; }, "grip at ±range");
-  check(Type::transport, [](Message& m) { m.transport.op = TransportOp::seek; m.transport.tick = ~0ull; }, "seek anywhere");
-  check(Type::error, [](Message& m) { m.error.code = ErrorCode::bad_slot; m.error.type = 0xFF; }, "last code");
+  check(
+      Type::notes,
+      [](Message& m) {
+        m.notes.count = 5;
+        m.notes.notes[4].duration_ticks = kMaxCompactDuration;
+      },
+      "u24 max");
+  check(
+      Type::notes,
+      [](Message& m) {
+        m.notes.count = 1;
+        m.notes.notes[0].preset = 31;
+        m.notes.notes[0].duration_ticks = 1;
+      },
+      "slot 31, 1 tick");
+  check(
+      Type::long_note,
+      [](Message& m) {
+        m.long_note.duration_ticks = 0xFFFFFFFF;
+        m.long_note.start_tick = ~0ull;
+      },
+      "u32 max");
+  check(
+      Type::preset, [](Message& m) { m.preset.slot = 16; }, "slot 16");
+  check(
+      Type::preset,
+      [](Message& m) {
+        m.preset.slot = 31;
+        m.preset.adsr = {1e7f, 0, 1e7f, 0, 0, envelope::Shape::damped};
+      },
+      "slot 31, 1e7 ms, zero levels");
+  check(
+      Type::settings,
+      [](Message& m) {
+        m.settings.gain = 0;
+        m.settings.end_fade_ms = 0;
+        m.settings.t_min_n = 0;
+        m.settings.watchdog_ms = 10;
+      },
+      "lower edges");
+  check(
+      Type::settings,
+      [](Message& m) {
+        m.settings.gain = 1;
+        m.settings.peak_force_n = 20;
+        m.settings.end_fade_ms = 1000;
+        m.settings.t_max_n = 20;
+        m.settings.ramp_in_ms = 0;
+      },
+      "upper edges");
+  check(
+      Type::settings,
+      [](Message& m) {
+        m.settings.direction[0] = 0;
+        m.settings.direction[1] = 1.0009f;
+        m.settings.direction[2] = 0;
+      },
+      "|d| = 1.0009");
+  check(
+      Type::settings,
+      [](Message& m) {
+        m.settings.direction[0] = 0.6f;
+        m.settings.direction[1] = -0.8f;
+        m.settings.direction[2] = 0;
+      },
+      "(0.6,-0.8,0)");
+  check(
+      Type::status,
+      [](Message& m) {
+        m.status.output = -1;
+        m.status.faults = kKnownFaults;
+        m.status.state = State::fault;
+      },
+      "output -1, all faults");
+  check(
+      Type::status,
+      [](Message& m) {
+        m.status.output = 1;
+        m.status.force_n = -1e30f;
+      },
+      "output 1");
+  check(
+      Type::status,
+      [](Message& m) {
+        m.status.grip_known = 1;
+        m.status.grip_m[0] = kGripRangeM;
+        m.status.grip_m[2] = -kGripRangeM;
+      },
+      "grip at ±range");
+  check(
+      Type::transport,
+      [](Message& m) {
+        m.transport.op = TransportOp::seek;
+        m.transport.tick = ~0ull;
+      },
+      "seek anywhere");
+  check(
+      Type::error,
+      [](Message& m) {
+        m.error.code = ErrorCode::bad_slot;
+        m.error.type = 0xFF;
+      },
+      "last code");
 }
 
 // Notes of hours: a compact note holds 16,777,215 ticks (4.66 h at 1 kHz); longer ones need a LongNote.
@@ -550,7 +684,8 @@ TEST(Protocol, MillionRandomReportsDecodeSafelyAndReencodeExactly) {
       }
       default: {  // a valid report with 1–3 random bytes overwritten
         b = encoded(gen.message(kAllTypes[rng() % std::size(kAllTypes)]));
-        for (int n = 1 + static_cast<int>(rng() % 3); n > 0; --n) b[rng() % kReportSize] = static_cast<std::uint8_t>(rng());
+        for (int n = 1 + static_cast<int>(rng() % 3); n > 0; --n)
+          b[rng() % kReportSize] = static_cast<std::uint8_t>(rng());
         break;
       }
     }
@@ -585,19 +720,19 @@ TEST(Protocol, AllZeroAndAllFFReports) {
     Type t;
     E zeros, ffs;
   } cases[] = {
-      {Type::hello, E::bad_value, E::nonzero_padding},           // version 0 / version 0xFFFF then padding
-      {Type::sync, E::none, E::nonzero_padding},                 // any time; padding
-      {Type::notes, E::bad_length_field, E::bad_length_field},   // count 0 / 255
-      {Type::long_note, E::bad_value, E::bad_slot},              // duration 0 / preset 255
-      {Type::preset, E::bad_slot, E::bad_slot},                  // slot 0 / 255
-      {Type::settings, E::bad_value, E::bad_value},              // gain… / policy 255
-      {Type::transport, E::none, E::bad_value},                  // play at 0 / op 255
+      {Type::hello, E::bad_value, E::nonzero_padding},          // version 0 / version 0xFFFF then padding
+      {Type::sync, E::none, E::nonzero_padding},                // any time; padding
+      {Type::notes, E::bad_length_field, E::bad_length_field},  // count 0 / 255
+      {Type::long_note, E::bad_value, E::bad_slot},             // duration 0 / preset 255
+      {Type::preset, E::bad_slot, E::bad_slot},                 // slot 0 / 255
+      {Type::settings, E::bad_value, E::bad_value},             // gain… / policy 255
+      {Type::transport, E::none, E::bad_value},                 // play at 0 / op 255
       {Type::estop, E::none, E::nonzero_padding},
-      {Type::hello_reply, E::bad_value, E::bad_value},           // version 0 / board 255
+      {Type::hello_reply, E::bad_value, E::bad_value},  // version 0 / board 255
       {Type::sync_reply, E::none, E::nonzero_padding},
-      {Type::status, E::none, E::bad_value},                     // idle, output 0 / state 255
+      {Type::status, E::none, E::bad_value},  // idle, output 0 / state 255
       {Type::started, E::bad_length_field, E::bad_length_field},
-      {Type::error, E::bad_value, E::bad_value},                 // code none / 255
+      {Type::error, E::bad_value, E::bad_value},  // code none / 255
   };
   for (const auto& c : cases) {
     Bytes z = zeros, f = ffs;
@@ -613,7 +748,8 @@ TEST(Protocol, UnknownTypesAreRejectedEverywhere) {
     Bytes b{};
     b[0] = static_cast<std::uint8_t>(t);
     Message m;
-    const bool listed = std::find(std::begin(kAllTypes), std::end(kAllTypes), static_cast<Type>(t)) != std::end(kAllTypes);
+    const bool listed =
+        std::find(std::begin(kAllTypes), std::end(kAllTypes), static_cast<Type>(t)) != std::end(kAllTypes);
     EXPECT_EQ(is_known_type(static_cast<std::uint8_t>(t)), listed) << t;
     if (listed) {
       ++known;

@@ -40,7 +40,8 @@ TEST(SpidarMotor, RoundTripThroughTheMotorEquations) {
     }
     ASSERT_EQ(flags_d, 0);
     ASSERT_NEAR(steady_tension(dd, w), t, 1e-12);
-    if (!(flags_f & flag::saturated)) worst_f = std::max(worst_f, std::fabs(steady_tension(static_cast<double>(df), w) - t));
+    if (!(flags_f & flag::saturated))
+      worst_f = std::max(worst_f, std::fabs(steady_tension(static_cast<double>(df), w) - t));
     ++checked;
   }
   std::printf("  float round trip: max tension error %.3e N over %d unsaturated cases\n", worst_f, checked);

@@ -51,7 +51,8 @@ Error error_of(const Pose<T>& est, const V3& pos, const M3& rot) {
   double frob2 = 0;
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) frob2 += (r[i][j] - rot[i][j]) * (r[i][j] - rot[i][j]);
-  const V3 p{static_cast<double>(est.position.x), static_cast<double>(est.position.y), static_cast<double>(est.position.z)};
+  const V3 p{static_cast<double>(est.position.x), static_cast<double>(est.position.y),
+             static_cast<double>(est.position.z)};
   return {spidar_ref::len3(spidar_ref::sub(p, pos)), 2 * std::asin(std::min(1.0, std::sqrt(frob2 / 8)))};
 }
 
@@ -74,8 +75,7 @@ TEST(SpidarPose, CalibrationGivesGeometricRestLengths) {
   for (int i = 0; i < kStrings; ++i) EXPECT_NEAR(lengths[i], rest.length[i], 1e-15) << i;
   // 10 counts of pay-out on every string, across the wrap for strings 4 and 5.
   std::int32_t moved[kStrings];
-  for (int i = 0; i < kStrings; ++i)
-    moved[i] = static_cast<std::int32_t>(static_cast<std::uint32_t>(at_rest[i]) + 10u);
+  for (int i = 0; i < kStrings; ++i) moved[i] = static_cast<std::int32_t>(static_cast<std::uint32_t>(at_rest[i]) + 10u);
   cal.lengths(moved, lengths);
   for (int i = 0; i < kStrings; ++i) EXPECT_NEAR(lengths[i], rest.length[i] + 10 * kQuantum, 1e-15) << i;
   // At the rest lengths the estimate sits at the centre in the rest orientation and stays there.

@@ -94,7 +94,8 @@ struct RandomPose {
 };
 inline RandomPose random_pose(std::mt19937_64& rng, double fraction, double max_angle) {
   std::uniform_real_distribution<double> unit(-1, 1);
-  const V3 local{unit(rng) * fraction * (kPx - kG), unit(rng) * fraction * (kPy - kG), unit(rng) * fraction * (kPz - kG)};
+  const V3 local{unit(rng) * fraction * (kPx - kG), unit(rng) * fraction * (kPy - kG),
+                 unit(rng) * fraction * (kPz - kG)};
   V3 axis;
   do axis = {unit(rng), unit(rng), unit(rng)};
   while (len3(axis) < 0.1 || len3(axis) > 1);

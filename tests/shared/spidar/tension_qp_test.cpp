@@ -22,9 +22,7 @@ using spidar_ref::V3;
 struct Weights {
   double t_min, t_max, lt, lr, s;
 };
-Weights weights_of(const TensionParams<double>& p) {
-  return {p.t_min, p.t_max, p.lambda_t, p.lambda_r, p.regulariser};
-}
+Weights weights_of(const TensionParams<double>& p) { return {p.t_min, p.t_max, p.lambda_t, p.lambda_r, p.regulariser}; }
 
 // λt|F − Σ t u|² + λr|N − Σ t m|² + s|t|², straight from design §11.
 double objective(const spidar_ref::Strings& st, const V3& f, const V3& n, const Weights& w, const double* t) {
@@ -77,7 +75,8 @@ Reference enumerate(const spidar_ref::Strings& st, const V3& f, const V3& n, con
   for (int i = 0; i < 8; ++i) {
     g[i] = w.lt * spidar_ref::dot3(st.u[i], f) + w.lr * spidar_ref::dot3(st.m[i], n);
     for (int j = 0; j < 8; ++j)
-      h[i][j] = w.lt * spidar_ref::dot3(st.u[i], st.u[j]) + w.lr * spidar_ref::dot3(st.m[i], st.m[j]) + (i == j ? w.s : 0);
+      h[i][j] =
+          w.lt * spidar_ref::dot3(st.u[i], st.u[j]) + w.lr * spidar_ref::dot3(st.m[i], st.m[j]) + (i == j ? w.s : 0);
   }
   const double tol = 1e-9 * (1 + w.t_max);
   Reference best{};
@@ -119,15 +118,18 @@ Reference enumerate(const spidar_ref::Strings& st, const V3& f, const V3& n, con
   return best;
 }
 
-template <class T> Vec3<T> vec(const V3& v) {
+template <class T>
+Vec3<T> vec(const V3& v) {
   return {static_cast<T>(v[0]), static_cast<T>(v[1]), static_cast<T>(v[2])};
 }
-template <class T> Pose<T> pose_of(const spidar_ref::RandomPose& p) {
+template <class T>
+Pose<T> pose_of(const spidar_ref::RandomPose& p) {
   const double c = std::cos(p.angle / 2), s = std::sin(p.angle / 2);
   return {vec<T>(p.pos), Quat<T>{static_cast<T>(c), static_cast<T>(s * p.axis[0]), static_cast<T>(s * p.axis[1]),
                                  static_cast<T>(s * p.axis[2])}};
 }
-template <class T> TensionParams<T> params_as(const TensionParams<double>& d) {
+template <class T>
+TensionParams<T> params_as(const TensionParams<double>& d) {
   TensionParams<T> p;
   p.t_min = static_cast<T>(d.t_min);
   p.t_max = static_cast<T>(d.t_max);
@@ -242,7 +244,8 @@ TEST(SpidarQp, MatchesBruteForceOnRandomProblems) {
     const TensionResult<double> rd = solve(frame_d, p, pd, state_d);
     ASSERT_EQ(rd.flags, 0) << k;
     for (int i = 0; i < 8; ++i) ASSERT_TRUE(within(rd.tension[i], pd.t_min, pd.t_max)) << k;
-    const double rel_d = std::fabs(objective(ref_strings, p.force, p.torque, w, rd.tension) - ref.objective) / ref.objective;
+    const double rel_d =
+        std::fabs(objective(ref_strings, p.force, p.torque, w, rd.tension) - ref.objective) / ref.objective;
     ASSERT_LE(rel_d, 1e-6) << "case " << k;
     worst_rel_d = std::max(worst_rel_d, rel_d);
     max_it_d = std::max<int>(max_it_d, rd.iterations);
@@ -266,7 +269,8 @@ TEST(SpidarQp, MatchesBruteForceOnRandomProblems) {
       tf[i] = static_cast<double>(rf.tension[i]);
       worst_t_f = std::max(worst_t_f, std::fabs(tf[i] - ref.t[i]));
     }
-    worst_rel_f = std::max(worst_rel_f, (objective(ref_strings, p.force, p.torque, w, tf) - ref.objective) / ref.objective);
+    worst_rel_f =
+        std::max(worst_rel_f, (objective(ref_strings, p.force, p.torque, w, tf) - ref.objective) / ref.objective);
     worst_force_f = std::max(worst_force_f, spidar_ref::len3(spidar_ref::sub(force_of(ref_strings, tf), ref_force)));
 
     // … then with the firmware's budget, cold-started: bounded always, converged mostly.
@@ -396,8 +400,9 @@ TEST(SpidarQp, BudgetOverrunCarriesOverToNextSolve) {
 
 template <class T>
 void expect_bounded(const TensionResult<T>& r, const TensionParams<T>& p, const char* what) {
-  for (int i = 0; i < 8; ++i) EXPECT_TRUE(within(static_cast<double>(r.tension[i]), static_cast<double>(p.t_min),
-                                                 static_cast<double>(p.t_max))) << what << " string " << i;
+  for (int i = 0; i < 8; ++i)
+    EXPECT_TRUE(within(static_cast<double>(r.tension[i]), static_cast<double>(p.t_min), static_cast<double>(p.t_max)))
+        << what << " string " << i;
   EXPECT_TRUE(is_finite(r.force) && is_finite(r.torque)) << what;
 }
 

@@ -61,7 +61,8 @@ TEST(Engine, BuiltinPresetsPreloadedUserSlotsEmpty) {
     EXPECT_EQ(p->sustain, b.sustain);
     EXPECT_EQ(p->shape, b.shape);
   }
-  for (unsigned s = envelope::kBuiltinCount; s < 256; ++s) EXPECT_EQ(e.preset(static_cast<std::uint8_t>(s)), nullptr) << s;
+  for (unsigned s = envelope::kBuiltinCount; s < 256; ++s)
+    EXPECT_EQ(e.preset(static_cast<std::uint8_t>(s)), nullptr) << s;
 }
 
 TEST(Engine, UserPresetsValidated) {
@@ -204,7 +205,8 @@ TEST(Engine, SeventeenthNoteStealsTheOldest) {
 
 TEST(Engine, FinishedVoicesAreReusedWithoutStealing) {
   Engine e;
-  for (std::uint8_t i = 0; i < synth::kVoiceCount; ++i) ASSERT_TRUE(e.start(note(100.0 + i, 0.01, i < 4 ? 5 : 1000, kSquare, i)));
+  for (std::uint8_t i = 0; i < synth::kVoiceCount; ++i)
+    ASSERT_TRUE(e.start(note(100.0 + i, 0.01, i < 4 ? 5 : 1000, kSquare, i)));
   for (int t = 0; t < 5; ++t) e.tick();
   EXPECT_EQ(e.active_voices(), synth::kVoiceCount - 4);
   for (std::uint8_t i = 0; i < 4; ++i) ASSERT_TRUE(e.start(note(200.0 + i, 0.01, 1000, kSquare, 50 + i)));
@@ -219,7 +221,8 @@ TEST(Engine, HighestPolicy) {
   Engine e(cfg);
   e.set_polyphony(Polyphony::highest);
   Shadow s;
-  const Note low = note(80.0, 0.3, 400, kViolin), high = note(220.0, 0.2, 200, kViolin), mid = note(150.0, 0.4, 600, kViolin);
+  const Note low = note(80.0, 0.3, 400, kViolin), high = note(220.0, 0.2, 200, kViolin),
+             mid = note(150.0, 0.4, 600, kViolin);
   for (const Note& n : {low, high, mid}) {
     e.start(n);
     s.start(n, cfg);

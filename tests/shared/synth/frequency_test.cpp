@@ -31,7 +31,7 @@ double accumulator_error_turns(std::uint64_t acc, std::uint32_t f_q20, std::uint
   const u128 lhs = static_cast<u128>(acc) * den;  // acc/2^64 vs num/den, both scaled by 2^64·den
   const u128 rhs = num << 64;
   u128 diff = lhs > rhs ? lhs - rhs : rhs - lhs;
-  const u128 full = den << 64;  // one turn
+  const u128 full = den << 64;              // one turn
   if (diff > full / 2) diff = full - diff;  // circular distance
   return static_cast<double>(diff) / static_cast<double>(full);
 }
@@ -58,7 +58,7 @@ TEST(FreqToQ20, ExactValuesAndTies) {
   EXPECT_EQ(freq_to_q20(1.0), 1u << 20);
   EXPECT_EQ(freq_to_q20(250.0), 250u << 20);
   EXPECT_EQ(freq_to_q20(kFreqLsbHz), 1u);
-  EXPECT_EQ(freq_to_q20(0.5 * kFreqLsbHz), 1u);              // half an LSB rounds up
+  EXPECT_EQ(freq_to_q20(0.5 * kFreqLsbHz), 1u);  // half an LSB rounds up
   EXPECT_EQ(freq_to_q20(0.49999 * kFreqLsbHz), 0u);
   EXPECT_EQ(freq_to_q20(100.0 + 2.5 * kFreqLsbHz), (100u << 20) + 3u);
   for (std::uint32_t q : {1u, 12345u, 0x7FFFFFFFu, 0xFFFFFFFEu, 0xFFFFFFFFu}) EXPECT_EQ(freq_to_q20(q20_to_hz(q)), q);

@@ -52,7 +52,8 @@ class Picture {
       for (int y = 0; y < rows; ++y) {
         const Rgb p = at(x, y);
         // ±1 per channel: cairo rounds its colours through 16 bits
-        const bool same = std::abs(p.r - colour.r) <= 1 && std::abs(p.g - colour.g) <= 1 && std::abs(p.b - colour.b) <= 1;
+        const bool same =
+            std::abs(p.r - colour.r) <= 1 && std::abs(p.g - colour.g) <= 1 && std::abs(p.b - colour.b) <= 1;
         run = same ? run + 1 : 0;
         longest = std::max(longest, run);
       }
@@ -121,7 +122,7 @@ TEST(BarChart, EachPanelDrawsInItsOwnShare) {
   const Extent grey = png.find(kSeries[0], png.height() - 50), dark = png.find(kSeries[2], png.height() - 50);
   EXPECT_LT(grey.max_x, png.width() / 2);
   EXPECT_GT(dark.min_x, png.width() / 2);
-  EXPECT_EQ(grey.height, dark.height);  // equal values, equal bars across panels (one scale)
+  EXPECT_EQ(grey.height, dark.height);                           // equal values, equal bars across panels (one scale)
   EXPECT_EQ(png.find(kSeries[1], png.height() - 50).max_x, -1);  // zero draws nothing
   std::remove(path.c_str());
 }
