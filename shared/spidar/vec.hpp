@@ -6,70 +6,30 @@
 
 namespace hmp::spidar {
 
-// clang-format off: the componentwise operators, one to a line
+// Laid out by hand (the componentwise operators, one to a line), so the formatter leaves it:
+// clang-format off
 template <class T>
 struct Vec3 {
   T x{}, y{}, z{};
 
-  constexpr Vec3& operator+=(const Vec3& o) {
-    x += o.x;
-    y += o.y;
-    z += o.z;
-    return *this;
-  }
-  constexpr Vec3& operator-=(const Vec3& o) {
-    x -= o.x;
-    y -= o.y;
-    z -= o.z;
-    return *this;
-  }
-  constexpr Vec3& operator*=(T s) {
-    x *= s;
-    y *= s;
-    z *= s;
-    return *this;
-  }
+  constexpr Vec3& operator+=(const Vec3& o) { x += o.x; y += o.y; z += o.z; return *this; }
+  constexpr Vec3& operator-=(const Vec3& o) { x -= o.x; y -= o.y; z -= o.z; return *this; }
+  constexpr Vec3& operator*=(T s) { x *= s; y *= s; z *= s; return *this; }
 };
 
-template <class T>
-constexpr Vec3<T> operator+(Vec3<T> a, const Vec3<T>& b) {
-  return a += b;
-}
-template <class T>
-constexpr Vec3<T> operator-(Vec3<T> a, const Vec3<T>& b) {
-  return a -= b;
-}
-template <class T>
-constexpr Vec3<T> operator-(const Vec3<T>& a) {
-  return {-a.x, -a.y, -a.z};
-}
-template <class T>
-constexpr Vec3<T> operator*(T s, Vec3<T> a) {
-  return a *= s;
-}
-template <class T>
-constexpr Vec3<T> operator*(Vec3<T> a, T s) {
-  return a *= s;
-}
+template <class T> constexpr Vec3<T> operator+(Vec3<T> a, const Vec3<T>& b) { return a += b; }
+template <class T> constexpr Vec3<T> operator-(Vec3<T> a, const Vec3<T>& b) { return a -= b; }
+template <class T> constexpr Vec3<T> operator-(const Vec3<T>& a) { return {-a.x, -a.y, -a.z}; }
+template <class T> constexpr Vec3<T> operator*(T s, Vec3<T> a) { return a *= s; }
+template <class T> constexpr Vec3<T> operator*(Vec3<T> a, T s) { return a *= s; }
 
-template <class T>
-constexpr T dot(const Vec3<T>& a, const Vec3<T>& b) {
-  return a.x * b.x + a.y * b.y + a.z * b.z;
-}
-template <class T>
-constexpr Vec3<T> cross(const Vec3<T>& a, const Vec3<T>& b) {
+template <class T> constexpr T dot(const Vec3<T>& a, const Vec3<T>& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+template <class T> constexpr Vec3<T> cross(const Vec3<T>& a, const Vec3<T>& b) {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
-template <class T>
-constexpr T norm2(const Vec3<T>& a) {
-  return dot(a, a);
-}
-template <class T>
-T norm(const Vec3<T>& a) {
-  return std::sqrt(norm2(a));
-}
-template <class T>
-bool is_finite(const Vec3<T>& a) {
+template <class T> constexpr T norm2(const Vec3<T>& a) { return dot(a, a); }
+template <class T> T norm(const Vec3<T>& a) { return std::sqrt(norm2(a)); }
+template <class T> bool is_finite(const Vec3<T>& a) {
   return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z);
 }
 // clang-format on
