@@ -92,8 +92,8 @@ def work_precision(path):
 def soak(path):
     """One row per soak summary (scripts/soak's JSON) in the folder or file."""
     files = sorted(os.path.join(path, f) for f in os.listdir(path) if f.endswith(".json")) if os.path.isdir(path) else [path]
-    out = ["| device | minutes | load | songs | music | notes started | late (max ticks) | lost / rejected | "
-           "underruns | RSS start → end, growth | fds | CPU per music second | goals |", "|---" * 13 + "|"]
+    out = ["| device | minutes | load | card buffer | songs | music | notes started | late (max ticks) | lost / rejected | "
+           "underruns | RSS start → end, growth | fds | CPU per music second | goals |", "|---" * 14 + "|"]
     for f in files:
         with open(f) as h:
             r = json.load(h)
@@ -103,11 +103,13 @@ def soak(path):
         failed = [k for k, v in (r.get("goals") or {}).items() if v is False]
         out.append(" | ".join([
             f"| {r['device']}", f"{r['minutes']:g}", "stress-ng" if r.get("load") else "none",
+            f"{r.get('audio_buffer_ms') or 21:g} ms",  # summaries before --audio-buffer-ms: hmp's default
             f"{r.get('songs_played')} ({r.get('files_skipped')} files skipped)", f"{r.get('music_s', 0):,.0f} s",
             f"{r.get('notes_started'):,}", f"{r.get('notes_late')} ({r.get('late_max_ticks')})",
             f"{r.get('notes_lost')} / {r.get('notes_rejected')}", f"{r.get('audio_underruns')}",
             f"{rss[1][1] / 1024 if len(rss) > 1 else 0:.1f} → {rss[-1][1] / 1024:.1f} MiB, "
-            + (f"{growth / 1024:+.2f} MiB/h" if growth is not None else "not judged"),
+            + (f"{growth / 1024:+.2f} MiB/h" if growth is not None else "not judged")
+            + (" between songs" if r.get("rss_growth_from") == "between_songs" else ""),
             f"{min(fds)}–{max(fds)}" if fds else "—", f"{r.get('cpu_s_per_music_s') or 0:.3f} s",
             "all met" if r.get("pass") else "missed: " + ", ".join(failed)]) + " |")
     return out
