@@ -20,6 +20,6 @@ printf '// https://example.org/%s\n' "$(printf 'x%.0s' $(seq 1 110))" >"$t/host/
 out=$(python3 "$check_format" "$t" 2>/dev/null); rc=$?
 check "a tree with a messy file and a long line: exit" 1 "$rc"
 check "a tree with a messy file and a long line: what it names" \
-  "host/long.hpp:1: 132 columns, over 120
+  "host/long.hpp:1: 133 columns, over 120
 host/messy.cpp: not formatted (clang-format -i host/messy.cpp)" "$(LC_ALL=C sort <<<"$out")"
 exit $fail
