@@ -99,10 +99,11 @@ void print_summary(const player::Counters& c, const player::Snapshot& s, std::si
   std::printf(
       "%s\n",
       fmt::format("{}played {} of {} notes sent ({} in the window) of track {} \"{}\" on {}: late {}, stolen {}, "
-                  "rejected {}{}{}; stopped at {}",
+                  "rejected {}{}{}{}; stopped at {}",
                   s.song_label.empty() ? "" : s.song_label + ": ", c.notes_played, c.notes_sent, window_notes, s.track,
                   s.track_name, device, c.late, c.stolen, c.rejected,
                   c.skipped ? fmt::format(", skipped {}", c.skipped) : "",
+                  c.cancelled ? fmt::format(", cancelled {} (ahead of the stop)", c.cancelled) : "",
                   c.recoveries ? fmt::format(", recovered {} time(s)", c.recoveries) : "", format_time(s.song_us))
           .c_str());
   std::fflush(stdout);
@@ -115,6 +116,7 @@ player::Counters& operator+=(player::Counters& a, const player::Counters& b) {
   a.stolen += b.stolen;
   a.rejected += b.rejected;
   a.skipped += b.skipped;
+  a.cancelled += b.cancelled;
   a.recoveries += b.recoveries;
   return a;
 }

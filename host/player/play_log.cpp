@@ -11,7 +11,8 @@ namespace {
 
 nlohmann::json counters_json(const Counters& c) {
   return {{"notes_sent", c.notes_sent}, {"notes_played", c.notes_played}, {"late", c.late},
-          {"stolen", c.stolen},         {"rejected", c.rejected},         {"skipped", c.skipped}};
+          {"stolen", c.stolen},         {"rejected", c.rejected},         {"skipped", c.skipped},
+          {"cancelled", c.cancelled}};
 }
 
 }  // namespace

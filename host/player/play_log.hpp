@@ -52,12 +52,12 @@ class PlayLog {
 // {"song":I,"track":T,"key":K,"start_s":S,"scheduled_tick":N,"actual_tick":M}
 std::string started_line(std::size_t song, const StartedNote& n);
 // {"song_end":{"index":I,"path":"…","played_s":S,"wall_s":W,"notes_sent":..,"notes_played":..,"late":..,
-// "stolen":..,"rejected":..,"skipped":..}}; wall_s: seconds since the log was opened
+// "stolen":..,"rejected":..,"skipped":..,"cancelled":..}}; wall_s: seconds since the log was opened
 std::string song_end_line(std::size_t index, const std::string& path, double played_s, double wall_s,
                           const Counters& c);
 // {"between_songs":{"wall_s":W,"rss_kib":R|null}}
 std::string between_songs_line(double wall_s, std::optional<std::uint64_t> rss_kib);
-// {"summary":{"notes_sent":..,"notes_played":..,"late":..,"stolen":..,"rejected":..,"skipped":..,
+// {"summary":{"notes_sent":..,"notes_played":..,"late":..,"stolen":..,"rejected":..,"skipped":..,"cancelled":..,
 // "songs_played":..,"files_skipped":..,"played_s":..,"audio_underruns":N|null,"audio_realtime":B|null,
 // "audio_underrun_list":[{"at_s":..,"short_ms":..,"woke_late_ms":..,"callback_ms":..}...]}}
 std::string summary_line(const Counters& c, const PlayLog::Totals& totals);

@@ -243,8 +243,24 @@ void Player::handle_events() {
     if (it == sent_.end() || entry.index >= it->second.report.notes.size()) continue;
     StartedNote s{it->second.report.notes[entry.index], extend(entry.scheduled_tick), extend(entry.actual_tick)};
     if (options_.on_started) options_.on_started(s);
+    it->second.started_mask |= 1u << entry.index;
     if (++it->second.started == it->second.report.notes.size()) sent_.erase(it);
   }
+}
+
+static_assert(protocol::kNotesPerBatch <= 32, "SentReport::started_mask has a bit per note of a report");
+
+void Player::count_cancelled(std::uint64_t stop_tick) {
+  // A note of an earlier epoch went with the flush that ended it; one of the present epoch is dropped
+  // by the stop only if its tick was still ahead of the device when the stop came. Every note left
+  // unstarted before that tick the device should have started: not cancelled, it stays missing.
+  for (const auto& [seq, sent] : sent_) {
+    for (std::size_t i = 0; i < sent.report.notes.size(); ++i) {
+      if (sent.started_mask & (1u << i)) continue;
+      if (sent.epoch != epoch_ || sent.report.notes[i].tick > stop_tick) ++counters_.cancelled;
+    }
+  }
+  sent_.clear();
 }
 
 void Player::recover(const std::string& why) {
@@ -427,6 +443,9 @@ void Player::finish() {
   }
   handle_events();
   update_counters();
+  if (const std::optional<protocol::Status> s = link_.status(); s && seq && link_.processed(*seq)) {
+    count_cancelled(s->tick);
+  }
   update_snapshot();
 }
 

@@ -47,7 +47,10 @@ struct Counters {
   std::uint64_t notes_sent = 0;    // notes handed to the device (a resend after queue_full counts once)
   std::uint64_t notes_played = 0;  // Status.started
   std::uint64_t late = 0, stolen = 0, rejected = 0;
-  std::uint64_t skipped = 0;     // notes not sent because they ended long before they could be (stalls)
+  std::uint64_t skipped = 0;  // notes not sent because they ended long before they could be (stalls)
+  // Notes sent that never started because the song stopped, moved or was left before their tick: the
+  // device was told to drop them. sent − played − cancelled is what the device failed to start.
+  std::uint64_t cancelled = 0;
   std::uint64_t recoveries = 0;  // device restarts or watchdog faults the player recovered from
 };
 
@@ -147,6 +150,7 @@ class Player {
     std::uint64_t epoch = 0;
     PendingReport report;
     std::uint8_t started = 0;
+    std::uint32_t started_mask = 0;  // bit i: notes[i] started (a report holds kNotesPerBatch notes at most)
   };
 
   void set_up_device();
@@ -175,6 +179,9 @@ class Player {
   std::int64_t song_now() const;
   std::uint64_t tick_of_sound(const NoteSound& sound) const;  // where the haptic note meets its sound
   std::uint64_t extend(std::uint32_t low) const;
+  // At the song's stop (the device's Status after it, at stop_tick): the unstarted notes that were
+  // dropped rather than missed go to counters_.cancelled.
+  void count_cancelled(std::uint64_t stop_tick);
   std::optional<std::uint16_t> send(const protocol::Message& m);
   void send_transport(protocol::TransportOp op, std::uint64_t tick = 0);
 

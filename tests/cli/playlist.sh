@@ -90,6 +90,8 @@ done
 kill -INT $pid; wait $pid; rc=$?
 check "--loop: stopped by Ctrl-C" 130 "$rc"
 py "$tmp/loop.jsonl" 'len(ends) >= 3' 'all(e["index"] == 0 for e in ends)' 'summary["songs_played"] == len(ends)' \
+  'summary["notes_sent"] == summary["notes_played"] + summary["cancelled"]' \
+  'all(e["cancelled"] == 0 for e in ends[:-1])' \
   'summary["files_skipped"] == 1'  # the empty file, skipped on every pass, is one file
 grep -q '^\[1/2 pass 3\] pedal-demo.mid: played' "$tmp/out" || { echo "FAIL: no third pass: $(cat "$tmp/out")"; fail=1; }
 

@@ -122,6 +122,17 @@ class SoakEvalTest(unittest.TestCase):
         self.assertEqual(r["notes_lost"], 2)
         self.assertFalse(r["goals"]["no_notes_lost_or_rejected"])
 
+    def test_notes_cancelled_at_the_stop_are_not_lost(self):
+        # Sent ahead of the SIGINT and dropped by the stop: the player counts them, the soak does not.
+        records = clean_log()
+        records[-1]["summary"]["notes_sent"] += 2
+        records[-1]["summary"]["cancelled"] = 2
+        r = self.judge(records)
+        self.assertEqual((r["notes_lost"], r["notes_cancelled"]), (0, 2))
+        self.assertTrue(r["goals"]["no_notes_lost_or_rejected"])
+        records[-1]["summary"]["cancelled"] = 1  # one of the two was due and did not start: lost
+        self.assertEqual(self.judge(records)["notes_lost"], 1)
+
     def test_negative_lost_is_clamped_and_flagged(self):
         records = clean_log()
         records[-1]["summary"]["notes_sent"] -= 5
