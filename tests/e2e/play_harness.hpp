@@ -108,7 +108,8 @@ struct LogEntry {
 struct ParsedLog {
   std::vector<LogEntry> notes;
   std::optional<nlohmann::json> summary;
-  std::vector<nlohmann::json> song_ends;  // a playlist's lines at the end of each song
+  std::vector<nlohmann::json> song_ends;      // a playlist's lines at the end of each song
+  std::vector<nlohmann::json> between_songs;  // the lines before each song is read (its RSS)
   int lines_after_summary = 0;
 };
 
@@ -126,6 +127,10 @@ inline ParsedLog parse_log(const std::string& path) {
     }
     if (j.contains("song_end")) {
       log.song_ends.push_back(j.at("song_end"));
+      continue;
+    }
+    if (j.contains("between_songs")) {
+      log.between_songs.push_back(j.at("between_songs"));
       continue;
     }
     log.notes.push_back({j.at("track").get<std::uint32_t>(), j.at("key").get<int>(), j.at("start_s").get<double>(),
