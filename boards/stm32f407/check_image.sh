@@ -4,7 +4,8 @@
 #   - the .bin starts with the vector table: word 0 (initial SP) inside SRAM 0x20000000–0x20020000 and
 #     8-byte aligned; word 1 (reset vector) odd (Thumb) and inside the .bin's flash range 0x08000000+;
 #   - every other vector is zero (reserved) or odd and inside the image;
-#   - the .dfu is the .bin plus a valid DFU suffix for the ROM bootloader 0483:df11 (dfu-suffix --check);
+#   - the .dfu is the .bin plus a valid DFU suffix for the ROM bootloader 0483:df11 (dfu-suffix --check)
+#     whose bcdDevice is the version in the image's name (hmp_fw_stm32f407-MAJOR.MINOR.PATCH), as BCD;
 #   - the sizes fit (size-report.sh).
 set -euo pipefail
 elf=$1
@@ -33,7 +34,10 @@ grep -qi "vendor id.*0x0483" <<<"$check" || fail "DFU suffix vendor is not 0x048
 grep -qi "product id.*0xdf11" <<<"$check" || fail "DFU suffix product is not 0xdf11: $check"
 [ "$(stat -c %s "$dfu")" -eq $((size + 16)) ] || fail "the .dfu is not the .bin plus a 16-byte suffix"
 cmp -s -n "$size" "$bin" "$dfu" || fail "the .dfu does not start with the .bin"
-echo "dfu suffix: 0483:df11, 16 bytes after the .bin"
+[[ $(basename "$elf") =~ -([0-9]+)\.([0-9])\.([0-9])\.elf$ ]] || fail "$elf: no version in the name"
+bcd=$(printf '0x%02d%d%d' "${BASH_REMATCH[1]}" "${BASH_REMATCH[2]}" "${BASH_REMATCH[3]}")
+grep -qi "bcd device:[[:space:]]*$bcd\$" <<<"$check" || fail "DFU suffix bcdDevice is not $bcd: $check"
+echo "dfu suffix: 0483:df11, bcdDevice $bcd, 16 bytes after the .bin"
 
 "$here/size-report.sh" "${SIZE:-arm-none-eabi-size}" "$elf"
 echo "PASS"

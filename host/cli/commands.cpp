@@ -7,7 +7,7 @@ namespace hmp::cli {
 int Registry::run() const { return action_ ? run_command(action_) : kExitBadInput; }
 
 int run_cli(int argc, char** argv, void (*add_commands)(CLI::App&, Registry&)) {
-  CLI::App app{"hmp — Haptic Music Player: feel one instrument of a MIDI song on a SPIDAR-G6 device"};
+  CLI::App app{kProgramDescription};
   app.require_subcommand(1);
   app.set_version_flag("--version", version_string());
   Registry registry;

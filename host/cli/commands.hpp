@@ -11,6 +11,9 @@
 
 namespace hmp::cli {
 
+inline constexpr const char* kProgramDescription =
+    "hmp — Haptic Music Player: feel one instrument of a MIDI song on a SPIDAR-G6 device";
+
 // The action chosen by the command line, run after parsing succeeded.
 class Registry {
  public:
@@ -36,6 +39,20 @@ void register_study(CLI::App& app, Registry& registry);
 void register_flash(CLI::App& app, Registry& registry);
 void register_calibrate(CLI::App& app, Registry& registry);
 void register_envelope(CLI::App& app, Registry& registry);
+
+// Every command, in the order help lists them (cli/main.cpp registers them; the manual describes them).
+struct Command {
+  const char* name;
+  void (*add)(CLI::App&, Registry&);
+};
+inline constexpr Command kCommands[] = {
+    {"info", register_info},         {"render", register_render},
+    {"tone", register_tone},         {"devices", register_devices},
+    {"flash", register_flash},       {"play", register_play},
+    {"sim", register_sim},           {"study", register_study},
+    {"view", register_view},         {"calibrate", register_calibrate},
+    {"envelope", register_envelope},
+};
 
 // The `hmp devices` lines of our HID devices found now (each greeted, `timeout_ms` for its reply); how many.
 int print_hid_devices(int timeout_ms);

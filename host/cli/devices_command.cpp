@@ -13,6 +13,7 @@
 #include "host/cli/commands.hpp"
 #include "host/cli/run_command.hpp"
 #include "host/common/error.hpp"
+#include "host/common/install_layout.hpp"
 #include "host/transport/usb_scan.hpp"
 #include "host/transport/handshake.hpp"
 #include "host/transport/hid_transport.hpp"
@@ -104,10 +105,10 @@ void print_text(const Probe& p) {
   fmt::print("  protocol {}, firmware {}, board {}, {} Hz, {} voices, queue {} reports\n", h.protocol_version,
              transport::firmware_version(h), transport::board_name(h.board), h.tick_hz, h.voices, h.queue_capacity);
   if (h.board_flags != 0) fmt::print("  board: {}\n", transport::board_flag_names(h.board_flags));
-  if (transport::firmware_version(h) != host_version()) {
+  if (transport::firmware_version(h) != install::version_text()) {
     // The protocol matches, so it plays; but a firmware of another release may differ in what it does.
     fmt::print("  warning: firmware {} differs from this hmp's {}: `hmp flash` writes the matching one\n",
-               transport::firmware_version(h), host_version());
+               transport::firmware_version(h), install::version_text());
   }
   if (const auto& s = p.identity->status) {
     fmt::print("  state {}, faults {}, tick {}\n", transport::state_name(s->state), transport::fault_names(s->faults),

@@ -26,6 +26,7 @@
 #include "host/common/child_process.hpp"
 #include "host/common/error.hpp"
 #include "host/common/input_file.hpp"
+#include "host/common/install_layout.hpp"
 #include "host/flash/firmware_image.hpp"
 #include "host/flash/flash_plan.hpp"
 #include "host/flash/udev_rule.hpp"  // generated from host/flash/70-hmp.rules
@@ -47,12 +48,9 @@ struct FlashOptions {
   bool print_rule = false;
 };
 
-// The source tree whose stm32f407 image is the default one: $HMP_SOURCE_DIR, else the tree this hmp was
-// built from.
-fs::path source_dir() {
-  const char* env = std::getenv("HMP_SOURCE_DIR");
-  return env != nullptr && *env != '\0' ? fs::path(env) : fs::path(HMP_SOURCE_DIR);
-}
+// The source tree whose stm32f407 image is the default one ($HMP_SOURCE_DIR, else the tree this hmp was
+// built in); empty for an installed hmp, which writes its installed image.
+fs::path source_dir() { return install::source_tree().value_or(fs::path{}); }
 
 std::string find_on_path(const std::string& program) {
   const char* path = std::getenv("PATH");
@@ -132,6 +130,12 @@ fs::path choose_image(const FlashOptions& o, Method method, std::string& build) 
     if (fs::is_regular_file(sibling)) return sibling;
     throw BadInput(fmt::format("--firmware {}: --method {} writes a {} image, and there is no {} beside it", o.firmware,
                                flash::method_name(method), want, sibling.string()));
+  }
+  if (source_dir().empty()) {
+    const fs::path installed = install::installed_image("stm32f407", want);
+    if (fs::is_regular_file(installed)) return installed;
+    throw BadInput(
+        fmt::format("no firmware image: {} is missing (reinstall hmp), or give --firmware FILE", installed.string()));
   }
   if (!fs::is_directory(source_dir() / "boards" / "stm32f407")) {
     throw BadInput(

@@ -2,37 +2,22 @@
 // The heavy back-ends (sound, plots, USB, the window) are modules it loads when a command needs them
 // (host/modules/).
 #include <cstring>
-#include <iterator>
 
 #include "host/cli/commands.hpp"
 
 namespace {
 
-struct Command {
-  const char* name;
-  void (*add)(CLI::App&, hmp::cli::Registry&);
-};
-
-constexpr Command kCommands[] = {
-    {"info", hmp::cli::register_info},         {"render", hmp::cli::register_render},
-    {"tone", hmp::cli::register_tone},         {"devices", hmp::cli::register_devices},
-    {"flash", hmp::cli::register_flash},       {"play", hmp::cli::register_play},
-    {"sim", hmp::cli::register_sim},           {"study", hmp::cli::register_study},
-    {"view", hmp::cli::register_view},         {"calibrate", hmp::cli::register_calibrate},
-    {"envelope", hmp::cli::register_envelope},
-};
-
 // The command named first on the command line, or null (help, --version, a typo: every command is
 // registered then, so top-level help and errors list them all).
-const Command* named_command(int argc, char** argv) {
+const hmp::cli::Command* named_command(int argc, char** argv) {
   if (argc < 2) return nullptr;
-  for (const Command& c : kCommands) {
+  for (const hmp::cli::Command& c : hmp::cli::kCommands) {
     if (std::strcmp(argv[1], c.name) == 0) return &c;
   }
   return nullptr;
 }
 
-const Command* g_named = nullptr;
+const hmp::cli::Command* g_named = nullptr;
 
 // Only the named command is registered when there is one: building every command's options costs more
 // than reading a small song (docs/host.md, "Start-up"), and CLI11 parses a command's line the same
@@ -42,7 +27,7 @@ void register_commands(CLI::App& app, hmp::cli::Registry& registry) {
     g_named->add(app, registry);
     return;
   }
-  for (const Command& c : kCommands) c.add(app, registry);
+  for (const hmp::cli::Command& c : hmp::cli::kCommands) c.add(app, registry);
 }
 
 }  // namespace

@@ -6,7 +6,7 @@
 
 #include "host/cli/git_describe.hpp"
 #include "host/common/error.hpp"
-#include "shared/common/version.hpp"
+#include "host/common/install_layout.hpp"
 #include "shared/protocol/protocol.hpp"
 
 namespace hmp::cli {
@@ -14,13 +14,8 @@ namespace hmp::cli {
 std::string version_string() {
   const std::string describe = HMP_GIT_DESCRIBE;  // "" outside a git clone
   // No comma: the study writes this into a CSV field.
-  return "hmp " + host_version() + " (protocol " + std::to_string(protocol::kProtocolVersion) + ")" +
+  return "hmp " + install::version_text() + " (protocol " + std::to_string(protocol::kProtocolVersion) + ")" +
          (describe.empty() ? "" : " from " + describe);
-}
-
-std::string host_version() {
-  return std::to_string(version::kMajor) + "." + std::to_string(version::kMinor) + "." +
-         std::to_string(version::kPatch);
 }
 
 int run_command(const std::function<int()>& action) {

@@ -12,7 +12,6 @@ inline constexpr int kExitFailure = 1;   // a run that failed for a reason other
 inline constexpr int kExitBadInput = 2;  // bad file, bad option: one-line message on stderr
 
 std::string version_string();  // "hmp 0.1.0 (protocol 2)", " from <git describe>" when built from a clone
-std::string host_version();    // "0.1.0": project(VERSION …)
 
 // Runs the action; BadInput → "error: …" on stderr and kExitBadInput, any other exception → "error: …"
 // and kExitFailure.

@@ -25,6 +25,7 @@
 #include "host/cli/study_view.hpp"
 #include "host/common/error.hpp"
 #include "host/common/input_file.hpp"
+#include "host/common/install_layout.hpp"
 #include "host/common/printable.hpp"
 #include "host/output/output_file.hpp"
 #include "host/player/live_terminal.hpp"
@@ -32,13 +33,6 @@
 #include "host/study/analysis.hpp"
 #include "host/cli/study_figure.hpp"
 #include "host/study/session.hpp"
-
-#ifndef HMP_DEMO_SONG
-#define HMP_DEMO_SONG "examples/bach-bwv1050-brandenburg5-mvt3-allegro.mid"
-#endif
-#ifndef HMP_PRACTICE_SONG
-#define HMP_PRACTICE_SONG "examples/bach-bwv1079-trio-sonata-largo.mid"
-#endif
 
 namespace hmp::cli {
 
@@ -49,8 +43,8 @@ struct StudyOptions {
   std::string experiment = "both";
   std::optional<std::uint64_t> seed;
   study::ParticipantTexts participant_data;  // --age, --sex, --handedness as typed ("" = not given)
-  std::string song = HMP_DEMO_SONG;
-  std::string practice_song = HMP_PRACTICE_SONG;
+  std::string song = install::example("bach-bwv1050-brandenburg5-mvt3-allegro.mid").string();
+  std::string practice_song = install::example("bach-bwv1079-trio-sonata-largo.mid").string();
   std::string out = ".";
   std::string device = "sim";
   bool no_view = false;  // the terminal only

@@ -3,13 +3,15 @@
 
 #include <system_error>
 
+#include "host/common/install_layout.hpp"
+
 namespace hmp::flash {
 
 namespace fs = std::filesystem;
 
 fs::path default_image(const fs::path& source_dir, bool elf) {
   return source_dir / "build" / "stm32f407" / "boards" / "stm32f407" /
-         (std::string("hmp_fw_stm32f407") + (elf ? ".elf" : ".bin"));
+         install::image_file_name("stm32f407", elf ? ".elf" : ".bin");
 }
 
 bool build_configured(const fs::path& source_dir) {

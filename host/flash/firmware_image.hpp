@@ -7,7 +7,7 @@
 
 namespace hmp::flash {
 
-// <source_dir>/build/stm32f407/boards/stm32f407/hmp_fw_stm32f407.elf (elf) or .bin.
+// <source_dir>/build/stm32f407/boards/stm32f407/hmp_fw_stm32f407-VERSION.elf (elf) or .bin.
 std::filesystem::path default_image(const std::filesystem::path& source_dir, bool elf);
 
 // Whether the preset's build tree is configured (has a CMakeCache.txt).

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "host/common/child_process.hpp"
+#include "host/common/install_layout.hpp"
 #include "host/transport/serial_transport.hpp"
 
 namespace hmp::transport {
@@ -23,8 +24,6 @@ namespace hmp::transport {
 namespace fs = std::filesystem;
 
 namespace {
-
-constexpr const char* kImageName = "hmp_fw_qemu_an386.elf";
 
 std::string env(const char* name) {
   const char* v = std::getenv(name);
@@ -35,13 +34,15 @@ std::string env(const char* name) {
 
 std::string find_qemu_image() {
   if (const std::string e = env("HMP_QEMU_ELF"); !e.empty()) return e;
+  const std::string name = install::image_file_name("qemu-an386", ".elf");
   std::error_code ec;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  if (ec) return {};
-  // hmp is <build>/<tree>/bin/hmp; the cross tree is <build>/qemu-an386.
-  const fs::path candidate =
-      exe.parent_path().parent_path().parent_path() / "qemu-an386" / "boards" / "qemu-an386" / kImageName;
-  return fs::exists(candidate, ec) ? candidate.string() : std::string{};
+  // Run from a build tree: the source tree's qemu-an386 cross tree (preset qemu-an386). Installed: ours.
+  if (const auto tree = install::source_tree()) {
+    const fs::path built = *tree / "build" / "qemu-an386" / "boards" / "qemu-an386" / name;
+    return fs::exists(built, ec) ? built.string() : std::string{};
+  }
+  const fs::path installed = install::installed_image("qemu-an386", ".elf");
+  return fs::exists(installed, ec) ? installed.string() : std::string{};
 }
 
 QemuDevice::QemuDevice(const Options& options) : options_(options) {}

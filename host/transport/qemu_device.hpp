@@ -5,8 +5,9 @@
 // the firmware runs its first instruction. The emulator runs in its own process group (a Ctrl-C on
 // the terminal reaches only hmp, which stops the device cleanly) and is stopped when this object goes.
 //
-// The image: $HMP_QEMU_ELF, else the qemu-an386 build tree next to the one hmp was built in
-// (<build>/qemu-an386/boards/qemu-an386/hmp_fw_qemu_an386.elf, <build> being the parent of hmp's tree).
+// The image: $HMP_QEMU_ELF, else, run from a build tree, its source tree's qemu-an386 cross tree
+// (build/qemu-an386/boards/qemu-an386/hmp_fw_qemu_an386-VERSION.elf), else the installed one
+// (share/hmp/firmware/, host/common/install_layout.hpp).
 // The emulator: $QEMU_SYSTEM_ARM, else qemu-system-arm on the PATH.
 #include <sys/types.h>
 

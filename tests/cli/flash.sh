@@ -74,20 +74,25 @@ fi
 # The default image, in a fake source tree: built (by the fake cmake) when missing or stale, never by a dry run.
 src="$tmp/src tree"; mkdir -p "$src/boards/stm32f407" "$src/firmware" "$src/shared"
 : >"$src/firmware/core.cpp"
-fw="$src/build/stm32f407/boards/stm32f407/hmp_fw_stm32f407"
-cat >"$tmp/bin/cmake" <<'FAKE'
+version=$("$hmp" --version | awk '{print $2}')
+image="hmp_fw_stm32f407-$version"  # the name the cross tree gives (boards/stm32f407/CMakeLists.txt)
+fw="$src/build/stm32f407/boards/stm32f407/$image"
+cat >"$tmp/bin/cmake" <<FAKE
 #!/bin/sh
-echo "FAKE CMAKE $* in $(pwd)" | tee -a "$CMAKE_LOG"
-[ -n "$CMAKE_FAIL" ] && exit 3
-if [ "$1" = --preset ]; then mkdir -p build/stm32f407 && : >build/stm32f407/CMakeCache.txt; fi
-if [ "$1" = --build ]; then mkdir -p build/stm32f407/boards/stm32f407 && : >build/stm32f407/boards/stm32f407/hmp_fw_stm32f407.bin && : >build/stm32f407/boards/stm32f407/hmp_fw_stm32f407.elf; fi
+echo "FAKE CMAKE \$* in \$(pwd)" | tee -a "\$CMAKE_LOG"
+[ -n "\$CMAKE_FAIL" ] && exit 3
+if [ "\$1" = --preset ]; then mkdir -p build/stm32f407 && : >build/stm32f407/CMakeCache.txt; fi
+if [ "\$1" = --build ]; then
+  mkdir -p build/stm32f407/boards/stm32f407
+  : >build/stm32f407/boards/stm32f407/$image.bin && : >build/stm32f407/boards/stm32f407/$image.elf
+fi
 FAKE
 chmod +x "$tmp/bin/cmake"
 export CMAKE_LOG="$tmp/cmake.log"
 HMP_SOURCE_DIR="$src" PATH="$tmp/bin:$PATH" run flash --dry-run --method dfu
 check "default image dry run" "dfu-util -d 0483:df11 -a 0 -s 0x08000000:leave -D '$fw.bin'" "$out"
 check "default image dry run: what it would build" \
-  "would first build hmp_fw_stm32f407.bin (it does not exist): cd '$src' && cmake --preset stm32f407 && cmake --build --preset stm32f407" "$err"
+  "would first build $image.bin (it does not exist): cd '$src' && cmake --preset stm32f407 && cmake --build --preset stm32f407" "$err"
 [ -e "$CMAKE_LOG" ] && { echo "FAIL: a dry run built"; fail=1; }
 HMP_SOURCE_DIR="$src" PATH="$tmp/bin:$PATH" CMAKE_FAIL=1 run flash --method dfu
 check "failed build rc" 1 "$rc"
@@ -108,7 +113,7 @@ FAKE CMAKE --build --preset stm32f407 in $src" "$(<"$CMAKE_LOG")"
   touch -d '+1 min' "$src/shared/protocol.hpp"
   HMP_SOURCE_DIR="$src" PATH="$tmp/bin:$PATH" run flash --dry-run --method dfu
   check "stale: what it would build" \
-    "would first build hmp_fw_stm32f407.bin (it is older than shared/protocol.hpp): cd '$src' && cmake --build --preset stm32f407" "$err"
+    "would first build $image.bin (it is older than shared/protocol.hpp): cd '$src' && cmake --build --preset stm32f407" "$err"
   HMP_SOURCE_DIR="$src" PATH="$tmp/bin:$PATH" run flash --method dfu
   check "stale: the build's steps" "FAKE CMAKE --build --preset stm32f407 in $src" "$(<"$CMAKE_LOG")"
 fi

@@ -12,6 +12,7 @@
 #include <filesystem>
 
 #include "play_harness.hpp"
+#include "host/common/install_layout.hpp"
 #include "tests/support/load_guard.hpp"
 
 namespace {
@@ -22,7 +23,7 @@ namespace fs = std::filesystem;
 std::string image() {
   if (const char* e = std::getenv("HMP_STM32_ELF"); e != nullptr && *e != '\0') return e;
   return (fs::path(HMP_BIN_DIR).parent_path().parent_path() / "stm32f407" / "boards" / "stm32f407" /
-          "hmp_fw_stm32f407.elf")
+          hmp::install::image_file_name("stm32f407", ".elf"))
       .string();
 }
 

@@ -11,6 +11,7 @@
 #include <filesystem>
 
 #include "play_harness.hpp"
+#include "host/common/install_layout.hpp"
 #include "tests/support/load_guard.hpp"
 
 namespace {
@@ -22,7 +23,7 @@ namespace fs = std::filesystem;
 std::string image() {
   if (const char* e = std::getenv("HMP_QEMU_ELF"); e != nullptr && *e != '\0') return e;
   return (fs::path(HMP_BIN_DIR).parent_path().parent_path() / "qemu-an386" / "boards" / "qemu-an386" /
-          "hmp_fw_qemu_an386.elf")
+          hmp::install::image_file_name("qemu-an386", ".elf"))
       .string();
 }
 

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <string>
 
+#include "host/common/install_layout.hpp"
 #include "host/flash/firmware_image.hpp"
 
 namespace {
@@ -39,9 +40,11 @@ class FlashImage : public ::testing::Test {
 };
 
 TEST_F(FlashImage, DefaultPaths) {
-  EXPECT_EQ(flash::default_image("/src", true), fs::path("/src/build/stm32f407/boards/stm32f407/hmp_fw_stm32f407.elf"));
+  const std::string version = hmp::install::version_text();
+  EXPECT_EQ(flash::default_image("/src", true),
+            fs::path("/src/build/stm32f407/boards/stm32f407/hmp_fw_stm32f407-" + version + ".elf"));
   EXPECT_EQ(flash::default_image("/src", false),
-            fs::path("/src/build/stm32f407/boards/stm32f407/hmp_fw_stm32f407.bin"));
+            fs::path("/src/build/stm32f407/boards/stm32f407/hmp_fw_stm32f407-" + version + ".bin"));
   EXPECT_FALSE(flash::build_configured(root_));
   write("build/stm32f407/CMakeCache.txt", std::chrono::seconds(0));
   EXPECT_TRUE(flash::build_configured(root_));
