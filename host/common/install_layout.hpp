@@ -25,8 +25,8 @@ std::optional<std::filesystem::path> source_tree();
 std::filesystem::path data_dir();
 
 // An example song shipped with hmp (`file` names it, e.g. "pedal-demo.mid"): the installed copy when it
-// exists, else the source tree's examples/file, else the installed path (which the caller reports as
-// missing).
+// exists, else the one in the source tree's examples folder, else the installed path (which the caller
+// reports as missing).
 std::filesystem::path example(std::string_view file);
 
 // The project's version, "MAJOR.MINOR.PATCH" (project(VERSION …) in CMakeLists.txt).
