@@ -34,9 +34,11 @@ for dir in "$repo" "$build"; do
   fi
 done
 
-# From the moved prefix, the source tree hidden. A mount namespace needs root or user namespaces.
-unshare_cmd=(unshare --mount --propagation private)
-[ "$(id -u)" -eq 0 ] || unshare_cmd=(unshare --mount --map-root-user --propagation private)
+# From the moved prefix, the source tree hidden. A mount namespace needs root or user namespaces. Its
+# mounts are made private inside (below), not by unshare: in a chroot "/" is no mount point and unshare's
+# own --propagation private fails there.
+unshare_cmd=(unshare --mount --propagation unchanged)
+[ "$(id -u)" -eq 0 ] || unshare_cmd=(unshare --mount --map-root-user --propagation unchanged)
 if ! "${unshare_cmd[@]}" true 2>/dev/null; then
   echo "SKIPPED: no private mount namespace here (unshare): the source tree cannot be hidden"
   exit 77
@@ -44,6 +46,11 @@ fi
 song="$p/share/hmp/examples/bach-bwv1050-brandenburg5-mvt3-allegro.mid"
 cat >"$tmp/hidden.sh" <<SCRIPT
 set -u
+# The tmpfs must not reach the parent namespace: every mount made private, or (in a chroot, where "/" is
+# no mount point) the tree bound onto itself and that mount made private.
+if ! mount --make-rprivate / 2>/dev/null; then
+  mount --bind "$repo" "$repo" && mount --make-private "$repo" || exit 89
+fi
 mount -t tmpfs none "$repo" || exit 90
 [ -z "\$(ls -A "$repo")" ] || exit 91
 cd "$tmp"
@@ -59,6 +66,10 @@ rm -f "$p"/lib/hmp/hmp-audio.so "$p"/lib/hmp/hmp-view.so "$p"/lib/hmp/hmp-video.
 exit 0
 SCRIPT
 "${unshare_cmd[@]}" bash "$tmp/hidden.sh"; rc=$?
+if [ $rc -eq 89 ]; then
+  echo "SKIPPED: no private mount could be made here for the source tree: not hidden"
+  exit 77
+fi
 check "the source tree hidden (rc)" 0 "$rc"
 if [ -f "$tmp/failed" ]; then
   echo "FAIL: from the moved tree: $(tr '\n' ';' <"$tmp/failed")"
