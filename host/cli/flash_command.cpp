@@ -50,7 +50,10 @@ struct FlashOptions {
 
 // The source tree whose stm32f407 image is the default one ($HMP_SOURCE_DIR, else the tree this hmp was
 // built in); empty for an installed hmp, which writes its installed image.
-fs::path source_dir() { return install::source_tree().value_or(fs::path{}); }
+fs::path source_dir() {
+  static const fs::path dir = install::source_tree().value_or(fs::path{});  // read once per run
+  return dir;
+}
 
 std::string find_on_path(const std::string& program) {
   const char* path = std::getenv("PATH");

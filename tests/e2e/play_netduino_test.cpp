@@ -13,6 +13,7 @@
 
 #include "play_harness.hpp"
 #include "host/common/install_layout.hpp"
+#include "host/flash/firmware_image.hpp"
 #include "tests/support/load_guard.hpp"
 
 namespace {
@@ -20,11 +21,11 @@ namespace {
 namespace test = hmp::test;
 namespace fs = std::filesystem;
 
+// $HMP_STM32_ELF, else the image `hmp flash` writes from this source tree.
 std::string image() {
   if (const char* e = std::getenv("HMP_STM32_ELF"); e != nullptr && *e != '\0') return e;
-  return (fs::path(HMP_BIN_DIR).parent_path().parent_path() / "stm32f407" / "boards" / "stm32f407" /
-          hmp::install::image_file_name("stm32f407", ".elf"))
-      .string();
+  const auto tree = hmp::install::source_tree();
+  return tree ? hmp::flash::default_image(*tree, true).string() : std::string{};
 }
 
 TEST(PlayNetduino, SameImageBootsOnTheFallbackClockAndPlaysEveryNoteOnItsTick) {

@@ -11,7 +11,7 @@
 #include <filesystem>
 
 #include "play_harness.hpp"
-#include "host/common/install_layout.hpp"
+#include "host/transport/qemu_device.hpp"
 #include "tests/support/load_guard.hpp"
 
 namespace {
@@ -19,13 +19,8 @@ namespace {
 namespace test = hmp::test;
 namespace fs = std::filesystem;
 
-// The same places hmp looks (host/transport/qemu_device.hpp).
-std::string image() {
-  if (const char* e = std::getenv("HMP_QEMU_ELF"); e != nullptr && *e != '\0') return e;
-  return (fs::path(HMP_BIN_DIR).parent_path().parent_path() / "qemu-an386" / "boards" / "qemu-an386" /
-          hmp::install::image_file_name("qemu-an386", ".elf"))
-      .string();
-}
+// Where hmp looks ($HMP_QEMU_ELF, else the source tree's qemu-an386 tree; empty: none).
+std::string image() { return hmp::transport::find_qemu_image(); }
 
 bool have_emulator() {
   const char* e = std::getenv("QEMU_SYSTEM_ARM");
