@@ -12,7 +12,8 @@
 //  - an RX FIFO entry with a zero byte count (a ZLP) has no data words: nothing is popped for it;
 //  - every RX FIFO entry's data is popped, also of an entry that is dropped (unknown status, endpoint out
 //    of range, SETUP not 8 bytes): the FIFO never gets out of step, no endpoint gets another one's data;
-//  - EP0 OUT is never enabled (CNAK) before the SETUP-done interrupt has been handled;
+//  - EP0 OUT is never enabled (CNAK) before the SETUP-done interrupt has been handled, also after a SETUP
+//    entry that is not 8 bytes (no request reaches the stack, but the transfer before it has ended);
 //  - every FIFO access is a whole 32-bit word (the last word of a packet padded or discarded);
 //  - the RX FIFO and the TX FIFOs fit the 1.25 KB FIFO RAM, each at least what RM0090 asks (fifo_layout);
 //  - up to three back-to-back SETUPs (STUPCNT = 3): the last one received is the one handled;
@@ -259,6 +260,7 @@ class OtgFs {
       io_.write(doepint(n), 0xFFu);
       out_[n] = Out{};
     }
+    setup_pending_ = false;  // its STUP flag was just cleared, its entries flushed below
     io_.write(kDaintmsk, 1u << 0 | 1u << 16);
     io_.write(kDoepmsk, kDoepintStup | kEpintXfrc);
     io_.write(kDiepmsk, kEpintXfrc);
@@ -273,9 +275,12 @@ class OtgFs {
   void drain_rx_fifo() {
     for (std::uint32_t guard = 0; guard < 64 && (io_.read(kGintsts) & kIntRxflvl) != 0; ++guard) {
       const RxStatus s = RxStatus::decode(io_.read(kGrxstsp));
-      if (s.status == kPktstsSetupData && s.bytes == sizeof setup_) {
-        read_fifo(setup_, sizeof setup_, s.bytes);
-        have_setup_ = true;
+      if (s.status == kPktstsSetupData && s.ep == 0) {
+        // Any SETUP entry opens the setup phase (EP0 OUT stays off until its STUP is handled); only one of
+        // 8 bytes is a request the stack is given.
+        setup_whole_ = s.bytes == sizeof setup_;
+        read_fifo(setup_whole_ ? setup_ : nullptr, sizeof setup_, s.bytes);
+        setup_pending_ = true;
       } else if (s.status == kPktstsOutData && s.ep < kEndpoints) {
         Out& o = out_[s.ep];
         const std::uint16_t room = o.buffer ? static_cast<std::uint16_t>(o.capacity - o.received) : 0;
@@ -312,15 +317,15 @@ class OtgFs {
         out_[n] = Out{};
         if (device_) device_->on_xfer_complete(static_cast<std::uint8_t>(n), got);
       }
-      if (n == 0 && (flags & kDoepintStup) != 0 && have_setup_) {
+      if (n == 0 && (flags & kDoepintStup) != 0 && setup_pending_) {
         // SETUP done: only now may EP0 OUT be enabled again (by the stack's data or status stage).
-        have_setup_ = false;
+        setup_pending_ = false;
         io_.write(doeptsiz(0), eptsiz(1, 24) | doeptsiz0_stupcnt(3));
         // A SETUP ends the control transfer before it: an EP0 IN packet of that one still queued (the
         // core keeps it), or its completion not handled yet, would be taken for the new transfer's.
         cancel(fw::usb::kDirIn);
         io_.write(diepint(0), kEpintXfrc);
-        if (device_) device_->on_setup(setup_);
+        if (device_ && setup_whole_) device_->on_setup(setup_);
       }
     }
   }
@@ -333,7 +338,7 @@ class OtgFs {
       io_.write(diepint(n), flags);
       // A SETUP read but not handled yet ends the transfer this EP0 IN packet belonged to: reported now,
       // the stack would go on with that transfer (even enable EP0 OUT) before the SETUP is done.
-      if (n == 0 && have_setup_) continue;
+      if (n == 0 && setup_pending_) continue;
       if ((flags & kEpintXfrc) && device_) {
         device_->on_xfer_complete(static_cast<std::uint8_t>(n | fw::usb::kDirIn), in_len_[n]);
       }
@@ -360,7 +365,8 @@ class OtgFs {
   Io& io_;
   fw::usb::Device* device_ = nullptr;
   std::uint8_t setup_[8] = {};
-  bool have_setup_ = false;
+  bool setup_pending_ = false;  // a SETUP entry popped, its STUP not handled yet
+  bool setup_whole_ = false;    // that SETUP had 8 bytes (in setup_)
   Out out_[kEndpoints];
   std::uint16_t in_len_[kEndpoints] = {};
 };

@@ -329,6 +329,28 @@ TEST(Stm32OtgFs, ASetupEntryThatIsNot8BytesIsDropped) {
   EXPECT_EQ(r.dev->stats().setups, 1u);
 }
 
+// A SETUP entry cut short still opens a setup phase in the core (found by fuzz_otg): the host taking the
+// previous control read's reply then used to reach the stack, which enabled EP0 OUT for that transfer's
+// status stage before the STUP. After the STUP the transfer has ended and the next SETUP works.
+TEST(Stm32OtgFs, AShortSetupEntryKeepsEp0OutOffUntilItsStup) {
+  Rig r;
+  r.setups({Rig::pkt(0x80, 6, 0x0100, 0, 18)});
+  const std::uint8_t head[4] = {0x80, 6, 0x00, 0x02};
+  r.io.push_entry(FakeOtg::status(0, 4, otg::kPktstsSetupData), head, 4);
+  r.irq();
+  r.io.events.clear();
+  ASSERT_TRUE(r.in(0).has_value()) << "the reply was queued before the short SETUP";
+  EXPECT_EQ(std::count(r.io.events.begin(), r.io.events.end(), "ep0 out enabled"), 0);
+  r.io.host_setup_done();
+  r.irq();
+  r.io.regs[otg::doepint(0)] |= otg::kDoepintStup;
+  r.irq();
+  EXPECT_FALSE(r.out(0, {})) << "a status stage armed for a transfer the SETUP ended";
+  EXPECT_EQ(r.dev->stats().setups, 1u);
+  const Bytes d = r.control_in(Rig::pkt(0x80, 6, 0x0100, 0, 18));
+  EXPECT_EQ(d.size(), 18u);
+}
+
 // A SETUP ends the control transfer before it (USB 2.0 §8.5.3), also one whose reply the host did not
 // read: the core keeps that packet queued, so the driver takes it back (found by fuzz_otg: the new reply
 // used to be refused and the host got the old one).
