@@ -1,6 +1,7 @@
 #include "boards/sim/plant/dynamics.hpp"
 
 #include <cmath>
+#include <cstring>
 
 namespace hmp::sim::plant {
 
@@ -86,6 +87,10 @@ void PlantDynamics::compute(const double* y, PlantForces& out, TensionRule rule,
     out.string_torque += t * g.m[i];
   }
   out.geometry_flags = g.flags;
+  std::memcpy(switches_state_, y, sizeof(double) * static_cast<std::size_t>(size_));
+  std::memcpy(switches_, out.stretch, sizeof out.stretch);
+  std::memcpy(switches_ + kStrings, out.spring, sizeof out.spring);
+  switches_valid_ = true;
 
   if (params_.scene.finger) {
     const FingerParams& f = params_.finger;
@@ -113,12 +118,11 @@ void PlantDynamics::piece_derivative(const double* y, std::uint32_t piece, doubl
 }
 
 int PlantDynamics::switch_functions(const double* y, double* g) const {
-  PlantForces f;
-  compute(y, f, TensionRule::unilateral, 0);
-  for (int i = 0; i < kStrings; ++i) {
-    g[i] = f.stretch[i];
-    g[kStrings + i] = f.spring[i];
+  if (!switches_valid_ || std::memcmp(switches_state_, y, sizeof(double) * static_cast<std::size_t>(size_)) != 0) {
+    PlantForces f;
+    compute(y, f, TensionRule::unilateral, 0);
   }
+  std::memcpy(g, switches_, sizeof switches_);
   return 2 * kStrings;
 }
 

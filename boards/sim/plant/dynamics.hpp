@@ -83,7 +83,10 @@ class PlantDynamics final : public OdeSystem {
   explicit PlantDynamics(const PlantParams& params);
 
   // Free length ℓ_i of each string at θ_i = 0 (set by the plant's reset).
-  void set_free_length(int i, double metres) { free_length_[i] = metres; }
+  void set_free_length(int i, double metres) {
+    free_length_[i] = metres;
+    switches_valid_ = false;
+  }
   double free_length(int i) const { return free_length_[i]; }
   void set_voltage(int i, double volts) { voltage_[i] = volts; }
   void set_finger_anchor(const Vec3d& anchor) { anchor_ = anchor; }
@@ -136,6 +139,12 @@ class PlantDynamics final : public OdeSystem {
   double voltage_[spidar::kStrings]{};
   Vec3d anchor_{};
   std::uint32_t near_taut_ = 0;
+  // The switch functions of the last state compute() saw: every evaluation computes them on its way, and
+  // the integrators ask for them at states they have just differentiated (a step's start and end), so
+  // switch_functions() there costs a comparison of states instead of the strings' geometry again.
+  mutable double switches_state_[kMaxState]{};
+  mutable double switches_[2 * spidar::kStrings]{};
+  mutable bool switches_valid_ = false;
   // Constants of the motor equations, divided once.
   double inv_inductance_, inv_inertia_, inv_mass_, inv_grip_inertia_;
   double drift_scale_;  // the reach's scale for the strings' stiffness (1 between soft and stiff)

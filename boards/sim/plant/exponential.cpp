@@ -64,6 +64,9 @@ class Exponential final : public Integrator {
   }
 
   void step(OdeSystem& system, double* y, double h) override {
+    // The derivative first: the switch functions at the same state then come with it (PlantDynamics).
+    system.derivative(y, f_.data());
+    ++evaluations_;
     double g[kMaxSwitches];
     const int ng = system.switch_functions(y, g);
     const std::uint32_t piece = system.piece_of(g);
@@ -83,8 +86,6 @@ class Exponential final : public Integrator {
     } else {
       lin = &linearisation(system, y, piece, h, true);
     }
-    system.derivative(y, f_.data());
-    ++evaluations_;
     carrying_ = false;
     if (ng > 0 && switch_within(system, *lin, g, piece, ng)) {
       split_step(system, y, h);

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <vector>
 
 #include "boards/sim/plant/dynamics.hpp"
 #include "boards/sim/plant/plant.hpp"
@@ -171,6 +172,46 @@ TEST(PlantStatics, FloatsOnItsStringsWithoutAFinger) {
 
 // Top strings paid out (negative duty): they go slack and must carry exactly nothing, while their motors
 // run up to the no-load speed; the bottom strings, finger and gravity balance the grip on their own.
+// The switch functions (each string's stretch and spring force) are kept from the last state the
+// dynamics computed: asked at another state, after a derivative at one, or after a free length changed,
+// they are those of the state asked for, to the bit, as a fresh copy of the dynamics gives them.
+TEST(PlantSwitchFunctions, AreThoseOfTheStateAskedFor) {
+  PlantParams p;
+  Plant plant(p);
+  plant.reset(0.3);
+  const double duty[8] = {0.1, 0.1, 0.1, 0.1, -0.05, -0.05, -0.05, -0.05};
+  run(plant, duty, 0.05);
+  PlantDynamics d = plant.dynamics();
+  const int n = d.size();
+  std::vector<double> y1(plant.state(), plant.state() + n), y2 = y1, rates(static_cast<std::size_t>(n));
+  y2[0] += 1e-3;  // the grip 1 mm along x
+  auto fresh = [&](const std::vector<double>& y, const PlantDynamics& like) {
+    PlantDynamics copy = like;
+    PlantForces f;
+    copy.evaluate(y.data(), f);
+    std::vector<double> g(f.stretch, f.stretch + 8);
+    g.insert(g.end(), f.spring, f.spring + 8);
+    return g;
+  };
+  auto asked = [&](const std::vector<double>& y) {
+    std::vector<double> g(16);
+    EXPECT_EQ(d.switch_functions(y.data(), g.data()), 16);
+    return g;
+  };
+  const std::vector<double> at1 = fresh(y1, d), at2 = fresh(y2, d);
+  ASSERT_NE(at1, at2);
+  d.derivative(y1.data(), rates.data());
+  EXPECT_EQ(asked(y1), at1);
+  EXPECT_EQ(asked(y2), at2);
+  EXPECT_EQ(asked(y2), at2);
+  d.derivative(y1.data(), rates.data());
+  EXPECT_EQ(asked(y2), at2);
+  d.set_free_length(0, d.free_length(0) - 0.01);  // string 0 stretched 1 cm more at every state
+  const std::vector<double> longer = asked(y2);
+  EXPECT_EQ(longer, fresh(y2, d));
+  EXPECT_DOUBLE_EQ(longer[0], at2[0] + 0.01);
+}
+
 TEST(PlantStatics, SlackStringsCarryNoForce) {
   PlantParams p;
   p.scene.translation_only = true;
