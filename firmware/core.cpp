@@ -6,7 +6,7 @@ using protocol::State;
 
 // The RAM budget of docs/firmware.md (measured: 12.1 KiB on the Cortex-M4F build, 8 KiB of it the note
 // queue). A change that outgrows it must update the budget table too.
-static_assert(sizeof(Core) <= 20 * 1024, "Core outgrew its RAM budget (docs/firmware.md)");
+static_assert(sizeof(Core) <= 22 * 1024, "Core outgrew its RAM budget (docs/firmware.md)");
 static_assert(kMotorCount == Drive::kMotors, "the board seam and the drive disagree on the motor count");
 
 Core::Core(const BoardSeam& board, std::uint32_t tick_hz, std::uint64_t first_tick, const DriveParams& drive)

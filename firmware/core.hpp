@@ -163,6 +163,7 @@ class Core {
   protocol::ErrorCode check_playable(std::uint8_t preset, std::uint32_t freq_q20) const;
   void on_notes(const protocol::Message& m, std::uint64_t rx_tick);
   void on_long_note(const protocol::Message& m);
+  void on_live(const protocol::Message& m);
   void on_preset(const protocol::Message& m);
   void on_settings(const protocol::Message& m);
   void on_transport(const protocol::Message& m);

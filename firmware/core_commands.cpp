@@ -42,6 +42,7 @@ void Core::handle(const InboxEntry& entry) {
     case Type::settings: on_settings(m); break;
     case Type::transport: on_transport(m); break;
     case Type::estop: emergency_stop(); break;
+    case Type::live: on_live(m); break;
     default: break;  // unreachable: decode knows no other host type
   }
 }
@@ -143,6 +144,54 @@ void Core::on_long_note(const protocol::Message& m) {
   note.preset = l.preset;
   note.track = l.track;
   queue_.push(note, m.seq, 0);
+}
+
+// Live input: each event acts on this tick, in order (no schedule: a note-on sounds now, a note-off starts
+// its release now). Taken whole or not at all, like a note batch; only while playing (a device that does
+// not play would start notes nobody asked to hear once it does).
+void Core::on_live(const protocol::Message& m) {
+  const protocol::Live& b = m.live;
+  const auto type = static_cast<std::uint8_t>(m.type);
+  if (state_ != State::playing) {
+    reject(ErrorCode::not_playing, m.seq, type);
+    return;
+  }
+  for (std::uint8_t i = 0; i < b.count; ++i) {
+    const protocol::LiveEvent& e = b.events[i];
+    ErrorCode error = ErrorCode::none;
+    if (e.op == protocol::LiveOp::on) error = check_playable(e.preset, e.freq_q20);
+    if (e.op == protocol::LiveOp::bend && !engine_.frequency_ok(e.freq_q20)) error = ErrorCode::bad_value;
+    if (error != ErrorCode::none) {
+      reject(error, m.seq, type);
+      return;
+    }
+  }
+  for (std::uint8_t i = 0; i < b.count; ++i) {
+    const protocol::LiveEvent& e = b.events[i];
+    switch (e.op) {
+      case protocol::LiveOp::on: {
+        QueuedNote q;
+        q.note.start_tick = tick_;
+        q.note.freq_q20 = e.freq_q20;
+        q.note.amp_q16 = e.amp_q16;
+        q.note.preset = e.preset;
+        q.note.track = b.track;
+        q.note.key = e.key;
+        q.seq = m.seq;
+        q.index = i;
+        if (!engine_.start_held(q.note)) {
+          ++stats_.engine_refused;  // unreachable: checked above
+          break;
+        }
+        ++stats_.started;
+        ++stats_.started_in_tick;
+        note_started(q);
+        break;
+      }
+      case protocol::LiveOp::off: engine_.release(b.track, e.key); break;
+      case protocol::LiveOp::bend: engine_.bend(b.track, e.key, e.freq_q20); break;
+    }
+  }
 }
 
 void Core::on_preset(const protocol::Message& m) {

@@ -25,7 +25,7 @@ std::vector<std::string> LiveView::help_lines() {
 }
 
 LiveView::LiveView(const midi::Song& song, LiveViewOptions options, LiveViewHooks hooks)
-    : song_(song), options_(std::move(options)), hooks_(std::move(hooks)), index_(song) {
+    : options_(std::move(options)), hooks_(std::move(hooks)), index_(song) {
   seconds_across_ = std::clamp(options_.seconds_across, kMinAcross, kMaxAcross);
   hidden_.assign(index_.tracks(), false);
   keys_ = key_range(song);

@@ -100,7 +100,6 @@ class LiveView {
   LayoutParams params() const;  // the view thread's, or under geometry_mutex_
   RollLayout make_layout() const;
 
-  const midi::Song& song_;
   LiveViewOptions options_;
   LiveViewHooks hooks_;
   NoteIndex index_;

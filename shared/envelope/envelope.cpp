@@ -65,6 +65,16 @@ float rate(float num, float den) {
 
 // First tick at or after the (fractional) tick position t, with 0 ≤ t ≤ N ≤ 2^32 − 1.
 std::uint32_t first_tick_at_or_after(double t) { return static_cast<std::uint32_t>(std::ceil(t)); }
+
+// The first tick whose end-fade factor (N − n)·(1/F) is below 1: found with at()'s own float product, so
+// that at() needs only an integer comparison per tick. N when there is no fade.
+std::uint32_t fade_first_tick(std::uint32_t n_end, float fade_per_tick) {
+  if (!(fade_per_tick > 0.0f)) return n_end;
+  const float k_max = 1.0f / fade_per_tick + 2.0f;
+  auto k = k_max < static_cast<float>(n_end) ? static_cast<std::uint32_t>(k_max) : n_end;
+  while (k > 0 && !(static_cast<float>(k) * fade_per_tick < 1.0f)) --k;
+  return n_end - k;
+}
 }  // namespace
 
 const Adsr& builtin(Preset p) {
@@ -97,6 +107,7 @@ void Envelope::start(const Adsr& preset, float peak, std::uint32_t duration_tick
   const Adsr& p = (valid(preset) && time_base_ok) ? preset : builtin(Preset::square);
   const double ticks_per_ms = time_base_ok ? static_cast<double>(tick_hz) / 1000.0 : 0.0;
 
+  held_ = false;
   n_end_ = duration_ticks == 0 ? 1 : duration_ticks;
   const double n = n_end_;
   peak_ = clamp_peak(peak);
@@ -149,14 +160,31 @@ void Envelope::start(const Adsr& preset, float peak, std::uint32_t duration_tick
   const float fade_ticks = fade_ok ? std::fmin(end_fade_ms, 1e7f) * static_cast<float>(ticks_per_ms) : 0.0f;
   fade_per_tick_ = fade_ticks > 0.0f ? rate(1.0f, fade_ticks) : 0.0f;
   // at() multiplies by the fade factor (N − n)·(1/F) where it is below 1: the ticks from fade_first_ on.
-  // Found here with the same float product, so at() needs only an integer comparison per tick.
-  fade_first_ = n_end_;
-  if (fade_per_tick_ > 0.0f) {
-    const float k_max = fade_ticks + 2.0f;
-    auto k = k_max < static_cast<float>(n_end_) ? static_cast<std::uint32_t>(k_max) : n_end_;
-    while (k > 0 && !(static_cast<float>(k) * fade_per_tick_ < 1.0f)) --k;
-    fade_first_ = n_end_ - k;
-  }
+  fade_first_ = fade_first_tick(n_end_, fade_per_tick_);
+  release_ticks_ = static_cast<std::uint32_t>(
+      std::ceil(std::fmax(static_cast<double>(release_ticks), static_cast<double>(fade_ticks))));
+}
+
+void Envelope::start_held(const Adsr& preset, float peak, float tick_hz, float end_fade_ms) {
+  Adsr held = valid(preset) ? preset : builtin(Preset::square);
+  if (held.shape != Shape::adsr) held = builtin(Preset::square);
+  // A scheduled note as long as N can be: the same phases, its release at the far end, out of reach
+  // until release_at() moves it.
+  start(held, peak, kHeldTicks, tick_hz, end_fade_ms);
+  held_ = true;
+}
+
+std::uint32_t Envelope::release_at(std::uint32_t n) {
+  if (!held_ || n >= n_end_) return n_end_;
+  held_ = false;
+  // The release goes on from the level this tick would have had; the decay and sustain are over.
+  sustain_level_ = at_within(n);
+  release_first_ = n;
+  release_offset_ = 0.0f;
+  const std::uint32_t room = n_end_ - n;
+  n_end_ = n + (release_ticks_ < room ? (release_ticks_ > 0 ? release_ticks_ : 1) : room);
+  fade_first_ = fade_first_tick(n_end_, fade_per_tick_);
+  return n_end_;
 }
 
 // Envelope::at() is inline in envelope.hpp: it runs for every voice on every tick.

@@ -88,6 +88,16 @@ class Envelope {
   // Invalid presets, and a tick_hz that is not finite and > 0, fall back to square (without fade).
   // start() works in double (once per note, not per tick: a few µs of soft-float on a Cortex-M4F).
   void start(const Adsr& preset, float peak, std::uint32_t duration_ticks, float tick_hz, float end_fade_ms);
+  // A held note (live input, its end not known yet): the preset's attack and decay as given (no short-note
+  // scaling), then its sustain until release_at(); `triangle` and `damped`, whose one phase spans the
+  // whole note, hold the peak. N is kHeldTicks until the release.
+  void start_held(const Adsr& preset, float peak, float tick_hz, float end_fade_ms);
+  // The release of a held note from tick n on: from the level E(n) it has then, whatever its phase, down
+  // to r·E(n) over R as the preset's release does (Eq. 10), the end fade over the last F ms; the note now
+  // ends at n + max(R, F) ticks. Returns the new N. A note that is not held keeps its N.
+  std::uint32_t release_at(std::uint32_t n);
+  bool held() const { return held_; }
+  static constexpr std::uint32_t kHeldTicks = 0xFFFFFFFFu;
   // E at tick n, in [0, peak]; 0 for n ≥ N.
   float at(std::uint32_t n) const { return n < n_end_ ? at_within(n) : 0.0f; }
   // The same for a caller that knows n < N (a voice checks it anyway): one comparison less per tick.
@@ -111,6 +121,8 @@ class Envelope {
   float fade_per_tick_ = 0;                   // 1/F in ticks; 0 = no end fade
   std::uint32_t fade_first_ = 1;              // first tick whose end-fade factor is below 1 (N: none)
   bool release_zero_ = false;
+  bool held_ = false;
+  std::uint32_t release_ticks_ = 0;  // a held note's release and end fade, max(R, F), in whole ticks
 };
 
 inline float Envelope::at_within(std::uint32_t n) const {

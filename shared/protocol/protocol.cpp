@@ -162,6 +162,20 @@ void walk(IO& io, Msg& m) {
       io.u64(m.transport.tick);
       break;
     case Type::estop: break;
+    case Type::live: {
+      auto& b = m.live;
+      io.u8(b.count);
+      io.u8(b.track);
+      for (std::size_t i = 0; i < live_slots(b.count); ++i) {
+        auto& e = b.events[i];
+        io.e8(e.op);
+        io.u8(e.key);
+        io.u8(e.preset);
+        io.u32(e.freq_q20);
+        io.u16(e.amp_q16);
+      }
+      break;
+    }
     case Type::hello_reply: {
       auto& h = m.hello_reply;
       io.u16(h.protocol_version);
@@ -251,6 +265,27 @@ ErrorCode check(const Notes& b) {
   return ErrorCode::none;
 }
 
+// Each op carries only its own fields; the others must be zero (a misread op cannot pass as another).
+ErrorCode check(const Live& b) {
+  if (!count_ok(b.count)) return ErrorCode::bad_length_field;
+  for (std::size_t i = 0; i < b.count; ++i) {
+    const LiveEvent& e = b.events[i];
+    switch (e.op) {
+      case LiveOp::on:
+        if (!slot_ok(e.preset)) return ErrorCode::bad_slot;
+        break;
+      case LiveOp::off:
+        if (e.preset != 0 || e.freq_q20 != 0 || e.amp_q16 != 0) return ErrorCode::bad_value;
+        break;
+      case LiveOp::bend:
+        if (e.preset != 0 || e.amp_q16 != 0) return ErrorCode::bad_value;
+        break;
+      default: return ErrorCode::bad_value;
+    }
+  }
+  return ErrorCode::none;
+}
+
 ErrorCode check(const Preset& p) {
   if (p.slot < envelope::kFirstUserSlot || p.slot >= envelope::kSlotCount) return ErrorCode::bad_slot;
   const bool shape_known =
@@ -283,7 +318,9 @@ ErrorCode check(const Status& s) {
                   (s.faults & ~kKnownFaults) == 0 && within(s.output, -1.0f, 1.0f) && is_finite(s.force_n);
   bool grip_ok = true;
   for (const float v : s.grip_m) {
-    grip_ok = grip_ok && within(v, -kGripRangeM, kGripRangeM) && (s.grip_known != 0 || v == 0.0f);
+    // Unknown: the bytes are zero (−0.0 too would compare equal to 0 but is not).
+    grip_ok =
+        grip_ok && within(v, -kGripRangeM, kGripRangeM) && (s.grip_known != 0 || (v == 0.0f && !__builtin_signbit(v)));
   }
   return ok && grip_ok && s.grip_known <= 1 ? ErrorCode::none : ErrorCode::bad_value;
 }
@@ -297,7 +334,8 @@ ErrorCode check(const Started& b) {
 
 ErrorCode check(const Error& e) {
   const auto code = static_cast<std::uint8_t>(e.code);
-  return code >= 1 && code <= static_cast<std::uint8_t>(ErrorCode::bad_slot) ? ErrorCode::none : ErrorCode::bad_value;
+  return code >= 1 && code <= static_cast<std::uint8_t>(ErrorCode::not_playing) ? ErrorCode::none
+                                                                                : ErrorCode::bad_value;
 }
 
 }  // namespace
@@ -312,6 +350,7 @@ bool is_known_type(std::uint8_t type) {
     case Type::settings:
     case Type::transport:
     case Type::estop:
+    case Type::live:
     case Type::hello_reply:
     case Type::sync_reply:
     case Type::status:
@@ -329,6 +368,7 @@ ErrorCode validate(const Message& m) {
     case Type::preset: return check(m.preset);
     case Type::settings: return check(m.settings);
     case Type::transport: return check(m.transport);
+    case Type::live: return check(m.live);
     case Type::hello_reply: return check(m.hello_reply);
     case Type::status: return check(m.status);
     case Type::started: return check(m.started);
@@ -380,6 +420,7 @@ Message make(Type t, std::uint16_t seq) {
     case Type::settings: m.settings = Settings{}; break;
     case Type::transport: m.transport = Transport{}; break;
     case Type::estop: m.estop = Estop{}; break;
+    case Type::live: m.live = Live{}; break;
     case Type::hello_reply: m.hello_reply = HelloReply{}; break;
     case Type::sync_reply: m.sync_reply = SyncReply{}; break;
     case Type::status: m.status = Status{}; break;
@@ -406,6 +447,13 @@ bool operator==(const Message& a, const Message& b) {
     case Type::settings: return a.settings == b.settings;
     case Type::transport: return a.transport == b.transport;
     case Type::estop: return true;
+    case Type::live: {
+      const Live &x = a.live, &y = b.live;
+      if (x.count != y.count || x.track != y.track) return false;
+      for (std::size_t i = 0; i < live_slots(x.count); ++i)
+        if (!(x.events[i] == y.events[i])) return false;
+      return true;
+    }
     case Type::hello_reply: return a.hello_reply == b.hello_reply;
     case Type::sync_reply: return a.sync_reply == b.sync_reply;
     case Type::status: return a.status == b.status;
@@ -432,6 +480,7 @@ const char* name(ErrorCode e) {
     case ErrorCode::version_mismatch: return "version_mismatch";
     case ErrorCode::queue_full: return "queue_full";
     case ErrorCode::bad_slot: return "bad_slot";
+    case ErrorCode::not_playing: return "not_playing";
   }
   return "unknown_error";
 }
@@ -446,6 +495,7 @@ const char* name(Type t) {
     case Type::settings: return "settings";
     case Type::transport: return "transport";
     case Type::estop: return "estop";
+    case Type::live: return "live";
     case Type::hello_reply: return "hello_reply";
     case Type::sync_reply: return "sync_reply";
     case Type::status: return "status";

@@ -25,7 +25,8 @@ namespace hmp::protocol {
 
 inline constexpr std::size_t kReportSize = 64;
 // 2: Status carries the grip's position (bytes 45–57), for touching notes in the view.
-inline constexpr std::uint16_t kProtocolVersion = 2;
+// 3: Live reports (notes started now and held until released, pitch bend) and the not_playing error.
+inline constexpr std::uint16_t kProtocolVersion = 3;
 inline constexpr std::uint16_t kUsbVid = 0x1209;  // pid.codes open-source VID
 inline constexpr std::uint16_t kUsbPid = 0x0001;  // pid.codes test PID (to be replaced by an allocated one)
 inline constexpr std::uint16_t kUsagePage = 0xFF00;
@@ -45,6 +46,7 @@ enum class Type : std::uint8_t {
   settings = 0x06,
   transport = 0x07,
   estop = 0x08,
+  live = 0x09,  // up to 5 live events: a held note on, its release, its frequency
   // device → host
   hello_reply = 0x81,
   sync_reply = 0x82,
@@ -136,6 +138,28 @@ struct Settings {
   float t_min_n = 0.3f;
   float t_max_n = 6.0f;
   friend bool operator==(const Settings&, const Settings&) = default;
+};
+
+// One live event (9 bytes): op u8 | key u8 (any: the host's handle of a held note; on, off and bend pair
+// by the report's track and this key) | preset u8 (on: < kSlotCount; off, bend: 0) | freq u32 (on, bend:
+// Q12.20 Hz; off: 0) | amp u16 (on: 65535 = 1.0; off, bend: 0).
+enum class LiveOp : std::uint8_t { on = 1, off = 2, bend = 3 };
+struct LiveEvent {
+  LiveOp op = LiveOp::on;
+  std::uint8_t key = 0;
+  std::uint8_t preset = 0;
+  std::uint32_t freq_q20 = 0;
+  std::uint16_t amp_q16 = 0;
+  friend bool operator==(const LiveEvent&, const LiveEvent&) = default;
+};
+inline constexpr std::size_t kLiveEventBytes = 9;
+// bytes 3 count (1–5) | 4 track | 5–49 events (9 bytes each, unused slots zero). Acted on in the tick it
+// is taken in, in order, while the device plays; not queued (no credit).
+struct Live {
+  std::uint8_t count = 0;
+  std::uint8_t track = 0;
+  LiveEvent events[kNotesPerBatch];  // slots ≥ count: ignored by encode, default after decode
+  friend bool operator==(const Live&, const Live&) = default;
 };
 
 enum class TransportOp : std::uint8_t { play = 0, pause = 1, stop = 2, seek = 3 };
@@ -254,6 +278,7 @@ enum class ErrorCode : std::uint8_t {
   version_mismatch,
   queue_full,
   bad_slot,
+  not_playing,  // a Live report while the device is not playing
 };
 const char* name(ErrorCode e);
 const char* name(Type t);
@@ -280,6 +305,7 @@ struct Message {
     Settings settings;
     Transport transport;
     Estop estop;
+    Live live;
     HelloReply hello_reply;
     SyncReply sync_reply;
     Status status;

@@ -82,12 +82,16 @@ const envelope::Adsr* Engine::preset(std::uint8_t slot) const {
   return slot < envelope::kSlotCount && slot_used_[slot] ? &slots_[slot] : nullptr;
 }
 
+bool Engine::frequency_ok(std::uint32_t freq_q20) const {
+  return freq_q20 != 0 &&
+         static_cast<std::uint64_t>(freq_q20) * 2 < (static_cast<std::uint64_t>(cfg_.tick_hz) << kFreqFracBits);
+}
+
 bool Engine::playable(const Note& note) {
-  // Zero duration is a malformed command here (the host always sends N ≥ 1); zero frequency is silence
-  // and frequencies at or above Nyquist cannot be synthesised at this tick rate. Amplitude 0 is allowed.
-  const bool below_nyquist =
-      static_cast<std::uint64_t>(note.freq_q20) * 2 < (static_cast<std::uint64_t>(cfg_.tick_hz) << kFreqFracBits);
-  if (preset(note.preset) == nullptr || note.duration_ticks == 0 || note.freq_q20 == 0 || !below_nyquist) {
+  // Zero duration is a malformed command here (the host always sends N ≥ 1; a held note has none); zero
+  // frequency is silence and frequencies at or above Nyquist cannot be synthesised at this tick rate.
+  // Amplitude 0 is allowed.
+  if (preset(note.preset) == nullptr || (note.duration_ticks == 0 && !note.held) || !frequency_ok(note.freq_q20)) {
     ++counters_.rejected;
     return false;
   }
@@ -124,6 +128,37 @@ bool Engine::start_prepared(const Voice& prepared) {
   if (!playable(prepared.note())) return false;
   take_voice().adopt(prepared, next_order_++);
   return true;
+}
+
+bool Engine::start_held(Note note) {
+  note.held = true;
+  if (!playable(note)) return false;
+  release(note.track, note.key);
+  take_voice().start(note, *preset(note.preset), cfg_, next_order_++);
+  return true;
+}
+
+bool Engine::release(std::uint8_t track, std::uint8_t key) {
+  bool found = false;
+  for (Voice& v : voices_) {
+    if (v.held() && v.note().track == track && v.note().key == key) {
+      v.release();
+      found = true;
+    }
+  }
+  return found;
+}
+
+bool Engine::bend(std::uint8_t track, std::uint8_t key, std::uint32_t freq_q20) {
+  if (!frequency_ok(freq_q20)) return false;
+  bool found = false;
+  for (Voice& v : voices_) {
+    if (v.active() && v.note().held && v.note().track == track && v.note().key == key) {
+      v.set_frequency(freq_q20, cfg_.tick_hz);
+      found = true;
+    }
+  }
+  return found;
 }
 
 float Engine::tick() {

@@ -57,6 +57,16 @@ class Engine {
   // the note's preset as they are now, e.g. outside a tick interrupt): the same checks, counters and
   // choice of voice as start(note), with a copy instead of the envelope's set-up.
   bool start_prepared(const Voice& prepared);
+  // Live input (notes whose end is not known when they start; note.held is set here). start_held: as
+  // start(), after releasing a note still held under the same track and key (a key struck again).
+  // release: the held note of that track and key enters its release; false if there is none (stolen,
+  // stopped, or never started). bend: every sounding note of that track and key (held or releasing) takes
+  // the frequency; false if there is none, or the frequency is 0 or at/above Nyquist (nothing changes).
+  bool start_held(Note note);
+  bool release(std::uint8_t track, std::uint8_t key);
+  bool bend(std::uint8_t track, std::uint8_t key, std::uint32_t freq_q20);
+  // Whether a frequency can be synthesised at this tick rate: above 0 and below Nyquist.
+  bool frequency_ok(std::uint32_t freq_q20) const;
   // Advance every voice one tick; returns the mixed, limited sample in [−1, 1].
   float tick();
   void stop_all();

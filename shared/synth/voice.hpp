@@ -16,6 +16,8 @@ struct Note {
   std::uint16_t amp_q16 = 0;         // 65535 = 1.0
   std::uint8_t preset = 0;           // envelope slot
   std::uint8_t track = 0;            // which track/voice group it belongs to (for reports)
+  std::uint8_t key = 0;              // a held note: the host's handle, paired with track by release and bend
+  bool held = false;                 // live input: sounds until released (duration_ticks is ignored)
 };
 
 struct SynthConfig {
@@ -45,6 +47,12 @@ class Voice {
   std::uint32_t freq_q20() const { return freq_q20_; }
   const Note& note() const { return note_; }
   void stop() { n_ = n_end_; }
+  // A held note that has not been released yet.
+  bool held() const { return active() && env_.held(); }
+  // A held note's release from this tick on (Envelope::release_at); nothing for any other note.
+  void release() { n_end_ = env_.release_at(n_); }
+  // The frequency from this tick on, the phase going on where it is (a pitch bend).
+  void set_frequency(std::uint32_t freq_q20, std::uint32_t tick_hz);
 
  private:
   envelope::Envelope env_;

@@ -42,6 +42,17 @@ int main(int argc, char** argv) {
     started.started.count = count;
     for (std::uint8_t i = 0; i < count; ++i) started.started.entries[i] = {7, i, 1000u + i, 1000u + i};
     ok = write_seed(dir, "started_" + std::to_string(count), started) && ok;
+
+    protocol::Message live = protocol::make(Type::live, count);
+    live.live.count = count;
+    for (std::uint8_t i = 0; i < count; ++i) {
+      const auto op = static_cast<protocol::LiveOp>(1 + i % 3);
+      live.live.events[i] = {op, static_cast<std::uint8_t>(60 + i), 0, 0, 0};
+      if (op == protocol::LiveOp::on)
+        live.live.events[i] = {op, static_cast<std::uint8_t>(60 + i), 2, 200u << 20, 40000};
+      if (op == protocol::LiveOp::bend) live.live.events[i].freq_q20 = 210u << 20;
+    }
+    ok = write_seed(dir, "live_" + std::to_string(count), live) && ok;
   }
   protocol::Message error = protocol::make(Type::error, 1);
   error.error = {protocol::ErrorCode::queue_full, 9, static_cast<std::uint8_t>(Type::notes)};

@@ -21,9 +21,9 @@ namespace {
 
 using Bytes = std::array<std::uint8_t, kReportSize>;
 
-constexpr Type kAllTypes[] = {Type::hello,    Type::sync,      Type::notes, Type::long_note,   Type::preset,
-                              Type::settings, Type::transport, Type::estop, Type::hello_reply, Type::sync_reply,
-                              Type::status,   Type::started,   Type::error};
+constexpr Type kAllTypes[] = {Type::hello,      Type::sync,      Type::notes,   Type::long_note, Type::preset,
+                              Type::settings,   Type::transport, Type::estop,   Type::live,      Type::hello_reply,
+                              Type::sync_reply, Type::status,    Type::started, Type::error};
 
 // Payload ends from docs/protocol.md (first byte that must be zero), written out independently of the
 // implementation's layout walker.
@@ -37,6 +37,7 @@ std::size_t documented_end(const Message& m) {
     case Type::settings: return 40;
     case Type::transport: return 12;
     case Type::estop: return 3;
+    case Type::live: return 5 + 9 * std::size_t{m.live.count};
     case Type::hello_reply: return 18;
     case Type::sync_reply: return 23;
     case Type::status: return 58;
@@ -132,6 +133,19 @@ class Gen {
         m.transport.tick = m.transport.op == TransportOp::seek ? u64() : 0;
         break;
       case Type::estop: break;
+      case Type::live: {
+        Live& b = m.live;
+        b.count = static_cast<std::uint8_t>(in(1, kNotesPerBatch));
+        b.track = u8();
+        for (std::size_t i = 0; i < b.count; ++i) {
+          const auto op = static_cast<LiveOp>(in(1, 3));
+          LiveEvent& e = b.events[i];
+          e = LiveEvent{op, u8(), 0, 0, 0};
+          if (op == LiveOp::on) e = LiveEvent{op, e.key, static_cast<std::uint8_t>(in(0, 31)), u32(), u16()};
+          if (op == LiveOp::bend) e.freq_q20 = u32();
+        }
+        break;
+      }
       case Type::hello_reply:
         m.hello_reply = HelloReply{static_cast<std::uint16_t>(in(1, 0xFFFF)),
                                    u8(),
@@ -170,7 +184,7 @@ class Gen {
           b.entries[i] = StartedEntry{u16(), static_cast<std::uint8_t>(in(0, 4)), u32(), u32()};
         break;
       }
-      case Type::error: m.error = Error{static_cast<ErrorCode>(in(1, 8)), u16(), u8()}; break;
+      case Type::error: m.error = Error{static_cast<ErrorCode>(in(1, 9)), u16(), u8()}; break;
     }
     return m;
   }
@@ -237,6 +251,25 @@ TEST(Protocol, NotesLayoutIsByteExact) {
   ASSERT_EQ(decode_bytes(want, back), ErrorCode::none);
   EXPECT_TRUE(back == m);
   EXPECT_EQ(back.notes.notes[0].freq_q20 * (1.0 / (1 << 20)), 250.0);
+}
+
+TEST(Protocol, LiveLayoutIsByteExact) {
+  Message m = make(Type::live, 0x0102);
+  m.live.count = 2;
+  m.live.track = 9;
+  m.live.events[0] = LiveEvent{LiveOp::on, 0x3C, 0x11, 0x0A0B0C0D, 0xBEEF};
+  m.live.events[1] = LiveEvent{LiveOp::bend, 0x7F, 0, 0x89ABCDEF, 0};
+  Bytes want{};
+  const std::uint8_t head[] = {0x09, 0x02, 0x01, 0x02, 0x09};
+  const std::uint8_t on[] = {0x01, 0x3C, 0x11, 0x0D, 0x0C, 0x0B, 0x0A, 0xEF, 0xBE};
+  const std::uint8_t bend[] = {0x03, 0x7F, 0x00, 0xEF, 0xCD, 0xAB, 0x89, 0x00, 0x00};
+  std::memcpy(want.data(), head, sizeof head);
+  std::memcpy(want.data() + 5, on, sizeof on);
+  std::memcpy(want.data() + 14, bend, sizeof bend);
+  EXPECT_EQ(encoded(m), want);
+  Message back;
+  ASSERT_EQ(decode_bytes(want, back), ErrorCode::none);
+  EXPECT_TRUE(back == m);
 }
 
 TEST(Protocol, StatusLayoutIsByteExact) {
@@ -344,6 +377,11 @@ Message base(Type t) {
     for (auto& n : m.notes.notes) n = CompactNote{1, 2, 100, 150u << 20, 30000};
   } else if (t == Type::started) {
     m.started.count = 2;
+  } else if (t == Type::live) {
+    m.live.count = 3;
+    m.live.events[0] = LiveEvent{LiveOp::on, 60, 2, 440u << 20, 40000};
+    m.live.events[1] = LiveEvent{LiveOp::bend, 60, 0, 450u << 20, 0};
+    m.live.events[2] = LiveEvent{LiveOp::off, 60, 0, 0, 0};
   } else if (t == Type::error) {
     m.error.code = ErrorCode::bad_value;
   }
@@ -448,6 +486,32 @@ std::vector<BadField> bad_fields() {
   add(
       "play with a tick", Type::transport, 4, le(5, 8), [](Message& m) { m.transport.tick = 5; }, E::bad_value);
 
+  for (int c : {0, 6, 255})
+    add(
+        "live count " + std::to_string(c), Type::live, 3, le(c, 1),
+        [c](Message& m) { m.live.count = static_cast<std::uint8_t>(c); }, E::bad_length_field);
+  for (int op : {0, 4, 255})
+    add(
+        "live op " + std::to_string(op), Type::live, 5 + 9, le(op, 1),
+        [op](Message& m) { m.live.events[1].op = static_cast<LiveOp>(op); }, E::bad_value);
+  add(
+      "live on preset 32", Type::live, 7, le(32, 1), [](Message& m) { m.live.events[0].preset = 32; }, E::bad_slot);
+  add(
+      "live bend with a preset", Type::live, 5 + 9 + 2, le(1, 1), [](Message& m) { m.live.events[1].preset = 1; },
+      E::bad_value);
+  add(
+      "live bend with an amplitude", Type::live, 5 + 9 + 7, le(1, 2), [](Message& m) { m.live.events[1].amp_q16 = 1; },
+      E::bad_value);
+  add(
+      "live off with a frequency", Type::live, 5 + 18 + 3, le(1, 4), [](Message& m) { m.live.events[2].freq_q20 = 1; },
+      E::bad_value);
+  add(
+      "live off with a preset", Type::live, 5 + 18 + 2, le(3, 1), [](Message& m) { m.live.events[2].preset = 3; },
+      E::bad_value);
+  add(
+      "live off with an amplitude", Type::live, 5 + 18 + 7, le(9, 2), [](Message& m) { m.live.events[2].amp_q16 = 9; },
+      E::bad_value);
+
   add(
       "reply version 0", Type::hello_reply, 3, le(0, 2), [](Message& m) { m.hello_reply.protocol_version = 0; },
       E::bad_value);
@@ -508,7 +572,7 @@ std::vector<BadField> bad_fields() {
   add(
       "error code none", Type::error, 3, le(0, 1), [](Message& m) { m.error.code = ErrorCode::none; }, E::bad_value);
   add(
-      "error code 9", Type::error, 3, le(9, 1), [](Message& m) { m.error.code = static_cast<ErrorCode>(9); },
+      "error code 10", Type::error, 3, le(10, 1), [](Message& m) { m.error.code = static_cast<ErrorCode>(10); },
       E::bad_value);
   return v;
 }
@@ -728,7 +792,8 @@ TEST(Protocol, AllZeroAndAllFFReports) {
       {Type::settings, E::bad_value, E::bad_value},             // gain… / policy 255
       {Type::transport, E::none, E::bad_value},                 // play at 0 / op 255
       {Type::estop, E::none, E::nonzero_padding},
-      {Type::hello_reply, E::bad_value, E::bad_value},  // version 0 / board 255
+      {Type::live, E::bad_length_field, E::bad_length_field},  // count 0 / 255
+      {Type::hello_reply, E::bad_value, E::bad_value},         // version 0 / board 255
       {Type::sync_reply, E::none, E::nonzero_padding},
       {Type::status, E::none, E::bad_value},  // idle, output 0 / state 255
       {Type::started, E::bad_length_field, E::bad_length_field},
@@ -761,7 +826,7 @@ TEST(Protocol, UnknownTypesAreRejectedEverywhere) {
     Report r;
     EXPECT_FALSE(encode(odd, r)) << t;
   }
-  EXPECT_EQ(known, 13);
+  EXPECT_EQ(known, 14);
 }
 
 TEST(Protocol, DirectionNamesAndBuilders) {
@@ -776,7 +841,9 @@ TEST(Protocol, DirectionNamesAndBuilders) {
   EXPECT_FALSE(is_host_to_device(Type::status));
   EXPECT_STREQ(name(ErrorCode::nonzero_padding), "nonzero_padding");
   EXPECT_STREQ(name(ErrorCode::bad_slot), "bad_slot");
+  EXPECT_STREQ(name(ErrorCode::not_playing), "not_playing");
   EXPECT_STREQ(name(Type::long_note), "long_note");
+  EXPECT_STREQ(name(Type::live), "live");
 }
 
 }  // namespace
