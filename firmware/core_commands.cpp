@@ -192,6 +192,8 @@ void Core::on_live(const protocol::Message& m) {
       case protocol::LiveOp::bend: engine_.bend(b.track, e.key, e.freq_q20); break;
     }
   }
+  // A player at the keys waits for no Status tick (up to 10 ms away): the Started report goes out now.
+  flush_started();
 }
 
 void Core::on_preset(const protocol::Message& m) {

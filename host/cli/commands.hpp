@@ -39,6 +39,7 @@ void register_study(CLI::App& app, Registry& registry);
 void register_flash(CLI::App& app, Registry& registry);
 void register_calibrate(CLI::App& app, Registry& registry);
 void register_envelope(CLI::App& app, Registry& registry);
+void register_live(CLI::App& app, Registry& registry);
 
 // Every command, in the order help lists them (cli/main.cpp registers them; the manual describes them).
 struct Command {
@@ -46,12 +47,12 @@ struct Command {
   void (*add)(CLI::App&, Registry&);
 };
 inline constexpr Command kCommands[] = {
-    {"info", register_info},         {"render", register_render},
-    {"tone", register_tone},         {"devices", register_devices},
-    {"flash", register_flash},       {"play", register_play},
-    {"sim", register_sim},           {"study", register_study},
-    {"view", register_view},         {"calibrate", register_calibrate},
-    {"envelope", register_envelope},
+    {"info", register_info},           {"render", register_render},
+    {"tone", register_tone},           {"devices", register_devices},
+    {"flash", register_flash},         {"play", register_play},
+    {"live", register_live},           {"sim", register_sim},
+    {"study", register_study},         {"view", register_view},
+    {"calibrate", register_calibrate}, {"envelope", register_envelope},
 };
 
 // The `hmp devices` lines of our HID devices found now (each greeted, `timeout_ms` for its reply); how many.

@@ -14,6 +14,7 @@
 #include "host/haptics/haptic_track.hpp"
 #include "host/midi/smf_reader.hpp"
 #include "host/midi/gm.hpp"
+#include "host/midi/key_name.hpp"
 
 namespace hmp::cli {
 
@@ -25,11 +26,6 @@ std::string channels_text(const midi::Track& t) {
     if (t.has_channel(c)) out += (out.empty() ? "" : ",") + std::to_string(c + 1);
   }
   return out.empty() ? "-" : out;
-}
-
-std::string key_name(int key) {
-  static const char* names[] = {"C", "C#", "D", "D#", "E", "F", "F#", "G", "G#", "A", "A#", "B"};
-  return key < 0 ? "-" : fmt::format("{}{}", names[key % 12], key / 12 - 1);
 }
 
 // JND steps the track's keys span under the `rank` mapping with the default ranges (design §5).
@@ -165,7 +161,7 @@ int run_info(const InfoOptions& o) {
                               : fmt::format("{} ticks per quarter", s.division.ticks_per_quarter),
              s.duration_s(), s.tracks.size(), s.notes.size());
   fmt::print("  pitched keys of the song: {}, kε {} (GM channel 10's drum keys left out)\n",
-             song_keys.count() ? key_name(song_keys.min()) + "–" + key_name(song_keys.max()) : "none",
+             song_keys.count() ? midi::key_name(song_keys.min()) + "–" + midi::key_name(song_keys.max()) : "none",
              song_keys.count());
   fmt::print("  mapping {}, keys of the {}: {:g}–{:g} Hz\n", mapping::name(opts.mapping), scope, opts.ranges.f_min_hz,
              opts.ranges.f_max_hz);
@@ -174,7 +170,7 @@ int run_info(const InfoOptions& o) {
   for (const midi::Track& t : s.tracks) {
     const std::string instrument =
         t.note_count ? fmt::format("{} ({})", midi::gm_instrument_name(t.program(), t.channel()), t.program()) : "-";
-    const std::string keys = t.note_count ? key_name(t.key_min()) + "–" + key_name(t.key_max()) : "-";
+    const std::string keys = t.note_count ? midi::key_name(t.key_min()) + "–" + midi::key_name(t.key_max()) : "-";
     fmt::print("  {:>3}  {:<24.24} {:<8} {:<26.26} {:>6}  {:<9} {:>4}  {:<12} {:>9}  {:>8.2f}\n", t.index, t.name,
                channels_text(t), instrument, t.note_count, keys, t.distinct_keys(),
                t.note_count ? envelope_of(t, opts) : "-", span_text(frequency_span(s, t, opts, song_keys)),

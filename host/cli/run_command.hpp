@@ -11,7 +11,7 @@ inline constexpr int kExitOk = 0;
 inline constexpr int kExitFailure = 1;   // a run that failed for a reason other than bad input
 inline constexpr int kExitBadInput = 2;  // bad file, bad option: one-line message on stderr
 
-std::string version_string();  // "hmp 0.1.0 (protocol 2)", " from <git describe>" when built from a clone
+std::string version_string();  // "hmp 0.1.0 (protocol 3)", " from <git describe>" when built from a clone
 
 // Runs the action; BadInput → "error: …" on stderr and kExitBadInput, any other exception → "error: …"
 // and kExitFailure.

@@ -1,0 +1,199 @@
+// hmp live [--list] [--input PORT] [--api alsa|jack] [--channel N] [--key-range LOW:HIGH] [--envelope NAME]
+// [--mapping MODE] [--device SPEC] [--seconds S] [--wait] — feel MIDI as it is played: every note of a
+// keyboard or a DAW, from an ALSA sequencer or JACK input port, sent to the device the moment it arrives
+// (docs/live.md).
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <optional>
+#include <string>
+#include <thread>
+
+#include <fmt/format.h>
+
+#include "host/cli/commands.hpp"
+#include "host/cli/device_hello.hpp"
+#include "host/common/error.hpp"
+#include "host/live/live_session.hpp"
+#include "host/live/midi_port.hpp"
+#include "host/player/live_terminal.hpp"
+
+namespace hmp::cli {
+namespace {
+
+struct LiveOptions {
+  bool list = false;
+  std::string input;  // empty: a port of our own named "hmp"
+  std::optional<std::string> api;
+  int channel = 0;  // 1–16; 0: every channel
+  std::string key_range = "21:108";
+  std::string envelope = "harpsichord";
+  std::string mapping = "paper";
+  std::string device = "auto";
+  double seconds = 0;
+  bool wait = false;
+};
+
+live::MidiApi parse_api(const std::string& text) {
+  if (text == "alsa") return live::MidiApi::alsa;
+  if (text == "jack") return live::MidiApi::jack;
+  throw BadInput("--api " + text + ": use alsa or jack");
+}
+
+const live::MidiPortBackend& backend() {
+  std::string why;
+  const live::MidiPortBackend* b = live::midi_port_backend(&why);
+  if (b == nullptr) throw std::runtime_error("MIDI input is not available: " + why);
+  return *b;
+}
+
+int list_ports() {
+  const live::MidiPortBackend& b = backend();
+  for (const live::MidiApi api : {live::MidiApi::alsa, live::MidiApi::jack}) {
+    std::string error;
+    const std::vector<live::MidiPortInfo> ports = b.inputs(api, error);
+    if (!error.empty()) {
+      fmt::print("{}: not available: {}\n", live::name(api), error);
+      continue;
+    }
+    fmt::print("{}: {} input port{}\n", live::name(api), ports.size(), ports.size() == 1 ? "" : "s");
+    for (const live::MidiPortInfo& p : ports) fmt::print("  {}\n", p.name);
+  }
+  return kExitOk;
+}
+
+// --api as given, else JACK where a server runs (a DAW's world), else the ALSA sequencer.
+live::MidiApi choose_api(const LiveOptions& o, const live::MidiPortBackend& b) {
+  if (o.api) return parse_api(*o.api);
+  std::string error;
+  b.inputs(live::MidiApi::jack, error);
+  return error.empty() ? live::MidiApi::jack : live::MidiApi::alsa;
+}
+
+live::MapperOptions mapper_options(const LiveOptions& o) {
+  live::MapperOptions m;
+  if (o.channel < 0 || o.channel > 16) throw BadInput(fmt::format("--channel {}: use 1–16", o.channel));
+  m.channel = o.channel - 1;
+  m.keys = live::parse_key_range(o.key_range);
+  envelope::Preset preset;
+  if (!envelope::find_builtin(o.envelope.c_str(), preset)) throw BadInput("--envelope " + o.envelope + ": unknown");
+  m.preset = static_cast<std::uint8_t>(preset);
+  if (!mapping::find_mode(o.mapping.c_str(), m.mode))
+    throw BadInput("--mapping " + o.mapping + ": unknown (paper, rank, constant, legacy2013)");
+  if (!(o.seconds >= 0)) throw BadInput(fmt::format("--seconds {}: must be ≥ 0", o.seconds));
+  return m;
+}
+
+// The port, opened; with --wait, tried again every half second until it is there (or a stop signal).
+std::unique_ptr<live::MidiInput> open_port(const live::MidiPortBackend& b, live::MidiApi api, const LiveOptions& o,
+                                           live::LiveSession& session, bool first) {
+  bool said = false;
+  for (;;) {
+    std::string error;
+    std::unique_ptr<live::MidiInput> in = b.open(api, o.input, &live::LiveSession::receive, &session, error);
+    if (in) return in;
+    // A port that is not there, or no server to ask, is the user's to fix: bad input, unless we wait.
+    if (!o.wait || player::stop_signal() != 0) {
+      if (first) throw BadInput(fmt::format("{} MIDI input: {}", live::name(api), error));
+      return nullptr;
+    }
+    if (!said)
+      std::fprintf(stderr, "%s MIDI input: %s; waiting for it (Ctrl-C stops)\n", live::name(api), error.c_str());
+    said = true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  }
+}
+
+std::string latency_text(const live::LiveProgress& p) {
+  if (p.latency_ms.empty()) return "no latency measured";
+  return fmt::format("message to Started report p50 {:.2f} ms, p99 {:.2f} ms, max {:.2f} ms over {} notes",
+                     live::percentile(p.latency_ms, 50), live::percentile(p.latency_ms, 99),
+                     live::percentile(p.latency_ms, 100), p.latency_ms.size());
+}
+
+int run_live(const LiveOptions& o) {
+  if (o.list) return list_ports();
+  const live::MapperOptions mo = mapper_options(o);
+  if (o.api) parse_api(*o.api);  // bad input before any port or device is opened
+  const live::MidiPortBackend& b = backend();
+  const live::MidiApi api = choose_api(o, b);
+  if (std::string error; !o.wait) {
+    // Nothing to listen to: said before the device is opened.
+    const std::vector<live::MidiPortInfo> ports = b.inputs(api, error);
+    if (!error.empty()) throw BadInput(fmt::format("{} MIDI input: {}", live::name(api), error));
+    const bool named = o.input.empty() || std::any_of(ports.begin(), ports.end(), [&](const live::MidiPortInfo& p) {
+                         return p.name.find(o.input) != std::string::npos;
+                       });
+    if (!named) {
+      throw BadInput(
+          fmt::format("{} MIDI input: no port named like '{}' (hmp live --list shows them)", live::name(api), o.input));
+    }
+  }
+
+  transport::OpenedDevice opened = transport::open_device(transport::parse_device_spec(o.device));
+  if (!opened.note.empty()) std::fprintf(stderr, "%s\n", opened.note.c_str());
+  player::DeviceLink link(*opened.transport, link_options_for(opened));
+  connect_and_describe(link, opened);
+  live::LiveSession session(link, mo);
+  player::install_stop_signals();
+  std::unique_ptr<live::MidiInput> in = open_port(b, api, o, session, true);
+  std::fprintf(stderr, "live: input %s, %s, keys %s, envelope %s, mapping %s; Ctrl-C stops\n", in->name().c_str(),
+               o.channel == 0 ? "every channel" : fmt::format("channel {}", o.channel).c_str(),
+               live::to_string(mo.keys).c_str(), o.envelope.c_str(), o.mapping.c_str());
+  const bool tty = isatty(STDERR_FILENO) != 0;
+  const auto show = [&](const live::LiveProgress& p) {
+    if (!tty) return;
+    std::fprintf(stderr, "\r\033[Knotes %llu, device started %llu%s",
+                 static_cast<unsigned long long>(p.counts.notes_on), static_cast<unsigned long long>(p.started),
+                 p.last_error.empty() ? "" : (", refused: " + p.last_error).c_str());
+  };
+  const auto stop = [] { return player::stop_signal() != 0; };
+  const auto started = std::chrono::steady_clock::now();
+  int code = kExitOk;
+  for (;;) {
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    const double left = o.seconds > 0 ? std::max(1e-3, o.seconds - elapsed) : 0;
+    const live::LiveEnd end = session.run(*in, left, stop, show);
+    if (end != live::LiveEnd::port_gone) break;
+    if (tty) std::fprintf(stderr, "\n");
+    std::fprintf(stderr, "live: the MIDI input %s is gone%s\n", in->name().c_str(),
+                 o.wait ? "; waiting for it to come back" : "");
+    in.reset();
+    if (!o.wait || !(in = open_port(b, api, o, session, false))) {
+      code = o.wait ? kExitOk : kExitFailure;
+      break;
+    }
+  }
+  session.finish();
+  if (tty) std::fprintf(stderr, "\n");
+  const live::LiveProgress& p = session.progress();
+  fmt::print("live: {} notes on, {} off, {} bends; the device started {} ({}); {} report(s) refused\n",
+             p.counts.notes_on, p.counts.notes_off, p.counts.bends, p.started, latency_text(p), p.refused);
+  if (!p.last_error.empty()) std::fprintf(stderr, "live: the device refused %s\n", p.last_error.c_str());
+  return code;
+}
+
+}  // namespace
+
+void register_live(CLI::App& app, Registry& registry) {
+  auto o = std::make_shared<LiveOptions>();
+  CLI::App* cmd = app.add_subcommand("live", "Feel MIDI as it is played: a keyboard's or a DAW's notes, at once");
+  cmd->add_flag("--list", o->list, "List the MIDI input ports (ALSA sequencer and JACK) and exit");
+  cmd->add_option("--input", o->input,
+                  "The input port whose name contains PORT (default: a port of our own named hmp, to connect to)");
+  cmd->add_option("--api", o->api, "alsa or jack (default: jack where a JACK server runs, else alsa)");
+  cmd->add_option("--channel", o->channel, "Only this MIDI channel, 1–16 (default: every channel)");
+  cmd->add_option("--key-range", o->key_range,
+                  "The keys the pitch mapping spreads over, LOW:HIGH as numbers or names (default 21:108, A0–C8)");
+  cmd->add_option("--envelope", o->envelope, "A built-in envelope preset (default harpsichord: the piano's)");
+  cmd->add_option("--mapping", o->mapping, "Pitch mapping: paper (default), rank, constant, legacy2013");
+  cmd->add_option("--device", o->device,
+                  "auto (HID, else the simulated device), sim, qemu, hid[:VID:PID], serial:PATH");
+  cmd->add_option("--seconds", o->seconds, "Stop after this many seconds (default: at Ctrl-C)");
+  cmd->add_flag("--wait", o->wait, "A port that is not there (yet, or any more) is waited for");
+  cmd->callback([o, &registry] { registry.set([o] { return run_live(*o); }); });
+}
+
+}  // namespace hmp::cli

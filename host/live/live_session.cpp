@@ -1,0 +1,129 @@
+#include "host/live/live_session.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace hmp::live {
+namespace {
+
+constexpr std::int64_t kSyncPeriodUs = 100'000, kShowPeriodUs = 200'000, kPortCheckUs = 500'000;
+// The output's ramp-in after play: short, as the first key may come at once (a song's player has 500 ms).
+constexpr std::uint16_t kRampInMs = 20;
+
+}  // namespace
+
+double percentile(std::vector<double> values, double p) {
+  if (values.empty()) return 0;
+  std::sort(values.begin(), values.end());
+  const double rank = std::ceil(p / 100.0 * static_cast<double>(values.size()));
+  const std::size_t i = rank < 1 ? 0 : static_cast<std::size_t>(rank) - 1;
+  return values[std::min(i, values.size() - 1)];
+}
+
+LiveSession::LiveSession(player::DeviceLink& link, const MapperOptions& options) : link_(link), mapper_(options) {}
+
+void LiveSession::receive(void* self, const std::uint8_t* bytes, std::size_t size) {
+  auto* me = static_cast<LiveSession*>(self);
+  {
+    const std::lock_guard<std::mutex> lock(me->mutex_);
+    me->pending_.push_back({player::steady_us(), std::vector<std::uint8_t>(bytes, bytes + size)});
+  }
+  me->link_.notify();
+}
+
+// The events of the messages taken, in order, in reports of up to five events of one track: a chord or
+// a burst fills reports instead of sending one per message (the device takes a few reports a tick).
+void LiveSession::send_events() {
+  std::size_t i = 0;
+  while (i < events_.size()) {
+    protocol::Message m = protocol::make(protocol::Type::live, 0);
+    m.live.track = events_[i].track;
+    const std::size_t first = i;
+    while (i < events_.size() && events_[i].track == m.live.track && m.live.count < protocol::kNotesPerBatch)
+      m.live.events[m.live.count++] = events_[i++].event;
+    const std::optional<std::uint16_t> seq = link_.send(m);
+    if (!seq) return;  // the link is dead: check() says so
+    for (std::uint8_t k = 0; k < m.live.count; ++k)
+      if (m.live.events[k].op == protocol::LiveOp::on) sent_on_.push_back({*seq, k, event_us_[first + k]});
+  }
+}
+
+void LiveSession::take_device_events() {
+  player::DeviceLink::Events ev = link_.take_events();
+  const std::int64_t now = player::steady_us();
+  for (const protocol::StartedEntry& s : ev.started) {
+    ++progress_.started;
+    const auto it = std::find_if(sent_on_.begin(), sent_on_.end(),
+                                 [&](const SentOn& o) { return o.seq == s.seq && o.index == s.index; });
+    if (it == sent_on_.end()) continue;
+    progress_.latency_ms.push_back(static_cast<double>(now - it->received_us) / 1000.0);
+    sent_on_.erase(it);
+  }
+  for (const protocol::Error& e : ev.errors) {
+    ++progress_.refused;
+    progress_.last_error = std::string(protocol::name(e.code)) + " (report " + std::to_string(e.seq) + ", " +
+                           protocol::name(static_cast<protocol::Type>(e.type)) + ")";
+  }
+  if (sent_on_.size() > 4096) sent_on_.erase(sent_on_.begin(), sent_on_.begin() + 2048);  // never answered
+}
+
+LiveEnd LiveSession::run(const MidiInput& input, double seconds, const std::function<bool()>& stop,
+                         const std::function<void(const LiveProgress&)>& show) {
+  protocol::Message m = protocol::make(protocol::Type::settings, 0);
+  m.settings.ramp_in_ms = kRampInMs;
+  link_.send(m);
+  m = protocol::make(protocol::Type::transport, 0);
+  m.transport.op = protocol::TransportOp::play;
+  link_.send(m);
+  const std::int64_t start = player::steady_us();
+  std::int64_t next_sync = start, next_show = start, next_port_check = start + kPortCheckUs;
+  std::vector<Pending> batch;
+  for (;;) {
+    const std::int64_t now = player::steady_us();
+    if (stop()) return LiveEnd::stopped;
+    if (seconds > 0 && static_cast<double>(now - start) >= seconds * 1e6) return LiveEnd::time_up;
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      batch.swap(pending_);
+    }
+    events_.clear();
+    event_us_.clear();
+    for (const Pending& p : batch) {
+      stream_.feed(p.bytes.data(), p.bytes.size(),
+                   [&](const ChannelMessage& msg) { mapper_.on_message(msg, events_); });
+      event_us_.resize(events_.size(), p.received_us);
+    }
+    batch.clear();
+    send_events();
+    link_.check();
+    take_device_events();
+    if (now >= next_sync) {
+      link_.send_sync();
+      next_sync = now + kSyncPeriodUs;
+    }
+    if (now >= next_port_check) {
+      if (!input.present()) return LiveEnd::port_gone;
+      next_port_check = now + kPortCheckUs;
+    }
+    if (now >= next_show) {
+      progress_.counts = mapper_.counts();
+      show(progress_);
+      next_show = now + kShowPeriodUs;
+    }
+    link_.wait(std::chrono::microseconds(10'000));
+  }
+}
+
+void LiveSession::finish() {
+  protocol::Message m = protocol::make(protocol::Type::transport, 0);
+  m.transport.op = protocol::TransportOp::stop;
+  link_.send(m);
+  const std::int64_t until = player::steady_us() + 100'000;  // the last Started reports
+  while (player::steady_us() < until) {
+    link_.wait(std::chrono::microseconds(10'000));
+    take_device_events();
+  }
+  progress_.counts = mapper_.counts();
+}
+
+}  // namespace hmp::live

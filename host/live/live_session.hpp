@@ -1,0 +1,69 @@
+#pragma once
+// `hmp live`'s run: MIDI messages from an input port (any thread) → LiveMapper → Live reports sent to the
+// device at once, a Sync every 100 ms (the device's watchdog), and the device's Started reports matched
+// with the messages that caused them, for the latency.
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "host/live/live_mapper.hpp"
+#include "host/live/midi_port.hpp"
+#include "host/player/device_link.hpp"
+
+namespace hmp::live {
+
+struct LiveProgress {
+  MapperCounts counts;
+  std::uint64_t started = 0;       // notes the device reported started
+  std::uint64_t refused = 0;       // Live reports the device refused (each also in `last_error`)
+  std::string last_error;          // the device's last Error, as text
+  std::vector<double> latency_ms;  // per started note: message received → its Started report taken
+};
+
+// Why run() returned.
+enum class LiveEnd { stopped, time_up, port_gone };
+
+class LiveSession {
+ public:
+  LiveSession(player::DeviceLink& link, const MapperOptions& options);
+  // The MidiReceive of the input port: queues the message and wakes run().
+  static void receive(void* self, const std::uint8_t* bytes, std::size_t size);
+  // Sends Settings and play, then runs until `stop()` says so, `seconds` (> 0) have passed, or `input` is
+  // gone; `show` is called about five times a second. Throws player::LinkError when the device is lost.
+  LiveEnd run(const MidiInput& input, double seconds, const std::function<bool()>& stop,
+              const std::function<void(const LiveProgress&)>& show);
+  // Silences the device (Transport stop).
+  void finish();
+  const LiveProgress& progress() const { return progress_; }
+
+ private:
+  struct Pending {
+    std::int64_t received_us;
+    std::vector<std::uint8_t> bytes;
+  };
+  struct SentOn {
+    std::uint16_t seq;
+    std::uint8_t index;
+    std::int64_t received_us;
+  };
+  void send_events();
+  void take_device_events();
+
+  player::DeviceLink& link_;
+  LiveMapper mapper_;
+  MidiStream stream_;
+  std::mutex mutex_;
+  std::vector<Pending> pending_;  // under mutex_
+  std::vector<DeviceEvent> events_;
+  std::vector<std::int64_t> event_us_;  // when the message of each event arrived
+  std::vector<SentOn> sent_on_;         // note-ons whose Started has not come yet
+  LiveProgress progress_;
+};
+
+// p-th percentile (0–100) of `values`, nearest rank; 0 when empty.
+double percentile(std::vector<double> values, double p);
+
+}  // namespace hmp::live

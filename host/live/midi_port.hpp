@@ -1,0 +1,53 @@
+#pragma once
+// MIDI input ports (module "midiport", host/live/rtmidi/: RtMidi over the ALSA sequencer and JACK), so that
+// only `hmp live` loads those libraries. Errors come back as text, never as exceptions.
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace hmp::live {
+
+// The MIDI systems a port can be on.
+enum class MidiApi { alsa, jack };
+const char* name(MidiApi api);
+
+struct MidiPortInfo {
+  MidiApi api = MidiApi::alsa;
+  std::string name;  // as the system names it, e.g. "Midi Through:Midi Through Port-0 14:0"
+};
+
+// Called on the back-end's own thread for every message, whole (status byte first).
+using MidiReceive = void (*)(void* context, const std::uint8_t* bytes, std::size_t size);
+
+// An open input port: messages flow to the MidiReceive until it is destroyed.
+class MidiInput {
+ public:
+  virtual ~MidiInput() = default;
+  virtual std::string name() const = 0;  // what was opened, for the status line
+  // Whether the port is still there (a keyboard unplugged, a client gone, the JACK server stopped).
+  virtual bool present() const = 0;
+};
+
+class MidiPortBackend {
+ public:
+  static constexpr const char* kModule = "midiport";
+  static constexpr int kAbi = 1;
+
+  // The input ports of one system. Non-empty `error`: that system could not be asked (no ALSA sequencer,
+  // no JACK server running), and the list is empty.
+  virtual std::vector<MidiPortInfo> inputs(MidiApi api, std::string& error) const = 0;
+  // Opens the port whose name contains `port` (the first one), or with `port` empty a port of our own
+  // named "hmp" that other programs connect to. Null and `error` says why.
+  virtual std::unique_ptr<MidiInput> open(MidiApi api, const std::string& port, MidiReceive receive, void* context,
+                                          std::string& error) const = 0;
+
+ protected:
+  ~MidiPortBackend() = default;  // one static object in the module, never deleted through this
+};
+
+// The module, loaded on first use; null (and `why`) when it cannot be had.
+const MidiPortBackend* midi_port_backend(std::string* why = nullptr);
+
+}  // namespace hmp::live

@@ -1,0 +1,174 @@
+// The midiport module's entry (hmp-midiport.so): MIDI input through RtMidi (Debian's librtmidi), which
+// speaks both the ALSA sequencer and JACK. RtMidi reports errors by throwing RtMidiError; they stop here.
+#include <RtMidi.h>
+#include <alsa/asoundlib.h>
+#include <jack/jack.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "host/live/midi_port.hpp"
+#include "host/modules/module_loader.hpp"
+
+namespace hmp::live {
+namespace {
+
+RtMidi::Api rt_api(MidiApi api) { return api == MidiApi::jack ? RtMidi::UNIX_JACK : RtMidi::LINUX_ALSA; }
+
+// The libraries' own messages (ALSA's "open /dev/snd/seq failed", libjack's "Cannot connect to server
+// socket") go nowhere: what failed reaches the user once, as our one line.
+extern "C" void quiet_alsa(const char*, int, const char*, int, const char*, ...) {}
+extern "C" void quiet_jack(const char*) {}
+void quiet_libraries() {
+  static const bool done = [] {
+    snd_lib_error_set_handler(&quiet_alsa);
+    jack_set_error_function(&quiet_jack);
+    jack_set_info_function(&quiet_jack);
+    return true;
+  }();
+  static_cast<void>(done);
+}
+
+// Whether the system can be asked at all, checked before RtMidi (which prints its own failure on
+// stderr before it throws): empty, or why not.
+std::string unavailable(MidiApi api) {
+  quiet_libraries();
+  if (api == MidiApi::alsa) {
+    snd_seq_t* seq = nullptr;
+    const int rc = snd_seq_open(&seq, "default", SND_SEQ_OPEN_INPUT, 0);
+    if (rc < 0) return std::string("no ALSA sequencer (") + snd_strerror(rc) + ")";
+    snd_seq_close(seq);
+    return "";
+  }
+  jack_status_t status{};
+  jack_client_t* client = jack_client_open("hmp-check", JackNoStartServer, &status);
+  if (client == nullptr) return "no JACK server running";
+  jack_client_close(client);
+  return "";
+}
+
+// RtMidi's messages name its own functions ("MidiInJack::initialize: JACK server not running?"): the
+// part after the function name is what a user can act on.
+std::string plain(const std::string& what) {
+  const std::size_t colon = what.find(": ");
+  return colon == std::string::npos ? what : what.substr(colon + 2);
+}
+
+// RtMidi throws what stops a call but only prints a warning for some failures, among them "JACK server
+// not running?" (and then lists no port): with this callback every one is kept, and nothing is printed.
+struct Errors {
+  std::string first;
+  static void keep(RtMidiError::Type, const std::string& text, void* self) {
+    auto* me = static_cast<Errors*>(self);
+    if (me->first.empty()) me->first = plain(text);
+  }
+};
+
+// A client of its own that only looks: whether a port of this name is still listed.
+bool listed(MidiApi api, const std::string& port_name) {
+  try {
+    Errors errors;
+    RtMidiIn probe(rt_api(api), "hmp-probe");
+    probe.setErrorCallback(&Errors::keep, &errors);
+    for (unsigned i = 0; i < probe.getPortCount(); ++i)
+      if (probe.getPortName(i) == port_name) return true;
+  } catch (const RtMidiError&) {
+  }
+  return false;
+}
+
+class RtInput final : public MidiInput {
+ public:
+  RtInput(MidiApi api, MidiReceive receive, void* context)
+      : api_(api), in_(rt_api(api), "hmp"), receive_(receive), context_(context) {
+    in_.setErrorCallback(&Errors::keep, &errors_);
+    in_.ignoreTypes(true, true, true);  // system exclusive, timing (clock), active sensing: nothing to feel
+  }
+  ~RtInput() override {
+    try {
+      in_.cancelCallback();
+      in_.closePort();
+    } catch (const RtMidiError&) {
+    }
+  }
+  // Opens the first port whose name contains `port`; false (and `error`) if none does or it fails.
+  bool open(const std::string& port, std::string& error) {
+    in_.setCallback(&RtInput::on_message, this);
+    // Connects to the system first: with no JACK server RtMidi would go on to register a port on no client.
+    const unsigned count = in_.getPortCount();
+    if (!errors_.first.empty()) {
+      error = errors_.first;
+      return false;
+    }
+    if (port.empty()) {
+      in_.openVirtualPort("hmp");
+      name_ = "hmp (" + std::string(live::name(api_)) + ", for other programs to connect to)";
+      virtual_ = true;
+    } else {
+      for (unsigned i = 0; i < count && name_.empty(); ++i) {
+        const std::string candidate = in_.getPortName(i);
+        if (candidate.find(port) == std::string::npos) continue;
+        in_.openPort(i, "hmp-in");
+        name_ = candidate;
+      }
+      if (name_.empty() && errors_.first.empty()) {
+        errors_.first = "no " + std::string(live::name(api_)) + " MIDI input port named like '" + port +
+                        "' (hmp live --list shows them)";
+      }
+    }
+    error = errors_.first;
+    return error.empty();
+  }
+  std::string name() const override { return name_; }
+  bool present() const override { return virtual_ ? true : listed(api_, name_); }
+
+ private:
+  static void on_message(double, std::vector<unsigned char>* message, void* self) {
+    auto* me = static_cast<RtInput*>(self);
+    if (message != nullptr && !message->empty()) me->receive_(me->context_, message->data(), message->size());
+  }
+  MidiApi api_;
+  Errors errors_;
+  RtMidiIn in_;
+  MidiReceive receive_;
+  void* context_;
+  std::string name_;
+  bool virtual_ = false;
+};
+
+class RtMidiBackend final : public MidiPortBackend {
+ public:
+  std::vector<MidiPortInfo> inputs(MidiApi api, std::string& error) const override {
+    std::vector<MidiPortInfo> out;
+    if (error = unavailable(api); !error.empty()) return out;
+    try {
+      Errors errors;
+      RtMidiIn in(rt_api(api), "hmp-list");
+      in.setErrorCallback(&Errors::keep, &errors);
+      const unsigned count = in.getPortCount();
+      for (unsigned i = 0; i < count; ++i) out.push_back({api, in.getPortName(i)});
+      error = errors.first;
+    } catch (const RtMidiError& e) {
+      error = plain(e.getMessage());
+    }
+    if (!error.empty()) out.clear();
+    return out;
+  }
+  std::unique_ptr<MidiInput> open(MidiApi api, const std::string& port, MidiReceive receive, void* context,
+                                  std::string& error) const override {
+    if (error = unavailable(api); !error.empty()) return nullptr;
+    try {
+      auto in = std::make_unique<RtInput>(api, receive, context);
+      if (in->open(port, error)) return in;
+    } catch (const RtMidiError& e) {
+      error = plain(e.getMessage());
+    }
+    return nullptr;
+  }
+};
+
+}  // namespace
+}  // namespace hmp::live
+
+HMP_DEFINE_MODULE(hmp::live::MidiPortBackend, hmp::live::RtMidiBackend)

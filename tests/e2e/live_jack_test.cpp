@@ -1,0 +1,189 @@
+// `hmp live` end to end through a real JACK server (jackd's dummy back-end: no sound hardware), started and
+// stopped here under a name of its own: a JACK MIDI client of this test (RtMidi) plays into hmp's port,
+// and the simulated device must start every note exactly once; a port that disappears ends the run with
+// one line and exit 1; no JACK server and a port that is not there are one line and exit 2.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <RtMidi.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "host/common/child_process.hpp"
+#include "host/live/midi_port.hpp"
+
+namespace {
+
+using namespace std::chrono_literals;
+
+const std::string kHmp = std::string(HMP_BIN_DIR) + "/hmp";
+
+std::string temp_path(const std::string& name) {
+  return (std::filesystem::temp_directory_path() / ("hmp-live-" + std::to_string(::getpid()) + "-" + name)).string();
+}
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// jackd -d dummy under a server name of this process's own, for this process and its children.
+class JackServer {
+ public:
+  JackServer() {
+    const std::string name = "hmp-test-" + std::to_string(::getpid());
+    ::setenv("JACK_DEFAULT_SERVER", name.c_str(), 1);
+    ::setenv("JACK_NO_AUDIO_RESERVATION", "1", 1);
+    std::string error;
+    pid_ = hmp::start_child({{"jackd", "-n", name, "-d", "dummy", "-r", "48000", "-p", "64"},
+                             "",
+                             "",
+                             "",
+                             temp_path("jackd.out"),
+                             temp_path("jackd.err"),
+                             true},
+                            error);
+    if (pid_ < 0) {
+      why_ = "jackd did not start: " + error;
+      return;
+    }
+    const hmp::live::MidiPortBackend* b = hmp::live::midi_port_backend(&why_);
+    if (b == nullptr) return;
+    for (int i = 0; i < 100; ++i) {
+      std::string not_yet;
+      b->inputs(hmp::live::MidiApi::jack, not_yet);
+      if (not_yet.empty()) {
+        up_ = true;
+        return;
+      }
+      std::this_thread::sleep_for(50ms);
+    }
+    why_ = "jackd did not answer in 5 s: " + read_file(temp_path("jackd.err"));
+  }
+  ~JackServer() {
+    if (pid_ > 0) hmp::stop_child(pid_, 2000ms);
+    std::filesystem::remove(temp_path("jackd.out"));
+    std::filesystem::remove(temp_path("jackd.err"));
+  }
+  bool up() const { return up_; }
+  const std::string& why() const { return why_; }
+
+ private:
+  pid_t pid_ = -1;
+  bool up_ = false;
+  std::string why_;
+};
+
+struct HmpRun {
+  pid_t pid = -1;
+  std::string out = temp_path("out"), err = temp_path("err");
+  explicit HmpRun(std::vector<std::string> args) {
+    args.insert(args.begin(), "hmp");
+    std::string error;
+    pid = hmp::start_child({args, kHmp, "", "", out, err, true}, error);
+    EXPECT_GT(pid, 0) << error;
+  }
+  ~HmpRun() {
+    std::filesystem::remove(out);
+    std::filesystem::remove(err);
+  }
+  int wait() { return hmp::wait_child(pid); }
+};
+
+// Opens an output port of ours connected to the first JACK input port whose name contains `name`,
+// waiting up to 5 s for it to appear.
+bool connect(RtMidiOut& out, const std::string& name) {
+  for (int i = 0; i < 100; ++i) {
+    for (unsigned p = 0; p < out.getPortCount(); ++p) {
+      if (out.getPortName(p).find(name) == std::string::npos) continue;
+      out.openPort(p, "out");
+      return true;
+    }
+    std::this_thread::sleep_for(50ms);
+  }
+  return false;
+}
+
+void send(RtMidiOut& out, std::vector<unsigned char> m) { out.sendMessage(&m); }
+
+TEST(LiveJack, EveryNotePlayedIntoHmpStartsOnceOnTheDevice) {
+  JackServer jack;
+  if (!jack.up()) GTEST_FAIL() << jack.why();
+  HmpRun hmp({"live", "--api", "jack", "--device", "sim", "--seconds", "6"});
+  RtMidiOut out(RtMidi::UNIX_JACK, "hmp-test-keys");
+  ASSERT_TRUE(connect(out, "hmp:hmp")) << read_file(hmp.err);
+  // 300 notes, one at a time, then 60 chords of five keys struck together (one message each, as a
+  // keyboard sends them), on two channels; a bend while the chord sounds.
+  constexpr int kSingles = 300, kChords = 60;
+  constexpr unsigned char kChord[] = {48, 52, 55, 60, 64};
+  for (int i = 0; i < kSingles; ++i) {
+    const auto key = static_cast<unsigned char>(36 + i % 48);
+    send(out, {0x90, key, 100});
+    std::this_thread::sleep_for(2ms);
+    send(out, {0x80, key, 0});
+    std::this_thread::sleep_for(1ms);
+  }
+  for (int c = 0; c < kChords; ++c) {
+    const unsigned char channel = static_cast<unsigned char>(c % 2);
+    for (const unsigned char k : kChord) send(out, {static_cast<unsigned char>(0x90 | channel), k, 90});
+    send(out, {static_cast<unsigned char>(0xE0 | channel), 0x00, 0x50});
+    std::this_thread::sleep_for(5ms);
+    for (const unsigned char k : kChord) send(out, {static_cast<unsigned char>(0x80 | channel), k, 0});
+    std::this_thread::sleep_for(3ms);
+  }
+  ASSERT_EQ(hmp.wait(), 0) << read_file(hmp.err);
+  const std::string summary = read_file(hmp.out);
+  const int notes = kSingles + 5 * kChords;
+  const std::regex line(R"(live: (\d+) notes on, (\d+) off, (\d+) bends; the device started (\d+) \(.*\); 0 report)");
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(summary, m, line)) << summary << read_file(hmp.err);
+  EXPECT_EQ(std::stoi(m[1]), notes);
+  EXPECT_EQ(std::stoi(m[2]), notes);
+  EXPECT_EQ(std::stoi(m[3]), 5 * kChords);
+  EXPECT_EQ(std::stoi(m[4]), notes) << "every note started on the device once";
+  EXPECT_NE(summary.find("over " + std::to_string(notes) + " notes"), std::string::npos) << summary;
+  std::printf("%s", summary.c_str());  // the latency, for the log
+}
+
+TEST(LiveJack, APortThatDisappearsEndsTheRunWithOneLine) {
+  JackServer jack;
+  if (!jack.up()) GTEST_FAIL() << jack.why();
+  auto keys = std::make_unique<RtMidiOut>(RtMidi::UNIX_JACK, "hmp-test-gone");
+  keys->openVirtualPort("keys");
+  HmpRun hmp({"live", "--api", "jack", "--device", "sim", "--input", "hmp-test-gone", "--seconds", "20"});
+  std::this_thread::sleep_for(1500ms);
+  keys.reset();  // the keyboard unplugged
+  const auto t0 = std::chrono::steady_clock::now();
+  EXPECT_EQ(hmp.wait(), 1) << read_file(hmp.err);
+  EXPECT_LT(std::chrono::steady_clock::now() - t0, 10s);
+  EXPECT_NE(read_file(hmp.err).find("live: the MIDI input hmp-test-gone:keys is gone"), std::string::npos)
+      << read_file(hmp.err);
+}
+
+TEST(LiveJack, NoServerOrNoSuchPortIsBadInput) {
+  {
+    ::setenv("JACK_DEFAULT_SERVER", ("hmp-nobody-" + std::to_string(::getpid())).c_str(), 1);
+    HmpRun hmp({"live", "--api", "jack", "--device", "sim"});
+    EXPECT_EQ(hmp.wait(), 2);
+    EXPECT_EQ(read_file(hmp.err), "error: jack MIDI input: no JACK server running\n");
+  }
+  JackServer jack;
+  if (!jack.up()) GTEST_FAIL() << jack.why();
+  HmpRun hmp({"live", "--api", "jack", "--device", "sim", "--input", "no-such-keyboard"});
+  EXPECT_EQ(hmp.wait(), 2);
+  EXPECT_EQ(read_file(hmp.err),
+            "error: jack MIDI input: no port named like 'no-such-keyboard' (hmp live --list shows them)\n");
+}
+
+}  // namespace
