@@ -13,9 +13,12 @@
 
 #include <fmt/format.h>
 
+#include <nlohmann/json.hpp>
+
 #include "host/cli/commands.hpp"
 #include "host/cli/device_hello.hpp"
 #include "host/common/error.hpp"
+#include "host/output/output_file.hpp"
 #include "host/live/live_session.hpp"
 #include "host/live/midi_port.hpp"
 #include "host/player/live_terminal.hpp"
@@ -34,6 +37,8 @@ struct LiveOptions {
   std::string device = "auto";
   double seconds = 0;
   bool wait = false;
+  std::optional<std::string> log;
+  bool force = false;
 };
 
 live::MidiApi parse_api(const std::string& text) {
@@ -113,9 +118,37 @@ std::string latency_text(const live::LiveProgress& p) {
                      live::percentile(p.latency_ms, 100), p.latency_ms.size());
 }
 
+// One JSON line per note-on (times in µs of CLOCK_MONOTONIC, which JACK's clock reads too; started_us
+// null when no Started report came), then a summary line. Checked before the run; written at its end.
+void write_log(const std::string& path, const live::LiveSession& session) {
+  output::FilePtr f = output::open_for_writing(path, true);
+  for (const live::NoteRecord& n : session.notes()) {
+    nlohmann::json line = {{"channel", n.channel + 1},
+                           {"key", n.key},
+                           {"received_us", n.received_us},
+                           {"sent_us", n.sent_us},
+                           {"started_us", nullptr}};
+    if (n.started_us != 0) {
+      line["started_us"] = n.started_us;
+      line["actual_tick"] = n.actual_tick;
+    }
+    std::fprintf(f.get(), "%s\n", line.dump().c_str());
+  }
+  const live::LiveProgress& p = session.progress();
+  const nlohmann::json summary = {{"summary",
+                                   {{"notes_on", p.counts.notes_on},
+                                    {"notes_off", p.counts.notes_off},
+                                    {"bends", p.counts.bends},
+                                    {"started", p.started},
+                                    {"refused", p.refused}}}};
+  std::fprintf(f.get(), "%s\n", summary.dump().c_str());
+  output::close_output(f);
+}
+
 int run_live(const LiveOptions& o) {
   if (o.list) return list_ports();
   const live::MapperOptions mo = mapper_options(o);
+  if (o.log) output::check_writable(*o.log, o.force);
   if (o.api) parse_api(*o.api);  // bad input before any port or device is opened
   const live::MidiPortBackend& b = backend();
   const live::MidiApi api = choose_api(o, b);
@@ -136,7 +169,7 @@ int run_live(const LiveOptions& o) {
   if (!opened.note.empty()) std::fprintf(stderr, "%s\n", opened.note.c_str());
   player::DeviceLink link(*opened.transport, link_options_for(opened));
   connect_and_describe(link, opened);
-  live::LiveSession session(link, mo);
+  live::LiveSession session(link, mo, o.log.has_value());
   player::install_stop_signals();
   std::unique_ptr<live::MidiInput> in = open_port(b, api, o, session, true);
   std::fprintf(stderr, "live: input %s, %s, keys %s, envelope %s, mapping %s; Ctrl-C stops\n", in->name().c_str(),
@@ -145,9 +178,10 @@ int run_live(const LiveOptions& o) {
   const bool tty = isatty(STDERR_FILENO) != 0;
   const auto show = [&](const live::LiveProgress& p) {
     if (!tty) return;
-    std::fprintf(stderr, "\r\033[Knotes %llu, device started %llu%s",
+    const std::string held = p.held == 0 ? "" : fmt::format(", {} events waiting for the device", p.held);
+    std::fprintf(stderr, "\r\033[Knotes %llu, device started %llu%s%s",
                  static_cast<unsigned long long>(p.counts.notes_on), static_cast<unsigned long long>(p.started),
-                 p.last_error.empty() ? "" : (", refused: " + p.last_error).c_str());
+                 held.c_str(), p.last_error.empty() ? "" : (", refused: " + p.last_error).c_str());
   };
   const auto stop = [] { return player::stop_signal() != 0; };
   const auto started = std::chrono::steady_clock::now();
@@ -169,9 +203,12 @@ int run_live(const LiveOptions& o) {
   session.finish();
   if (tty) std::fprintf(stderr, "\n");
   const live::LiveProgress& p = session.progress();
-  fmt::print("live: {} notes on, {} off, {} bends; the device started {} ({}); {} report(s) refused\n",
-             p.counts.notes_on, p.counts.notes_off, p.counts.bends, p.started, latency_text(p), p.refused);
+  fmt::print(
+      "live: {} notes on, {} off, {} bends; the device started {} ({}); {} report(s) refused; at most {} "
+      "events waited for the device\n",
+      p.counts.notes_on, p.counts.notes_off, p.counts.bends, p.started, latency_text(p), p.refused, p.most_held);
   if (!p.last_error.empty()) std::fprintf(stderr, "live: the device refused %s\n", p.last_error.c_str());
+  if (o.log) write_log(*o.log, session);
   return code;
 }
 
@@ -193,6 +230,9 @@ void register_live(CLI::App& app, Registry& registry) {
                   "auto (HID, else the simulated device), sim, qemu, hid[:VID:PID], serial:PATH");
   cmd->add_option("--seconds", o->seconds, "Stop after this many seconds (default: at Ctrl-C)");
   cmd->add_flag("--wait", o->wait, "A port that is not there (yet, or any more) is waited for");
+  cmd->add_option("--log", o->log,
+                  "JSON lines: every note-on with its times (received, sent, started), then a summary");
+  cmd->add_flag("-f,--force", o->force, "Overwrite an existing log file");
   cmd->callback([o, &registry] { registry.set([o] { return run_live(*o); }); });
 }
 

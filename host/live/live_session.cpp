@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 namespace hmp::live {
 namespace {
@@ -9,6 +10,7 @@ namespace {
 constexpr std::int64_t kSyncPeriodUs = 100'000, kShowPeriodUs = 200'000, kPortCheckUs = 500'000;
 // The output's ramp-in after play: short, as the first key may come at once (a song's player has 500 ms).
 constexpr std::uint16_t kRampInMs = 20;
+constexpr std::size_t kInFlight = 8;  // Live reports sent and not yet processed by the device
 
 }  // namespace
 
@@ -20,7 +22,8 @@ double percentile(std::vector<double> values, double p) {
   return values[std::min(i, values.size() - 1)];
 }
 
-LiveSession::LiveSession(player::DeviceLink& link, const MapperOptions& options) : link_(link), mapper_(options) {}
+LiveSession::LiveSession(player::DeviceLink& link, const MapperOptions& options, bool keep_notes)
+    : link_(link), mapper_(options), keep_notes_(keep_notes) {}
 
 void LiveSession::receive(void* self, const std::uint8_t* bytes, std::size_t size) {
   auto* me = static_cast<LiveSession*>(self);
@@ -31,11 +34,14 @@ void LiveSession::receive(void* self, const std::uint8_t* bytes, std::size_t siz
   me->link_.notify();
 }
 
-// The events of the messages taken, in order, in reports of up to five events of one track: a chord or
-// a burst fills reports instead of sending one per message (the device takes a few reports a tick).
+// The events waiting, in order, in reports of up to five events of one track: a chord or a burst fills
+// reports instead of sending one per message. At most kInFlight reports the device has not processed yet
+// (Status.last_seq): its inbox holds 16 and it takes 4 a tick, and a serial link cannot hold a report
+// back as USB does, so a burst beyond that waits here (counted in held) instead of being lost there.
 void LiveSession::send_events() {
+  while (!in_flight_.empty() && link_.processed(in_flight_.front())) in_flight_.pop_front();
   std::size_t i = 0;
-  while (i < events_.size()) {
+  while (i < events_.size() && in_flight_.size() < kInFlight) {
     protocol::Message m = protocol::make(protocol::Type::live, 0);
     m.live.track = events_[i].track;
     const std::size_t first = i;
@@ -43,9 +49,22 @@ void LiveSession::send_events() {
       m.live.events[m.live.count++] = events_[i++].event;
     const std::optional<std::uint16_t> seq = link_.send(m);
     if (!seq) return;  // the link is dead: check() says so
-    for (std::uint8_t k = 0; k < m.live.count; ++k)
-      if (m.live.events[k].op == protocol::LiveOp::on) sent_on_.push_back({*seq, k, event_us_[first + k]});
+    in_flight_.push_back(*seq);
+    const std::int64_t sent_us = player::steady_us();
+    for (std::uint8_t k = 0; k < m.live.count; ++k) {
+      if (m.live.events[k].op != protocol::LiveOp::on) continue;
+      std::size_t record = SIZE_MAX;
+      if (keep_notes_) {
+        record = notes_.size();
+        notes_.push_back({m.live.track, m.live.events[k].key, event_us_[first + k], sent_us, 0, 0});
+      }
+      sent_on_.push_back({*seq, k, event_us_[first + k], record});
+    }
   }
+  events_.erase(events_.begin(), events_.begin() + static_cast<std::ptrdiff_t>(i));
+  event_us_.erase(event_us_.begin(), event_us_.begin() + static_cast<std::ptrdiff_t>(i));
+  progress_.held = events_.size();
+  progress_.most_held = std::max(progress_.most_held, progress_.held);
 }
 
 void LiveSession::take_device_events() {
@@ -57,6 +76,10 @@ void LiveSession::take_device_events() {
                                  [&](const SentOn& o) { return o.seq == s.seq && o.index == s.index; });
     if (it == sent_on_.end()) continue;
     progress_.latency_ms.push_back(static_cast<double>(now - it->received_us) / 1000.0);
+    if (it->record != SIZE_MAX) {
+      notes_[it->record].started_us = now;
+      notes_[it->record].actual_tick = s.actual_tick;
+    }
     sent_on_.erase(it);
   }
   for (const protocol::Error& e : ev.errors) {
@@ -86,8 +109,6 @@ LiveEnd LiveSession::run(const MidiInput& input, double seconds, const std::func
       const std::lock_guard<std::mutex> lock(mutex_);
       batch.swap(pending_);
     }
-    events_.clear();
-    event_us_.clear();
     for (const Pending& p : batch) {
       stream_.feed(p.bytes.data(), p.bytes.size(),
                    [&](const ChannelMessage& msg) { mapper_.on_message(msg, events_); });

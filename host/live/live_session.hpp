@@ -4,6 +4,7 @@
 // with the messages that caused them, for the latency.
 #include <chrono>
 #include <cstdint>
+#include <deque>
 #include <functional>
 #include <mutex>
 #include <string>
@@ -20,7 +21,19 @@ struct LiveProgress {
   std::uint64_t started = 0;       // notes the device reported started
   std::uint64_t refused = 0;       // Live reports the device refused (each also in `last_error`)
   std::string last_error;          // the device's last Error, as text
+  std::size_t held = 0;            // events waiting for the device to take the reports before them
+  std::size_t most_held = 0;       // the most that ever waited
   std::vector<double> latency_ms;  // per started note: message received → its Started report taken
+};
+
+// One note-on as it went through (`hmp live --log`): times in µs of the steady clock (CLOCK_MONOTONIC,
+// the clock JACK's jack_get_time reads too), started_us 0 while no Started report has come.
+struct NoteRecord {
+  std::uint8_t channel = 0, key = 0;
+  std::int64_t received_us = 0;  // the MIDI callback had the message
+  std::int64_t sent_us = 0;      // its Live report was handed to the link
+  std::int64_t started_us = 0;   // the device's Started report for it was taken
+  std::uint32_t actual_tick = 0;
 };
 
 // Why run() returned.
@@ -28,7 +41,8 @@ enum class LiveEnd { stopped, time_up, port_gone };
 
 class LiveSession {
  public:
-  LiveSession(player::DeviceLink& link, const MapperOptions& options);
+  // keep_notes: keep a NoteRecord of every note-on (for --log).
+  LiveSession(player::DeviceLink& link, const MapperOptions& options, bool keep_notes = false);
   // The MidiReceive of the input port: queues the message and wakes run().
   static void receive(void* self, const std::uint8_t* bytes, std::size_t size);
   // Sends Settings and play, then runs until `stop()` says so, `seconds` (> 0) have passed, or `input` is
@@ -38,6 +52,7 @@ class LiveSession {
   // Silences the device (Transport stop).
   void finish();
   const LiveProgress& progress() const { return progress_; }
+  const std::vector<NoteRecord>& notes() const { return notes_; }
 
  private:
   struct Pending {
@@ -48,6 +63,7 @@ class LiveSession {
     std::uint16_t seq;
     std::uint8_t index;
     std::int64_t received_us;
+    std::size_t record;  // its NoteRecord, or SIZE_MAX when none is kept
   };
   void send_events();
   void take_device_events();
@@ -58,9 +74,12 @@ class LiveSession {
   std::mutex mutex_;
   std::vector<Pending> pending_;  // under mutex_
   std::vector<DeviceEvent> events_;
-  std::vector<std::int64_t> event_us_;  // when the message of each event arrived
-  std::vector<SentOn> sent_on_;         // note-ons whose Started has not come yet
+  std::vector<std::int64_t> event_us_;   // when the message of each event arrived
+  std::vector<SentOn> sent_on_;          // note-ons whose Started has not come yet
+  std::deque<std::uint16_t> in_flight_;  // seq of Live reports the device has not processed yet
   LiveProgress progress_;
+  bool keep_notes_;
+  std::vector<NoteRecord> notes_;
 };
 
 // p-th percentile (0–100) of `values`, nearest rank; 0 when empty.

@@ -156,6 +156,34 @@ TEST(LiveJack, EveryNotePlayedIntoHmpStartsOnceOnTheDevice) {
   std::printf("%s", summary.c_str());  // the latency, for the log
 }
 
+// 1,000 notes in 100 ms, far more than the device takes in (4 reports a tick): the events wait in hmp for
+// the device to process the reports before them (the summary says how many waited at most), and every
+// note still starts once; nothing is refused or lost.
+TEST(LiveJack, ABurstWaitsForTheDeviceAndLosesNothing) {
+  JackServer jack;
+  if (!jack.up()) GTEST_FAIL() << jack.why();
+  HmpRun hmp({"live", "--api", "jack", "--device", "sim", "--seconds", "5"});
+  RtMidiOut out(RtMidi::UNIX_JACK, "hmp-test-burst");
+  ASSERT_TRUE(connect(out, "hmp:hmp")) << read_file(hmp.err);
+  std::this_thread::sleep_for(300ms);
+  const auto t0 = std::chrono::steady_clock::now();
+  for (int i = 0; i < 1000; ++i) {
+    const auto key = static_cast<unsigned char>(30 + i % 60);
+    send(out, {0x90, key, 100});
+    send(out, {0x80, key, 0});
+    if (i % 10 == 9) std::this_thread::sleep_until(t0 + (i + 1) * 100us);
+  }
+  ASSERT_EQ(hmp.wait(), 0) << read_file(hmp.err);
+  const std::string summary = read_file(hmp.out);
+  const std::regex line(
+      R"(live: 1000 notes on, 1000 off, 0 bends; the device started 1000 \(.*\); 0 report\(s\) refused; )"
+      R"(at most (\d+) events waited)");
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(summary, m, line)) << summary << read_file(hmp.err);
+  EXPECT_GT(std::stoi(m[1]), 0) << "a burst this size must have waited";
+  std::printf("%s", summary.c_str());
+}
+
 TEST(LiveJack, APortThatDisappearsEndsTheRunWithOneLine) {
   JackServer jack;
   if (!jack.up()) GTEST_FAIL() << jack.why();

@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# hmp live: every bad option exits 2 with exactly one line on stderr naming the problem, before any MIDI
+# port or device is opened (so these need neither a JACK server nor an ALSA sequencer).
+set -u
+hmp="$1"
+source "$(dirname "${BASH_SOURCE[0]}")/lib.bash"
+
+bad_prefix=(live)
+expect_bad "--channel 17: use 1–16" --channel 17
+expect_bad "--channel -1: use 1–16" --channel -1
+expect_bad "the low key is above the high one" --key-range 70:60
+expect_bad "expected LOW:HIGH" --key-range 60
+expect_bad "each end is a key" --key-range C4:C10
+expect_bad "each end is a key" --key-range 0:128
+expect_bad "--envelope kazoo: unknown" --envelope kazoo
+expect_bad "--mapping wobble: unknown" --mapping wobble
+expect_bad "--api midi: use alsa or jack" --api midi
+expect_bad "--seconds -1: must be ≥ 0" --seconds -1
+# The log's name is checked first too: an existing file is kept without --force.
+echo keep >"$tmp/log.jsonl"
+expect_bad "exists" --log "$tmp/log.jsonl"
+[ "$(cat "$tmp/log.jsonl")" = keep ] || { echo "FAIL: the log was modified"; fail=1; }
+
+[ $fail -eq 0 ] && echo "live_errors: all passed"
