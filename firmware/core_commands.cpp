@@ -89,8 +89,7 @@ void Core::on_sync(const protocol::Message& m, const InboxEntry& entry) {
 // note is queued, so a report is taken whole or not at all.
 ErrorCode Core::check_playable(std::uint8_t preset, std::uint32_t freq_q20) const {
   if (engine_.preset(preset) == nullptr) return ErrorCode::bad_slot;
-  const std::uint64_t nyquist_q20 = static_cast<std::uint64_t>(tick_hz_) << (synth::kFreqFracBits - 1);
-  if (freq_q20 == 0 || freq_q20 >= nyquist_q20) return ErrorCode::bad_value;
+  if (!engine_.frequency_ok(freq_q20)) return ErrorCode::bad_value;
   return ErrorCode::none;
 }
 

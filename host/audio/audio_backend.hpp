@@ -27,6 +27,8 @@ class Synth {
   virtual void set_events(const std::vector<AudioEvent>& events) = 0;
   virtual void seek(std::int64_t song_us) = 0;  // sounding voices stop at once
   virtual void release_all() = 0;               // notes go into their release (pause)
+  // Applies one event now, whatever its time (live input): heard from the next render().
+  virtual void apply_now(const AudioEvent& e) = 0;
   // Writes `frames` frames from the present position into left/right and advances by as much.
   virtual void render(float* left, float* right, std::size_t frames) = 0;
   virtual std::int64_t position_us() const = 0;
@@ -49,7 +51,7 @@ using RenderCallback = void (*)(void* context, int frames, int outputs, float* o
 class AudioBackend {
  public:
   static constexpr const char* kModule = "audio";
-  static constexpr int kAbi = 1;
+  static constexpr int kAbi = 2;
 
   virtual std::unique_ptr<Synth> make_synth(const SynthSettings& settings) const = 0;
   // Opens FluidSynth's audio driver `driver` (pulseaudio, alsa, sdl2, …) with this buffering, pulling

@@ -168,6 +168,11 @@ void AudioPlayer::set_events(const std::vector<AudioEvent>& events) {
   load_events();
 }
 
+void AudioPlayer::play_now(const AudioEvent& e) {
+  std::lock_guard lock(mutex_);
+  if (synth_) synth_->apply_now(e);
+}
+
 void AudioPlayer::start_locked(std::int64_t song_us) {
   if (synth_) synth_->seek(to_play(song_us));
   clock_.start(to_play(song_us), now() + latency());

@@ -46,6 +46,8 @@ class AudioPlayer {
   void seek(std::int64_t song_us);
   // Stops at once (no release tails); the position stays.
   void stop();
+  // One event heard at once, whatever the song's position (`hmp live`'s input); nothing when silent.
+  void play_now(const AudioEvent& e);
   // Playback speed (0.5–2; 1 = the song's own pace): the song's events come that much faster, at their
   // own pitch (the synthesizer plays them, nothing is resampled). Takes effect at once from the present
   // position, playing or paused. Every time in this interface stays song time; inside, the synthesizer

@@ -1,7 +1,7 @@
-// hmp live [--list] [--input PORT] [--api alsa|jack] [--channel N] [--key-range LOW:HIGH] [--envelope NAME]
-// [--mapping MODE] [--device SPEC] [--seconds S] [--wait] — feel MIDI as it is played: every note of a
-// keyboard or a DAW, from an ALSA sequencer or JACK input port, sent to the device the moment it arrives
-// (docs/live.md).
+// hmp live [--list] [--input PORT] [--api alsa|jack] [--channel N] [--instrument GM] [--key-range LOW:HIGH]
+// [--envelope NAME] [--mapping MODE] [--device SPEC] [--no-audio …] [--seconds S] [--wait] — feel MIDI as
+// it is played: every note of a keyboard or a DAW, from an ALSA sequencer or JACK input port, sent to the
+// device the moment it arrives and heard through FluidSynth (docs/live.md).
 #include <unistd.h>
 
 #include <algorithm>
@@ -17,9 +17,13 @@
 
 #include "host/cli/commands.hpp"
 #include "host/cli/device_hello.hpp"
+#include "host/cli/song_options.hpp"
 #include "host/common/error.hpp"
 #include "host/output/output_file.hpp"
+#include "host/audio/audio_player.hpp"
 #include "host/live/live_session.hpp"
+#include "host/live/live_sound.hpp"
+#include "host/midi/gm.hpp"
 #include "host/live/midi_port.hpp"
 #include "host/player/live_terminal.hpp"
 
@@ -32,7 +36,9 @@ struct LiveOptions {
   std::optional<std::string> api;
   int channel = 0;  // 1–16; 0: every channel
   std::string key_range = "21:108";
-  std::string envelope = "harpsichord";
+  std::optional<std::string> instrument;  // a GM program: the sound, and the envelope unless --envelope
+  std::optional<std::string> envelope;    // default: the instrument's `auto` preset (the piano's: harpsichord)
+  AudioCliOptions audio;
   std::string mapping = "paper";
   std::string device = "auto";
   double seconds = 0;
@@ -77,16 +83,25 @@ live::MidiApi choose_api(const LiveOptions& o, const live::MidiPortBackend& b) {
   return error.empty() ? live::MidiApi::jack : live::MidiApi::alsa;
 }
 
+// --instrument as a GM program 0–127; nullopt when not given.
+std::optional<std::uint8_t> instrument(const LiveOptions& o) {
+  if (!o.instrument) return std::nullopt;
+  const std::optional<std::uint8_t> program = midi::find_gm_program(*o.instrument);
+  if (!program)
+    throw BadInput("--instrument " + *o.instrument + ": not a GM program (1–128, or a name as hmp info shows)");
+  return program;
+}
+
 live::MapperOptions mapper_options(const LiveOptions& o) {
   live::MapperOptions m;
   if (o.channel < 0 || o.channel > 16) throw BadInput(fmt::format("--channel {}: use 1–16", o.channel));
   m.channel = o.channel - 1;
   m.keys = live::parse_key_range(o.key_range);
-  envelope::Preset preset;
-  if (!envelope::find_builtin(o.envelope.c_str(), preset)) throw BadInput("--envelope " + o.envelope + ": unknown");
+  envelope::Preset preset = envelope::auto_preset(instrument(o).value_or(0), 0);
+  if (o.envelope && !envelope::find_builtin(o.envelope->c_str(), preset))
+    throw BadInput("--envelope " + *o.envelope + ": unknown");
   m.preset = static_cast<std::uint8_t>(preset);
-  if (!mapping::find_mode(o.mapping.c_str(), m.mode))
-    throw BadInput("--mapping " + o.mapping + ": unknown (paper, rank, constant, legacy2013)");
+  m.mode = parse_mapping_mode(o.mapping);
   if (!(o.seconds >= 0)) throw BadInput(fmt::format("--seconds {}: must be ≥ 0", o.seconds));
   return m;
 }
@@ -140,7 +155,8 @@ void write_log(const std::string& path, const live::LiveSession& session) {
                                     {"notes_off", p.counts.notes_off},
                                     {"bends", p.counts.bends},
                                     {"started", p.started},
-                                    {"refused", p.refused}}}};
+                                    {"refused", p.refused},
+                                    {"dropped", p.dropped}}}};
   std::fprintf(f.get(), "%s\n", summary.dump().c_str());
   output::close_output(f);
 }
@@ -148,6 +164,7 @@ void write_log(const std::string& path, const live::LiveSession& session) {
 int run_live(const LiveOptions& o) {
   if (o.list) return list_ports();
   const live::MapperOptions mo = mapper_options(o);
+  const audio::AudioOptions audio_opts = audio_options(o.audio);  // checks --soundfont
   if (o.log) output::check_writable(*o.log, o.force);
   if (o.api) parse_api(*o.api);  // bad input before any port or device is opened
   const live::MidiPortBackend& b = backend();
@@ -170,18 +187,32 @@ int run_live(const LiveOptions& o) {
   player::DeviceLink link(*opened.transport, link_options_for(opened));
   connect_and_describe(link, opened);
   live::LiveSession session(link, mo, o.log.has_value());
+  audio::AudioPlayer sound(audio_opts);
+  live::LiveSound heard(mo.channel, instrument(o));
+  if (sound.audible()) {
+    std::fprintf(stderr, "audio: %s, output latency %.1f ms\n", sound.driver_name().c_str(),
+                 sound.output_latency_s() * 1e3);
+    sound.set_events({});
+    sound.start(0);
+    session.set_listener([&](const live::ChannelMessage& msg) {
+      if (const std::optional<audio::AudioEvent> e = heard.on_message(msg)) sound.play_now(*e);
+    });
+  }
   player::install_stop_signals();
   std::unique_ptr<live::MidiInput> in = open_port(b, api, o, session, true);
-  std::fprintf(stderr, "live: input %s, %s, keys %s, envelope %s, mapping %s; Ctrl-C stops\n", in->name().c_str(),
+  const std::optional<std::uint8_t> program = instrument(o);
+  std::fprintf(stderr, "live: input %s, %s, %s, keys %s, envelope %s, mapping %s; Ctrl-C stops\n", in->name().c_str(),
                o.channel == 0 ? "every channel" : fmt::format("channel {}", o.channel).c_str(),
-               live::to_string(mo.keys).c_str(), o.envelope.c_str(), o.mapping.c_str());
+               program ? midi::gm_program_name(*program) : "the input's programs", live::to_string(mo.keys).c_str(),
+               envelope::name(static_cast<envelope::Preset>(mo.preset)), o.mapping.c_str());
   const bool tty = isatty(STDERR_FILENO) != 0;
   const auto show = [&](const live::LiveProgress& p) {
     if (!tty) return;
     const std::string held = p.held == 0 ? "" : fmt::format(", {} events waiting for the device", p.held);
-    std::fprintf(stderr, "\r\033[Knotes %llu, device started %llu%s%s",
+    const std::string lost = p.dropped == 0 ? "" : fmt::format(", {} MIDI messages lost", p.dropped);
+    std::fprintf(stderr, "\r\033[Knotes %llu, device started %llu%s%s%s",
                  static_cast<unsigned long long>(p.counts.notes_on), static_cast<unsigned long long>(p.started),
-                 held.c_str(), p.last_error.empty() ? "" : (", refused: " + p.last_error).c_str());
+                 held.c_str(), lost.c_str(), p.last_error.empty() ? "" : (", refused: " + p.last_error).c_str());
   };
   const auto stop = [] { return player::stop_signal() != 0; };
   const auto started = std::chrono::steady_clock::now();
@@ -208,6 +239,10 @@ int run_live(const LiveOptions& o) {
       "events waited for the device\n",
       p.counts.notes_on, p.counts.notes_off, p.counts.bends, p.started, latency_text(p), p.refused, p.most_held);
   if (!p.last_error.empty()) std::fprintf(stderr, "live: the device refused %s\n", p.last_error.c_str());
+  if (p.dropped > 0) {
+    std::fprintf(stderr, "live: %llu MIDI message(s) lost: hmp fell behind its input\n",
+                 static_cast<unsigned long long>(p.dropped));
+  }
   if (o.log) write_log(*o.log, session);
   return code;
 }
@@ -224,7 +259,13 @@ void register_live(CLI::App& app, Registry& registry) {
   cmd->add_option("--channel", o->channel, "Only this MIDI channel, 1–16 (default: every channel)");
   cmd->add_option("--key-range", o->key_range,
                   "The keys the pitch mapping spreads over, LOW:HIGH as numbers or names (default 21:108, A0–C8)");
-  cmd->add_option("--envelope", o->envelope, "A built-in envelope preset (default harpsichord: the piano's)");
+  cmd->add_option("--instrument", o->instrument,
+                  "The sound: a GM program, 1–128 or its name (default: the input's program changes, piano "
+                  "until one comes); also the envelope, unless --envelope");
+  cmd->add_option("--envelope", o->envelope,
+                  "A built-in envelope preset (default: the instrument's, as `auto` picks it; harpsichord for "
+                  "the piano)");
+  add_audio_options(cmd, o->audio);
   cmd->add_option("--mapping", o->mapping, "Pitch mapping: paper (default), rank, constant, legacy2013");
   cmd->add_option("--device", o->device,
                   "auto (HID, else the simulated device), sim, qemu, hid[:VID:PID], serial:PATH");

@@ -56,12 +56,17 @@ void add_haptic_options(CLI::App* cmd, HapticCliOptions& o) {
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
 }
 
+mapping::Mode parse_mapping_mode(const std::string& text) {
+  mapping::Mode mode;
+  if (!mapping::find_mode(text.c_str(), mode))
+    throw BadInput("--mapping " + text + ": unknown (paper, rank, constant, legacy2013)");
+  return mode;
+}
+
 haptics::HapticOptions resolve(const HapticCliOptions& o) {
   haptics::HapticOptions h;
   for (const std::string& path : o.config_paths) haptics::apply_config(config::load(path), h);
-  if (o.mapping && !mapping::find_mode(o.mapping->c_str(), h.mapping)) {
-    throw BadInput("--mapping " + *o.mapping + ": unknown (paper, rank, constant, legacy2013)");
-  }
+  if (o.mapping) h.mapping = parse_mapping_mode(*o.mapping);
   if (o.key_scope) {
     haptics::KeyScope scope;
     if (!haptics::find_key_scope(*o.key_scope, scope))

@@ -30,6 +30,8 @@ struct HapticCliOptions {
 
 void add_haptic_options(CLI::App* cmd, HapticCliOptions& o);
 haptics::HapticOptions resolve(const HapticCliOptions& o);
+// --mapping's text → the mode; throws BadInput naming the text and the choices.
+mapping::Mode parse_mapping_mode(const std::string& text);
 
 // No --track: the first track with notes whose instrument has its own envelope in Table 1 (design §6:
 // organ … contrabass), else the first track with notes. A song without notes is bad input.

@@ -27,11 +27,7 @@ LiveSession::LiveSession(player::DeviceLink& link, const MapperOptions& options,
 
 void LiveSession::receive(void* self, const std::uint8_t* bytes, std::size_t size) {
   auto* me = static_cast<LiveSession*>(self);
-  {
-    const std::lock_guard<std::mutex> lock(me->mutex_);
-    me->pending_.push_back({player::steady_us(), std::vector<std::uint8_t>(bytes, bytes + size)});
-  }
-  me->link_.notify();
+  if (me->ring_.push(player::steady_us(), bytes, size)) me->link_.notify();
 }
 
 // The events waiting, in order, in reports of up to five events of one track: a chord or a burst fills
@@ -100,22 +96,22 @@ LiveEnd LiveSession::run(const MidiInput& input, double seconds, const std::func
   link_.send(m);
   const std::int64_t start = player::steady_us();
   std::int64_t next_sync = start, next_show = start, next_port_check = start + kPortCheckUs;
-  std::vector<Pending> batch;
   for (;;) {
     const std::int64_t now = player::steady_us();
     if (stop()) return LiveEnd::stopped;
     if (seconds > 0 && static_cast<double>(now - start) >= seconds * 1e6) return LiveEnd::time_up;
-    {
-      const std::lock_guard<std::mutex> lock(mutex_);
-      batch.swap(pending_);
-    }
-    for (const Pending& p : batch) {
-      stream_.feed(p.bytes.data(), p.bytes.size(),
-                   [&](const ChannelMessage& msg) { mapper_.on_message(msg, events_); });
-      event_us_.resize(events_.size(), p.received_us);
-    }
-    batch.clear();
+    ring_.drain([&](const MidiChunk& c) {
+      stream_.feed(c.bytes, c.size, [&](const ChannelMessage& msg) {
+        mapper_.on_message(msg, events_);
+        if (hear_) heard_.push_back(msg);
+      });
+      event_us_.resize(events_.size(), c.received_us);
+    });
+    progress_.dropped = ring_.dropped();
     send_events();
+    // The sound after the device's share: it may wait for the audio thread's lock.
+    for (const ChannelMessage& msg : heard_) hear_(msg);
+    heard_.clear();
     link_.check();
     take_device_events();
     if (now >= next_sync) {
@@ -145,6 +141,7 @@ void LiveSession::finish() {
     take_device_events();
   }
   progress_.counts = mapper_.counts();
+  progress_.dropped = ring_.dropped();
 }
 
 }  // namespace hmp::live

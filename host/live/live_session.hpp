@@ -6,11 +6,12 @@
 #include <cstdint>
 #include <deque>
 #include <functional>
-#include <mutex>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "host/live/live_mapper.hpp"
+#include "host/live/message_ring.hpp"
 #include "host/live/midi_port.hpp"
 #include "host/player/device_link.hpp"
 
@@ -23,6 +24,7 @@ struct LiveProgress {
   std::string last_error;          // the device's last Error, as text
   std::size_t held = 0;            // events waiting for the device to take the reports before them
   std::size_t most_held = 0;       // the most that ever waited
+  std::uint64_t dropped = 0;       // MIDI messages lost because hmp's loop fell 8,192 chunks behind
   std::vector<double> latency_ms;  // per started note: message received → its Started report taken
 };
 
@@ -43,8 +45,11 @@ class LiveSession {
  public:
   // keep_notes: keep a NoteRecord of every note-on (for --log).
   LiveSession(player::DeviceLink& link, const MapperOptions& options, bool keep_notes = false);
-  // The MidiReceive of the input port: queues the message and wakes run().
+  // The MidiReceive of the input port: queues the message and wakes run(), without a lock or an
+  // allocation (it may run in JACK's real-time thread, where either could cost the cycle).
   static void receive(void* self, const std::uint8_t* bytes, std::size_t size);
+  // Also hands every channel message to `hear` (on run()'s thread, after its Live report is sent): the sound.
+  void set_listener(std::function<void(const ChannelMessage&)> hear) { hear_ = std::move(hear); }
   // Sends Settings and play, then runs until `stop()` says so, `seconds` (> 0) have passed, or `input` is
   // gone; `show` is called about five times a second. Throws player::LinkError when the device is lost.
   LiveEnd run(const MidiInput& input, double seconds, const std::function<bool()>& stop,
@@ -55,10 +60,6 @@ class LiveSession {
   const std::vector<NoteRecord>& notes() const { return notes_; }
 
  private:
-  struct Pending {
-    std::int64_t received_us;
-    std::vector<std::uint8_t> bytes;
-  };
   struct SentOn {
     std::uint16_t seq;
     std::uint8_t index;
@@ -71,8 +72,9 @@ class LiveSession {
   player::DeviceLink& link_;
   LiveMapper mapper_;
   MidiStream stream_;
-  std::mutex mutex_;
-  std::vector<Pending> pending_;  // under mutex_
+  MessageRing ring_;
+  std::function<void(const ChannelMessage&)> hear_;
+  std::vector<ChannelMessage> heard_;  // this round's messages, for hear_
   std::vector<DeviceEvent> events_;
   std::vector<std::int64_t> event_us_;   // when the message of each event arrived
   std::vector<SentOn> sent_on_;          // note-ons whose Started has not come yet

@@ -1,5 +1,10 @@
 #include "host/midi/gm.hpp"
 
+#include <charconv>
+#include <string>
+
+#include "shared/common/text.hpp"
+
 namespace hmp::midi {
 namespace {
 
@@ -65,6 +70,16 @@ constexpr const char* kFamilyNames[16] = {
 }  // namespace
 
 const char* gm_program_name(std::uint8_t program) { return program < 128 ? kProgramNames[program] : ""; }
+
+std::optional<std::uint8_t> find_gm_program(std::string_view wanted) {
+  int number = 0;
+  const auto [end, ec] = std::from_chars(wanted.data(), wanted.data() + wanted.size(), number);
+  if (ec == std::errc() && end == wanted.data() + wanted.size())
+    return number >= 1 && number <= 128 ? std::optional<std::uint8_t>(number - 1) : std::nullopt;
+  for (int p = 0; p < 128; ++p)
+    if (text::iequals(std::string(wanted).c_str(), kProgramNames[p])) return static_cast<std::uint8_t>(p);
+  return std::nullopt;
+}
 
 const char* gm_family_name(std::uint8_t program) { return program < 128 ? kFamilyNames[program / 8] : ""; }
 

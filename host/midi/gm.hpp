@@ -1,6 +1,8 @@
 #pragma once
 // General MIDI level 1 facts: the 128 program names and their 16 families.
 #include <cstdint>
+#include <optional>
+#include <string_view>
 
 #include "shared/envelope/gm_auto.hpp"
 
@@ -9,6 +11,9 @@ namespace hmp::midi {
 // GM1 sound set name of a program (0–127, as in the file; GM numbers them 1–128). Programs above 127
 // (impossible in a MIDI data byte) give "".
 const char* gm_program_name(std::uint8_t program);
+// A program given by a user: its GM number 1–128, or its GM1 name in any case ("violin", "Acoustic Grand
+// Piano"); the program 0–127, or nullopt.
+std::optional<std::uint8_t> find_gm_program(std::string_view text);
 // One of the 16 GM1 families ("Piano", "Chromatic Percussion", … "Sound Effects").
 const char* gm_family_name(std::uint8_t program);
 // What `hmp info` shows for a track's instrument: the program name, or "Percussion" on channel 10.

@@ -223,13 +223,14 @@ double DeviceLink::drift() const {
 
 void DeviceLink::wait(std::chrono::microseconds timeout) {
   std::unique_lock lock(mutex_);
-  wake_.wait_for(lock, timeout, [this] { return woken_; });
-  woken_ = false;
+  wake_.wait_for(lock, timeout, [this] { return woken_.exchange(false); });
 }
 
+// No lock: a MIDI callback in JACK's real-time thread calls this, and waiting there for a thread that
+// holds mutex_ could cost the cycle. A wake that lands between wait()'s check and its sleep is seen at
+// the wait's timeout.
 void DeviceLink::notify() {
-  std::lock_guard lock(mutex_);
-  woken_ = true;
+  woken_.store(true);
   wake_.notify_all();
 }
 

@@ -5,6 +5,7 @@
 //
 // Threads: one thread sends (the player); the receiver thread owned here reads the transport. Every
 // query is safe from the player thread while the receiver runs.
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
@@ -114,7 +115,7 @@ class DeviceLink {
 
   mutable std::mutex mutex_;
   std::condition_variable wake_;
-  bool woken_ = false;
+  std::atomic<bool> woken_{false};
   ClockSync clock_;
   transport::HostSession session_;
   std::uint64_t statuses_ = 0;

@@ -14,6 +14,10 @@ expect_bad "each end is a key" --key-range C4:C10
 expect_bad "each end is a key" --key-range 0:128
 expect_bad "--envelope kazoo: unknown" --envelope kazoo
 expect_bad "--mapping wobble: unknown" --mapping wobble
+expect_bad "--instrument kazoo: not a GM program" --instrument kazoo
+expect_bad "--instrument 0: not a GM program" --instrument 0
+expect_bad "--instrument 129: not a GM program" --instrument 129
+expect_bad "none.sf2: no such file" --soundfont "$tmp/none.sf2"
 expect_bad "--api midi: use alsa or jack" --api midi
 expect_bad "--seconds -1: must be ≥ 0" --seconds -1
 # The log's name is checked first too: an existing file is kept without --force.

@@ -2,6 +2,10 @@
 // stopped here under a name of its own: a JACK MIDI client of this test (RtMidi) plays into hmp's port,
 // and the simulated device must start every note exactly once; a port that disappears ends the run with
 // one line and exit 1; no JACK server and a port that is not there are one line and exit 2.
+//
+// JACK drops the MIDI events of a cycle whose client did not finish in time (an xrun, which jackd logs as
+// "JackEngine::XRun"); a busy machine can cause one however hmp behaves. A run that lost notes and saw an
+// xrun is played again (up to three runs, each said in the log); a loss without an xrun fails at once.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -46,7 +50,7 @@ class JackServer {
     ::setenv("JACK_DEFAULT_SERVER", name.c_str(), 1);
     ::setenv("JACK_NO_AUDIO_RESERVATION", "1", 1);
     std::string error;
-    pid_ = hmp::start_child({{"jackd", "-n", name, "-d", "dummy", "-r", "48000", "-p", "64"},
+    pid_ = hmp::start_child({{"jackd", "-n", name, "-d", "dummy", "-r", "48000", "-p", "128"},
                              "",
                              "",
                              "",
@@ -70,6 +74,15 @@ class JackServer {
       std::this_thread::sleep_for(50ms);
     }
     why_ = "jackd did not answer in 5 s: " + read_file(temp_path("jackd.err"));
+  }
+  // Cycles some client missed so far (jackd's "JackEngine::XRun" lines).
+  int xruns() const {
+    const std::string log = read_file(temp_path("jackd.err")) + read_file(temp_path("jackd.out"));
+    int n = 0;
+    for (std::size_t at = log.find("JackEngine::XRun"); at != std::string::npos;
+         at = log.find("JackEngine::XRun", at + 1))
+      ++n;
+    return n;
   }
   ~JackServer() {
     if (pid_ > 0) hmp::stop_child(pid_, 2000ms);
@@ -117,15 +130,31 @@ bool connect(RtMidiOut& out, const std::string& name) {
 
 void send(RtMidiOut& out, std::vector<unsigned char> m) { out.sendMessage(&m); }
 
-TEST(LiveJack, EveryNotePlayedIntoHmpStartsOnceOnTheDevice) {
-  JackServer jack;
-  if (!jack.up()) GTEST_FAIL() << jack.why();
-  HmpRun hmp({"live", "--api", "jack", "--device", "sim", "--seconds", "6"});
+// Runs `play` (which plays into hmp's port and returns hmp's summary) until `complete` holds for the
+// summary, or a run without an xrun, or three runs; the last summary.
+template <class Play, class Complete>
+std::string until_complete(const JackServer& jack, Play&& play, Complete&& complete) {
+  std::string summary;
+  for (int run = 1; run <= 3; ++run) {
+    const int xruns_before = jack.xruns();
+    summary = play();
+    if (complete(summary)) return summary;
+    const int xruns = jack.xruns() - xruns_before;
+    if (xruns == 0) return summary;
+    std::printf("run %d lost notes with %d JACK xrun(s) (the machine was busy): played again\n%s", run, xruns,
+                summary.c_str());
+  }
+  return summary;
+}
+
+// 300 notes, one at a time, then 60 chords of five keys struck together (one message each, as a
+// keyboard sends them), on two channels; a bend while the chord sounds.
+constexpr int kSingles = 300, kChords = 60, kNotes = kSingles + 5 * kChords;
+
+std::string play_notes_and_chords(std::string* err) {
+  HmpRun hmp({"live", "--api", "jack", "--no-audio", "--device", "sim", "--seconds", "6"});
   RtMidiOut out(RtMidi::UNIX_JACK, "hmp-test-keys");
-  ASSERT_TRUE(connect(out, "hmp:hmp")) << read_file(hmp.err);
-  // 300 notes, one at a time, then 60 chords of five keys struck together (one message each, as a
-  // keyboard sends them), on two channels; a bend while the chord sounds.
-  constexpr int kSingles = 300, kChords = 60;
+  if (!connect(out, "hmp:hmp")) return "no port: " + read_file(hmp.err);
   constexpr unsigned char kChord[] = {48, 52, 55, 60, 64};
   for (int i = 0; i < kSingles; ++i) {
     const auto key = static_cast<unsigned char>(36 + i % 48);
@@ -142,17 +171,29 @@ TEST(LiveJack, EveryNotePlayedIntoHmpStartsOnceOnTheDevice) {
     for (const unsigned char k : kChord) send(out, {static_cast<unsigned char>(0x80 | channel), k, 0});
     std::this_thread::sleep_for(3ms);
   }
-  ASSERT_EQ(hmp.wait(), 0) << read_file(hmp.err);
-  const std::string summary = read_file(hmp.out);
-  const int notes = kSingles + 5 * kChords;
+  EXPECT_EQ(hmp.wait(), 0) << read_file(hmp.err);
+  *err = read_file(hmp.err);
+  return read_file(hmp.out);
+}
+
+TEST(LiveJack, EveryNotePlayedIntoHmpStartsOnceOnTheDevice) {
+  JackServer jack;
+  if (!jack.up()) GTEST_FAIL() << jack.why();
   const std::regex line(R"(live: (\d+) notes on, (\d+) off, (\d+) bends; the device started (\d+) \(.*\); 0 report)");
+  const std::string all = "live: " + std::to_string(kNotes) + " notes on, " + std::to_string(kNotes) + " off, " +
+                          std::to_string(5 * kChords) + " bends; the device started " + std::to_string(kNotes) + " ";
+  std::string err;
+  const std::string summary = until_complete(
+      jack, [&] { return play_notes_and_chords(&err); },
+      [&](const std::string& s) { return s.find(all) != std::string::npos; });
   std::smatch m;
-  ASSERT_TRUE(std::regex_search(summary, m, line)) << summary << read_file(hmp.err);
-  EXPECT_EQ(std::stoi(m[1]), notes);
-  EXPECT_EQ(std::stoi(m[2]), notes);
+  ASSERT_TRUE(std::regex_search(summary, m, line)) << summary << err;
+  EXPECT_EQ(std::stoi(m[1]), kNotes);
+  EXPECT_EQ(std::stoi(m[2]), kNotes);
   EXPECT_EQ(std::stoi(m[3]), 5 * kChords);
-  EXPECT_EQ(std::stoi(m[4]), notes) << "every note started on the device once";
-  EXPECT_NE(summary.find("over " + std::to_string(notes) + " notes"), std::string::npos) << summary;
+  EXPECT_EQ(std::stoi(m[4]), kNotes) << "every note started on the device once";
+  EXPECT_NE(summary.find("over " + std::to_string(kNotes) + " notes"), std::string::npos) << summary;
+  EXPECT_EQ(err.find("lost"), std::string::npos) << err;
   std::printf("%s", summary.c_str());  // the latency, for the log
 }
 
@@ -162,25 +203,32 @@ TEST(LiveJack, EveryNotePlayedIntoHmpStartsOnceOnTheDevice) {
 TEST(LiveJack, ABurstWaitsForTheDeviceAndLosesNothing) {
   JackServer jack;
   if (!jack.up()) GTEST_FAIL() << jack.why();
-  HmpRun hmp({"live", "--api", "jack", "--device", "sim", "--seconds", "5"});
-  RtMidiOut out(RtMidi::UNIX_JACK, "hmp-test-burst");
-  ASSERT_TRUE(connect(out, "hmp:hmp")) << read_file(hmp.err);
-  std::this_thread::sleep_for(300ms);
-  const auto t0 = std::chrono::steady_clock::now();
-  for (int i = 0; i < 1000; ++i) {
-    const auto key = static_cast<unsigned char>(30 + i % 60);
-    send(out, {0x90, key, 100});
-    send(out, {0x80, key, 0});
-    if (i % 10 == 9) std::this_thread::sleep_until(t0 + (i + 1) * 100us);
-  }
-  ASSERT_EQ(hmp.wait(), 0) << read_file(hmp.err);
-  const std::string summary = read_file(hmp.out);
+  std::string err;
+  const auto burst = [&] {
+    HmpRun hmp({"live", "--api", "jack", "--no-audio", "--device", "sim", "--seconds", "5"});
+    RtMidiOut out(RtMidi::UNIX_JACK, "hmp-test-burst");
+    if (!connect(out, "hmp:hmp")) return "no port: " + read_file(hmp.err);
+    std::this_thread::sleep_for(300ms);
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int i = 0; i < 1000; ++i) {
+      const auto key = static_cast<unsigned char>(30 + i % 60);
+      send(out, {0x90, key, 100});
+      send(out, {0x80, key, 0});
+      if (i % 10 == 9) std::this_thread::sleep_until(t0 + (i + 1) * 100us);
+    }
+    EXPECT_EQ(hmp.wait(), 0) << read_file(hmp.err);
+    err = read_file(hmp.err);
+    return read_file(hmp.out);
+  };
   const std::regex line(
       R"(live: 1000 notes on, 1000 off, 0 bends; the device started 1000 \(.*\); 0 report\(s\) refused; )"
       R"(at most (\d+) events waited)");
+  const std::string summary =
+      until_complete(jack, burst, [&](const std::string& s) { return std::regex_search(s, line); });
   std::smatch m;
-  ASSERT_TRUE(std::regex_search(summary, m, line)) << summary << read_file(hmp.err);
+  ASSERT_TRUE(std::regex_search(summary, m, line)) << summary << err;
   EXPECT_GT(std::stoi(m[1]), 0) << "a burst this size must have waited";
+  EXPECT_EQ(err.find("lost"), std::string::npos) << err;
   std::printf("%s", summary.c_str());
 }
 
@@ -189,7 +237,7 @@ TEST(LiveJack, APortThatDisappearsEndsTheRunWithOneLine) {
   if (!jack.up()) GTEST_FAIL() << jack.why();
   auto keys = std::make_unique<RtMidiOut>(RtMidi::UNIX_JACK, "hmp-test-gone");
   keys->openVirtualPort("keys");
-  HmpRun hmp({"live", "--api", "jack", "--device", "sim", "--input", "hmp-test-gone", "--seconds", "20"});
+  HmpRun hmp({"live", "--api", "jack", "--no-audio", "--device", "sim", "--input", "hmp-test-gone", "--seconds", "20"});
   std::this_thread::sleep_for(1500ms);
   keys.reset();  // the keyboard unplugged
   const auto t0 = std::chrono::steady_clock::now();
@@ -202,13 +250,13 @@ TEST(LiveJack, APortThatDisappearsEndsTheRunWithOneLine) {
 TEST(LiveJack, NoServerOrNoSuchPortIsBadInput) {
   {
     ::setenv("JACK_DEFAULT_SERVER", ("hmp-nobody-" + std::to_string(::getpid())).c_str(), 1);
-    HmpRun hmp({"live", "--api", "jack", "--device", "sim"});
+    HmpRun hmp({"live", "--api", "jack", "--no-audio", "--device", "sim"});
     EXPECT_EQ(hmp.wait(), 2);
     EXPECT_EQ(read_file(hmp.err), "error: jack MIDI input: no JACK server running\n");
   }
   JackServer jack;
   if (!jack.up()) GTEST_FAIL() << jack.why();
-  HmpRun hmp({"live", "--api", "jack", "--device", "sim", "--input", "no-such-keyboard"});
+  HmpRun hmp({"live", "--api", "jack", "--no-audio", "--device", "sim", "--input", "no-such-keyboard"});
   EXPECT_EQ(hmp.wait(), 2);
   EXPECT_EQ(read_file(hmp.err),
             "error: jack MIDI input: no port named like 'no-such-keyboard' (hmp live --list shows them)\n");

@@ -110,15 +110,16 @@ int main(int argc, char** argv) {
   }
   const double seconds = 4.0 + s.notes * kSpacingS;
   std::string error;
-  const pid_t child = hmp::start_child({{"hmp", "live", "--api", "jack", "--input", "hmp-bench:keys", "--device",
-                                         device, "--seconds", std::to_string(seconds), "--log", log, "--force"},
-                                        hmp,
-                                        "",
-                                        "/dev/null",
-                                        "/dev/null",
-                                        "",
-                                        true},
-                                       error);
+  const pid_t child =
+      hmp::start_child({{"hmp", "live", "--api", "jack", "--no-audio", "--input", "hmp-bench:keys", "--device", device,
+                         "--seconds", std::to_string(seconds), "--log", log, "--force"},
+                        hmp,
+                        "",
+                        "/dev/null",
+                        "/dev/null",
+                        "",
+                        true},
+                       error);
   if (child < 0) {
     std::fprintf(stderr, "live-latency: %s\n", error.c_str());
     return 1;

@@ -50,6 +50,7 @@ class SongSynth final : public Synth {
   void seek(std::int64_t song_us) override;
   // Releases every sounding note (their release phase still plays): pause.
   void release_all() override;
+  void apply_now(const AudioEvent& e) override { apply(e); }
   // Writes `frames` frames of the song from the present position into left/right (overwritten) and
   // advances the position by as much. Events due in that stretch are applied on the way.
   void render(float* left, float* right, std::size_t frames) override;
