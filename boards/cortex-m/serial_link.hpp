@@ -92,7 +92,7 @@ class SerialLink {
           frame_[start++] = 0x00;
           first_frame_ = false;
         }
-        frame_len_ = start + static_cast<std::uint32_t>(framing::encode(next->bytes, protocol::kReportSize,
+        frame_len_ = start + static_cast<std::uint32_t>(framing::encode(next->bytes, protocol::wire_size(next->bytes),
                                                                         frame_ + start, framing::kMaxFrame));
         frame_pos_ = 0;
         tx_queue_.pop();

@@ -237,7 +237,7 @@ bool SerialTransport::send(const Report& report) {
   // A leading delimiter ends whatever a previous cut-off write (or the peer's reset) left in the
   // receiver's decoder, so that garbage costs no intact frame.
   if (resync_) frame[size++] = 0;
-  size += framing::encode(report, protocol::kReportSize, frame + size, sizeof(frame) - size);
+  size += framing::encode(report, protocol::wire_size(report), frame + size, sizeof(frame) - size);
   if (!write_all(frame, size)) {
     resync_ = true;
     return false;

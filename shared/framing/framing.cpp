@@ -95,12 +95,14 @@ bool Decoder::finish_frame() {
     ++counters_.crc_errors;
     return false;
   }
-  if (expected_ != 0 && size != expected_) {
+  if (expected_ != 0 && (size == 0 || size > expected_)) {
     ++counters_.wrong_size;
     return false;
   }
+  // The zeros the sender left out (and over the CRC bytes, which are no longer needed).
+  for (std::size_t i = size; i < expected_; ++i) buf_[i] = 0;
   ++counters_.packets;
-  packet_size_ = size;
+  packet_size_ = expected_ != 0 ? expected_ : size;
   return true;
 }
 

@@ -26,6 +26,14 @@ constexpr std::size_t max_frame_size(std::size_t packet_size) {
 }
 inline constexpr std::size_t kMaxFrame = max_frame_size(kMaxPacket);
 
+// The bytes of `packet` a frame needs to carry: all but its trailing zeros, at least one. A receiver
+// with an expected size puts the zeros back; a protocol report is mostly padding (a Live report with
+// one event: 68 bytes framed whole, 18 so), and on a serial link every byte costs time.
+constexpr std::size_t carried_size(const std::uint8_t* packet, std::size_t size) {
+  while (size > 1 && packet[size - 1] == 0) --size;
+  return size;
+}
+
 std::uint16_t crc16_ccitt_false(const std::uint8_t* data, std::size_t size, std::uint16_t crc = 0xFFFF);
 
 // Writes the frame for `packet` into `out` and returns its length (delimiter included), or 0 when the
@@ -37,17 +45,19 @@ struct DecoderCounters {
   std::uint32_t crc_errors = 0;  // well-formed COBS, CRC mismatch
   std::uint32_t malformed = 0;   // COBS block runs past the delimiter, or fewer bytes than a CRC (cut frames)
   std::uint32_t oversized = 0;   // more than kMaxPacket + 2 decoded bytes before the delimiter
-  std::uint32_t wrong_size = 0;  // intact frame whose packet size is not the expected one
+  std::uint32_t wrong_size = 0;  // intact frame with an empty packet, or longer than the expected size
   std::uint32_t dropped() const { return crc_errors + malformed + oversized + wrong_size; }
 };
 
 class Decoder {
  public:
-  // expected_size: the only packet size accepted (protocol links: kMaxPacket); 0 accepts 0 … kMaxPacket.
+  // expected_size: the size of every packet delivered (protocol links: kMaxPacket); a frame may carry
+  // 1 … expected_size bytes, the rest are zeros the sender left out (carried_size), put back here.
+  // 0 delivers packets of 0 … kMaxPacket bytes as they came.
   explicit Decoder(std::size_t expected_size = kMaxPacket) : expected_(expected_size) {}
 
   // Feeds one received byte. Returns true when it was the delimiter of an intact frame: packet() and
-  // size() then hold the packet until the next push().
+  // size() then hold the packet (zero-filled to the expected size) until the next push().
   bool push(std::uint8_t byte);
 
   const std::uint8_t* packet() const { return buf_; }

@@ -1,6 +1,7 @@
 #include "shared/protocol/protocol.hpp"
 
 #include "shared/common/bytes.hpp"
+#include "shared/framing/framing.hpp"
 
 namespace hmp::protocol {
 namespace {
@@ -404,6 +405,12 @@ ErrorCode decode(const std::uint8_t (&in)[kReportSize], Message& out) {
   for (std::size_t i = r.end(); i < kReportSize; ++i)
     if (in[i] != 0) return ErrorCode::nonzero_padding;
   return ErrorCode::none;
+}
+
+std::size_t wire_size(const Report& report) {
+  const auto type = static_cast<Type>(report[0]);
+  if (type == Type::hello || type == Type::hello_reply) return kReportSize;
+  return framing::carried_size(report, kReportSize);
 }
 
 Message make(Type t, std::uint16_t seq) {

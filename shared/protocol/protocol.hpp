@@ -326,6 +326,11 @@ bool encode(const Message& msg, Report& out);
 // On success, encode(out) reproduces `in` exactly.
 ErrorCode decode(const std::uint8_t (&in)[kReportSize], Message& out);
 
+// The bytes of `report` a serial frame carries (docs/protocol.md, "Serial framing"): without its
+// trailing zeros, except for a greeting (Hello, HelloReply), which goes whole so that a peer of an
+// older protocol version, whose decoder wants all 64 bytes, still reads it and the versions are told.
+std::size_t wire_size(const Report& report);
+
 // Builders for the common case: the member for `t` default-initialised (an unknown t gives a Hello).
 Message make(Type t, std::uint16_t seq);
 

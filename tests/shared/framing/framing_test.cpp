@@ -3,6 +3,7 @@
 // check value, and properties (no 0x00 inside a frame, bounded length, every corruption dropped).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <optional>
 #include <random>
@@ -123,21 +124,61 @@ TEST(Framing, RoundTripOfRandomPacketsInOneStream) {
   EXPECT_EQ(any_size.counters().dropped(), 0u);
 }
 
-TEST(Framing, ReportDecoderDropsPacketsOfAnotherSize) {
+// A report decoder delivers every packet at the expected size: a frame may carry fewer bytes (the sender
+// left its trailing zeros out) and gets zeros put back; an empty packet or a longer one is dropped.
+TEST(Framing, ReportDecoderZeroFillsShortPacketsAndDropsEmptyOrLongOnes) {
   Decoder reports;  // expects kMaxPacket
   const Bytes good(kMaxPacket, 0x5A);
+  Bytes short_one(kMaxPacket, 0);
+  std::fill_n(short_one.begin(), 10, 1);
   Bytes stream = frame_of(Bytes(10, 1));
   append(stream, frame_of(good));
+  append(stream, frame_of(Bytes{}));
+  append(stream, frame_of(Bytes{0x07}));
   const auto got = feed(reports, stream);
-  ASSERT_EQ(got.size(), 1u);
-  EXPECT_EQ(got[0], good);
-  EXPECT_EQ(reports.counters().wrong_size, 1u);
+  ASSERT_EQ(got.size(), 3u);
+  EXPECT_EQ(got[0], short_one);
+  EXPECT_EQ(got[1], good);
+  Bytes seven(kMaxPacket, 0);
+  seven[0] = 0x07;
+  EXPECT_EQ(got[2], seven);
+  EXPECT_EQ(reports.counters().wrong_size, 1u) << "the empty packet";
+  Decoder ten(10);
+  EXPECT_TRUE(feed(ten, frame_of(Bytes(11, 3))).empty());
+  EXPECT_EQ(ten.counters().wrong_size, 1u) << "longer than expected";
 }
 
-// CRC-16/CCITT has Hamming distance 4 over these lengths, so a flipped bit in a data byte is always
-// caught; a flipped COBS code byte moves zeros around instead, which the fixed report size and the CRC
-// catch together. The flipped frame is followed by a good one, which must still arrive (the decoder
-// resynchronises on the extra delimiter), and nothing else may be delivered.
+TEST(Framing, CarriedSizeLeavesOutTrailingZerosOnly) {
+  const Bytes a = {1, 0, 2, 0, 0};
+  EXPECT_EQ(hmp::framing::carried_size(a.data(), a.size()), 3u);
+  const Bytes zeros(kMaxPacket, 0);
+  EXPECT_EQ(hmp::framing::carried_size(zeros.data(), zeros.size()), 1u) << "at least one byte";
+  const Bytes full(kMaxPacket, 9);
+  EXPECT_EQ(hmp::framing::carried_size(full.data(), full.size()), kMaxPacket);
+}
+
+// Random reports of every zero statistic, framed with only their carried bytes, come out whole: the
+// truth is the report itself.
+TEST(Framing, CarriedReportsRoundTripWhole) {
+  std::mt19937 rng(5);
+  std::vector<Bytes> sent;
+  Bytes stream;
+  std::size_t framed = 0;
+  for (int i = 0; i < 20000; ++i) {
+    Bytes r = random_packet(rng, kMaxPacket);
+    std::fill(r.begin() + static_cast<std::ptrdiff_t>(rng() % (kMaxPacket + 1)), r.end(), 0);  // padding
+    sent.push_back(r);
+    const Bytes f = frame_of(
+        Bytes(r.begin(), r.begin() + static_cast<std::ptrdiff_t>(hmp::framing::carried_size(r.data(), r.size()))));
+    framed += f.size();
+    append(stream, f);
+  }
+  Decoder reports;
+  EXPECT_EQ(feed(reports, stream), sent);
+  EXPECT_EQ(reports.counters().dropped(), 0u);
+  EXPECT_LT(framed, sent.size() * hmp::framing::kMaxFrame);
+}
+
 TEST(Framing, EverySingleBitCorruptionIsDetected) {
   std::mt19937 rng(3);
   int flips = 0;

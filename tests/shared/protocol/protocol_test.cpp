@@ -829,6 +829,28 @@ TEST(Protocol, UnknownTypesAreRejectedEverywhere) {
   EXPECT_EQ(known, 14);
 }
 
+// A serial frame carries a report without its trailing zeros, except a greeting, which goes whole (a
+// peer of an older version reads all 64 bytes).
+TEST(Protocol, WireSizeLeavesOutPaddingButNotFromGreetings) {
+  for (const Type t : {Type::hello, Type::hello_reply}) {
+    Report r;
+    ASSERT_TRUE(encode(make(t, 1), r));
+    EXPECT_EQ(wire_size(r), kReportSize) << name(t);
+  }
+  Message live = make(Type::live, 0x0102);
+  live.live.count = 1;
+  live.live.events[0] = {LiveOp::on, 60, 0, 440u << 20, 0x8000};
+  Report r;
+  ASSERT_TRUE(encode(live, r));
+  const std::size_t n = wire_size(r);
+  EXPECT_LT(n, 24u) << "one event: a few bytes of header and nine of event";
+  EXPECT_NE(r[n - 1], 0);
+  for (std::size_t i = n; i < kReportSize; ++i) EXPECT_EQ(r[i], 0) << "byte " << i;
+  Report estop;
+  ASSERT_TRUE(encode(make(Type::estop, 0), estop));
+  EXPECT_GE(wire_size(estop), 1u);
+}
+
 TEST(Protocol, DirectionNamesAndBuilders) {
   for (Type t : kAllTypes) {
     EXPECT_EQ(is_host_to_device(t), static_cast<std::uint8_t>(t) <= 0x3F) << name(t);
