@@ -34,8 +34,8 @@ struct LiveOptions {
   bool list = false;
   std::string input;  // empty: a port of our own named "hmp"
   std::optional<std::string> api;
-  int channel = 0;  // 1–16; 0: every channel
-  std::string key_range = "21:108";
+  int channel = 0;                        // 1–16; 0: every channel
+  std::optional<std::string> key_range;   // default: the instrument's range, else the piano's
   std::optional<std::string> instrument;  // a GM program: the sound, and the envelope unless --envelope
   std::optional<std::string> envelope;    // default: the instrument's `auto` preset (the piano's: harpsichord)
   AudioCliOptions audio;
@@ -96,7 +96,12 @@ live::MapperOptions mapper_options(const LiveOptions& o) {
   live::MapperOptions m;
   if (o.channel < 0 || o.channel > 16) throw BadInput(fmt::format("--channel {}: use 1–16", o.channel));
   m.channel = o.channel - 1;
-  m.keys = live::parse_key_range(o.key_range);
+  if (o.key_range) {
+    m.keys = live::parse_key_range(*o.key_range);
+  } else if (const std::optional<std::uint8_t> program = instrument(o)) {
+    const midi::KeySpan span = midi::gm_key_range(*program);
+    m.keys = {span.low, span.high};
+  }
   envelope::Preset preset = envelope::auto_preset(instrument(o).value_or(0), 0);
   if (o.envelope && !envelope::find_builtin(o.envelope->c_str(), preset))
     throw BadInput("--envelope " + *o.envelope + ": unknown");
@@ -201,10 +206,15 @@ int run_live(const LiveOptions& o) {
   player::install_stop_signals();
   std::unique_ptr<live::MidiInput> in = open_port(b, api, o, session, true);
   const std::optional<std::uint8_t> program = instrument(o);
-  std::fprintf(stderr, "live: input %s, %s, %s, keys %s, envelope %s, mapping %s; Ctrl-C stops\n", in->name().c_str(),
-               o.channel == 0 ? "every channel" : fmt::format("channel {}", o.channel).c_str(),
-               program ? midi::gm_program_name(*program) : "the input's programs", live::to_string(mo.keys).c_str(),
-               envelope::name(static_cast<envelope::Preset>(mo.preset)), o.mapping.c_str());
+  std::fprintf(
+      stderr, "live: input %s, %s, %s, keys %s, envelope %s, mapping %s; Ctrl-C stops\n", in->name().c_str(),
+      o.channel == 0 ? "every channel" : fmt::format("channel {}", o.channel).c_str(),
+      program ? midi::gm_program_name(*program) : "the input's programs",
+      (live::to_string(mo.keys) + (o.key_range ? ""
+                                   : program   ? fmt::format(" (the {}'s range)", midi::gm_program_name(*program))
+                                               : std::string(" (the piano's)")))
+          .c_str(),
+      envelope::name(static_cast<envelope::Preset>(mo.preset)), o.mapping.c_str());
   const bool tty = isatty(STDERR_FILENO) != 0;
   const auto show = [&](const live::LiveProgress& p) {
     if (!tty) return;
@@ -258,7 +268,8 @@ void register_live(CLI::App& app, Registry& registry) {
   cmd->add_option("--api", o->api, "alsa or jack (default: jack where a JACK server runs, else alsa)");
   cmd->add_option("--channel", o->channel, "Only this MIDI channel, 1–16 (default: every channel)");
   cmd->add_option("--key-range", o->key_range,
-                  "The keys the pitch mapping spreads over, LOW:HIGH as numbers or names (default 21:108, A0–C8)");
+                  "The keys the pitch mapping spreads over, LOW:HIGH as numbers or names (default: the "
+                  "--instrument's range, else the piano's 21:108, A0–C8)");
   cmd->add_option("--instrument", o->instrument,
                   "The sound: a GM program, 1–128 or its name (default: the input's program changes, piano "
                   "until one comes); also the envelope, unless --envelope");

@@ -67,9 +67,71 @@ constexpr const char* kFamilyNames[16] = {
 };
 // clang-format on
 
+// Sounding ranges (MIDI keys). A family's row holds unless a program of it has a row of its own.
+struct RangeRow {
+  std::uint8_t first, last;  // programs 0–127
+  KeySpan keys;
+};
+constexpr RangeRow kFamilyRanges[] = {
+    {0, 7, {21, 108}},      // piano: A0–C8
+    {8, 15, {53, 96}},      // chromatic percussion: F3–C7
+    {16, 23, {36, 96}},     // organ (one manual), accordion, harmonica: C2–C7
+    {24, 31, {40, 88}},     // guitar: E2–E6
+    {32, 39, {28, 67}},     // bass: E1–G4
+    {40, 47, {28, 103}},    // strings, all of them: E1–G7
+    {48, 55, {28, 103}},    // ensembles
+    {56, 63, {34, 82}},     // brass: B♭1–B♭5
+    {64, 71, {34, 94}},     // reed: B♭1–B♭6
+    {72, 79, {60, 96}},     // pipe: C4–C7
+    {80, 103, {36, 96}},    // synth lead, pad and effects: a 61-key keyboard
+    {104, 111, {48, 84}},   // ethnic: C3–C6
+    {112, 119, {36, 84}},   // percussive: C2–C6
+    {120, 127, {21, 108}},  // sound effects: the piano's keys
+};
+constexpr RangeRow kProgramRanges[] = {
+    {6, 6, {29, 89}},       // harpsichord: F1–F6
+    {9, 9, {79, 108}},      // glockenspiel: G5–C8
+    {11, 11, {53, 89}},     // vibraphone: F3–F6
+    {12, 12, {45, 96}},     // marimba: A2–C7
+    {13, 13, {65, 108}},    // xylophone: F4–C8
+    {14, 14, {60, 77}},     // tubular bells: C4–F5
+    {40, 40, {55, 105}},    // violin: G3–A7
+    {41, 41, {48, 91}},     // viola: C3–G6
+    {42, 42, {36, 81}},     // cello: C2–A5
+    {43, 43, {28, 67}},     // contrabass: E1–G4
+    {46, 46, {24, 103}},    // harp: C1–G7
+    {47, 47, {38, 60}},     // timpani: D2–C4
+    {52, 54, {40, 84}},     // choir and voices: E2–C6
+    {56, 56, {54, 82}},     // trumpet: F♯3–B♭5
+    {57, 57, {40, 72}},     // trombone: E2–C5
+    {58, 58, {26, 65}},     // tuba: D1–F4
+    {59, 59, {54, 82}},     // muted trumpet
+    {60, 60, {34, 77}},     // French horn: B♭1–F5
+    {64, 64, {56, 87}},     // soprano sax: A♭3–E♭6
+    {65, 65, {49, 81}},     // alto sax: D♭3–A5
+    {66, 66, {44, 76}},     // tenor sax: A♭2–E5
+    {67, 67, {36, 69}},     // baritone sax: C2–A4
+    {68, 68, {58, 91}},     // oboe: B♭3–G6
+    {69, 69, {52, 81}},     // English horn: E3–A5
+    {70, 70, {34, 75}},     // bassoon: B♭1–E♭5
+    {71, 71, {50, 94}},     // clarinet: D3–B♭6
+    {72, 72, {74, 108}},    // piccolo: D5–C8
+    {73, 73, {60, 98}},     // flute: C4–D7
+    {74, 74, {72, 98}},     // recorder (soprano): C5–D7
+    {110, 110, {55, 103}},  // fiddle: G3–G7
+};
+
 }  // namespace
 
 const char* gm_program_name(std::uint8_t program) { return program < 128 ? kProgramNames[program] : ""; }
+
+KeySpan gm_key_range(std::uint8_t program) {
+  for (const RangeRow& r : kProgramRanges)
+    if (program >= r.first && program <= r.last) return r.keys;
+  for (const RangeRow& r : kFamilyRanges)
+    if (program >= r.first && program <= r.last) return r.keys;
+  return {};
+}
 
 std::optional<std::uint8_t> find_gm_program(std::string_view wanted) {
   int number = 0;

@@ -14,6 +14,15 @@ const char* gm_program_name(std::uint8_t program);
 // A program given by a user: its GM number 1–128, or its GM1 name in any case ("violin", "Acoustic Grand
 // Piano"); the program 0–127, or nullopt.
 std::optional<std::uint8_t> find_gm_program(std::string_view text);
+// The keys an instrument of a GM program plays: its usual sounding range as orchestration references give
+// it (violin G3–A7 = 55–105, cello C2–A5, flute C4–D7, …), per family with the instruments that differ
+// from their family named; synthesizers (leads, pads, effects) a 61-key keyboard, C2–C7; the sound
+// effects the piano's 88 keys. `hmp live` spreads its pitch mapping over it.
+struct KeySpan {
+  int low = 21, high = 108;
+};
+KeySpan gm_key_range(std::uint8_t program);
+
 // One of the 16 GM1 families ("Piano", "Chromatic Percussion", … "Sound Effects").
 const char* gm_family_name(std::uint8_t program);
 // What `hmp info` shows for a track's instrument: the program name, or "Percussion" on channel 10.

@@ -93,3 +93,40 @@ TEST(MidiGm, AutoRowsCarryGmNames) {
     EXPECT_EQ(row.gm_name, want) << "programs " << int{row.first} << "–" << int{row.last};
   }
 }
+
+// A program is found by its GM number (1–128) or its name in any case; nothing else is one.
+TEST(MidiGm, ProgramsAreFoundByNumberOrName) {
+  EXPECT_EQ(find_gm_program("1"), 0);
+  EXPECT_EQ(find_gm_program("128"), 127);
+  EXPECT_EQ(find_gm_program("violin"), 40);
+  EXPECT_EQ(find_gm_program("ACOUSTIC GRAND PIANO"), 0);
+  for (int p = 0; p < 128; ++p) EXPECT_EQ(find_gm_program(gm_program_name(static_cast<std::uint8_t>(p))), p);
+  for (const char* bad : {"0", "129", "-1", "", "viol", "40x", " violin"}) EXPECT_FALSE(find_gm_program(bad)) << bad;
+}
+
+// Every program has a range of at least an octave on the MIDI keys, and an instrument's range holds the
+// notes that define it: the open strings (violin G3, viola C3, cello C2, contrabass E1 and bass E1, guitar
+// E2 … E4), the flute's and the piano's lowest and highest notes, the trumpet's written-range low F#3.
+TEST(MidiGm, KeyRangesHoldTheInstrumentsDefiningNotes) {
+  for (int p = 0; p < 128; ++p) {
+    const KeySpan r = gm_key_range(static_cast<std::uint8_t>(p));
+    EXPECT_GE(r.low, 0) << p;
+    EXPECT_LE(r.high, 127) << p;
+    EXPECT_GE(r.high - r.low, 12) << gm_program_name(static_cast<std::uint8_t>(p));
+  }
+  const auto holds = [](const char* instrument, std::initializer_list<int> keys) {
+    const KeySpan r = gm_key_range(*find_gm_program(instrument));
+    for (const int k : keys) EXPECT_TRUE(k >= r.low && k <= r.high) << instrument << " key " << k;
+  };
+  holds("Violin", {55, 62, 69, 76});
+  holds("Viola", {48, 55, 62, 69});
+  holds("Cello", {36, 43, 50, 57});
+  holds("Contrabass", {28, 33, 38, 43});
+  holds("Electric Bass (finger)", {28, 33, 38, 43});
+  holds("Acoustic Guitar (nylon)", {40, 45, 50, 55, 59, 64});
+  holds("Flute", {60, 96});
+  holds("Acoustic Grand Piano", {21, 108});
+  holds("Trumpet", {54});
+  EXPECT_EQ(gm_key_range(40).low, 55) << "nothing below the violin's G string";
+  EXPECT_EQ(gm_key_range(43).low, 28) << "nothing below the contrabass's E string";
+}
