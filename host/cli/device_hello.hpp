@@ -1,10 +1,14 @@
 #pragma once
 // Saying hello to the device a `--device` option names, for the commands that play on a device (play,
-// study). Opening it, and finding it again after a loss, is transport::open_device / reopen_device.
+// study, live). Opening it, and finding it again after a loss, is transport::open_device / reopen_device.
 #include "host/player/device_link.hpp"
 #include "host/transport/device_spec.hpp"
 
 namespace hmp::cli {
+
+// --device's help where `auto` is the default (play, live).
+inline constexpr const char* kDeviceHelp =
+    "auto (HID, else the simulated device), sim, qemu, hid[:VID:PID], serial:PATH";
 
 // DeviceLink options for the opened device (an emulator gets longer to answer hello).
 player::DeviceLink::Options link_options_for(const transport::OpenedDevice& opened);

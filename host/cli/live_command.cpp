@@ -19,6 +19,7 @@
 #include "host/cli/device_hello.hpp"
 #include "host/cli/song_options.hpp"
 #include "host/common/error.hpp"
+#include "host/common/percentile.hpp"
 #include "host/output/output_file.hpp"
 #include "host/audio/audio_player.hpp"
 #include "host/live/live_session.hpp"
@@ -134,8 +135,8 @@ std::unique_ptr<live::MidiInput> open_port(const live::MidiPortBackend& b, live:
 std::string latency_text(const live::LiveProgress& p) {
   if (p.latency_ms.empty()) return "no latency measured";
   return fmt::format("message to Started report p50 {:.2f} ms, p99 {:.2f} ms, max {:.2f} ms over {} notes",
-                     live::percentile(p.latency_ms, 50), live::percentile(p.latency_ms, 99),
-                     live::percentile(p.latency_ms, 100), p.latency_ms.size());
+                     percentile(p.latency_ms, 50), percentile(p.latency_ms, 99), percentile(p.latency_ms, 100),
+                     p.latency_ms.size());
 }
 
 // One JSON line per note-on (times in µs of CLOCK_MONOTONIC, which JACK's clock reads too; started_us
@@ -278,8 +279,7 @@ void register_live(CLI::App& app, Registry& registry) {
                   "the piano)");
   add_audio_options(cmd, o->audio);
   cmd->add_option("--mapping", o->mapping, "Pitch mapping: paper (default), rank, constant, legacy2013");
-  cmd->add_option("--device", o->device,
-                  "auto (HID, else the simulated device), sim, qemu, hid[:VID:PID], serial:PATH");
+  cmd->add_option("--device", o->device, kDeviceHelp);
   cmd->add_option("--seconds", o->seconds, "Stop after this many seconds (default: at Ctrl-C)");
   cmd->add_flag("--wait", o->wait, "A port that is not there (yet, or any more) is waited for");
   cmd->add_option("--log", o->log,

@@ -357,8 +357,7 @@ void register_play(CLI::App& app, Registry& registry) {
   cmd->add_option(
       "--track", o->track,
       "Haptic track: index, or part of its name or instrument (default: the first with a Table 1 instrument)");
-  cmd->add_option("--device", o->device, "auto (HID, else the simulated device), sim, qemu, hid[:VID:PID], serial:PATH")
-      ->capture_default_str();
+  cmd->add_option("--device", o->device, kDeviceHelp)->capture_default_str();
   add_audio_options(cmd, o->audio);
   cmd->add_flag("--no-view", o->no_view, "No animation window");
   cmd->add_flag("--fullscreen", o->fullscreen, "The animation window fills the screen (f toggles)");

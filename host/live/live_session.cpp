@@ -14,14 +14,6 @@ constexpr std::size_t kInFlight = 8;  // Live reports sent and not yet processed
 
 }  // namespace
 
-double percentile(std::vector<double> values, double p) {
-  if (values.empty()) return 0;
-  std::sort(values.begin(), values.end());
-  const double rank = std::ceil(p / 100.0 * static_cast<double>(values.size()));
-  const std::size_t i = rank < 1 ? 0 : static_cast<std::size_t>(rank) - 1;
-  return values[std::min(i, values.size() - 1)];
-}
-
 LiveSession::LiveSession(player::DeviceLink& link, const MapperOptions& options, bool keep_notes)
     : link_(link), mapper_(options), keep_notes_(keep_notes) {}
 

@@ -84,7 +84,4 @@ class LiveSession {
   std::vector<NoteRecord> notes_;
 };
 
-// p-th percentile (0–100) of `values`, nearest rank; 0 when empty.
-double percentile(std::vector<double> values, double p);
-
 }  // namespace hmp::live

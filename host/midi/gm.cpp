@@ -67,7 +67,8 @@ constexpr const char* kFamilyNames[16] = {
 };
 // clang-format on
 
-// Sounding ranges (MIDI keys). A family's row holds unless a program of it has a row of its own.
+// Sounding ranges (MIDI keys; a transposing instrument's as heard). A family's row holds unless a program of it has a
+// row of its own.
 struct RangeRow {
   std::uint8_t first, last;  // programs 0–127
   KeySpan keys;
@@ -102,17 +103,17 @@ constexpr RangeRow kProgramRanges[] = {
     {46, 46, {24, 103}},    // harp: C1–G7
     {47, 47, {38, 60}},     // timpani: D2–C4
     {52, 54, {40, 84}},     // choir and voices: E2–C6
-    {56, 56, {54, 82}},     // trumpet: F♯3–B♭5
+    {56, 56, {52, 82}},     // trumpet in B♭: E3–B♭5
     {57, 57, {40, 72}},     // trombone: E2–C5
     {58, 58, {26, 65}},     // tuba: D1–F4
-    {59, 59, {54, 82}},     // muted trumpet
-    {60, 60, {34, 77}},     // French horn: B♭1–F5
+    {59, 59, {52, 82}},     // muted trumpet
+    {60, 60, {35, 77}},     // French horn in F: B1–F5
     {64, 64, {56, 87}},     // soprano sax: A♭3–E♭6
-    {65, 65, {49, 81}},     // alto sax: D♭3–A5
-    {66, 66, {44, 76}},     // tenor sax: A♭2–E5
-    {67, 67, {36, 69}},     // baritone sax: C2–A4
+    {65, 65, {49, 80}},     // alto sax: D♭3–A♭5
+    {66, 66, {44, 75}},     // tenor sax: A♭2–E♭5
+    {67, 67, {37, 68}},     // baritone sax: D♭2–A♭4
     {68, 68, {58, 91}},     // oboe: B♭3–G6
-    {69, 69, {52, 81}},     // English horn: E3–A5
+    {69, 69, {52, 84}},     // English horn: E3–C6
     {70, 70, {34, 75}},     // bassoon: B♭1–E♭5
     {71, 71, {50, 94}},     // clarinet: D3–B♭6
     {72, 72, {74, 108}},    // piccolo: D5–C8

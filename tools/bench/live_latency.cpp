@@ -24,7 +24,7 @@
 #include <nlohmann/json.hpp>
 
 #include "host/common/child_process.hpp"
-#include "host/live/live_session.hpp"
+#include "host/common/percentile.hpp"
 
 namespace {
 
@@ -185,7 +185,7 @@ int main(int argc, char** argv) {
     for (const auto& [metric, p] : {std::pair{"p50", 50.0}, {"p99", 99.0}, {"max", 100.0}}) {
       nlohmann::json j = {{"bench", "live-latency"},
                           {"metric", std::string(stage) + "_" + metric},
-                          {"value", hmp::live::percentile(v, p)},
+                          {"value", hmp::percentile(v, p)},
                           {"unit", "ms"},
                           {"params",
                            {{"device", device},

@@ -12,17 +12,9 @@
 #include <string>
 #include <vector>
 
+#include "host/common/percentile.hpp"
 #include "host/midi/smf_reader.hpp"
 #include "host/view/view_backend.hpp"
-
-namespace {
-
-double percentile(std::vector<double> v, double q) {
-  std::sort(v.begin(), v.end());
-  return v[static_cast<std::size_t>(q * static_cast<double>(v.size() - 1))];
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
   if (argc < 4) {
@@ -72,11 +64,11 @@ int main(int argc, char** argv) {
     std::printf("{\"bench\":\"view-frame\",\"metric\":\"%s\",\"value\":%.3f,\"unit\":\"ms\",\"params\":%s}\n", metric,
                 value, params.c_str());
   };
-  line("prepare_cpu_p50", percentile(prepare, 0.5));
-  line("prepare_cpu_p99", percentile(prepare, 0.99));
-  line("frame_cpu_p50", percentile(cpu, 0.5));
-  line("frame_cpu_p99", percentile(cpu, 0.99));
-  line("frame_wall_p50", percentile(wall, 0.5));
-  line("frame_wall_p99", percentile(wall, 0.99));
+  line("prepare_cpu_p50", hmp::percentile(prepare, 50));
+  line("prepare_cpu_p99", hmp::percentile(prepare, 99));
+  line("frame_cpu_p50", hmp::percentile(cpu, 50));
+  line("frame_cpu_p99", hmp::percentile(cpu, 99));
+  line("frame_wall_p50", hmp::percentile(wall, 50));
+  line("frame_wall_p99", hmp::percentile(wall, 99));
   return 0;
 }

@@ -106,7 +106,7 @@ TEST(MidiGm, ProgramsAreFoundByNumberOrName) {
 
 // Every program has a range of at least an octave on the MIDI keys, and an instrument's range holds the
 // notes that define it: the open strings (violin G3, viola C3, cello C2, contrabass E1 and bass E1, guitar
-// E2 … E4), the flute's and the piano's lowest and highest notes, the trumpet's written-range low F#3.
+// E2 … E4), the flute's and the piano's lowest and highest notes, the B♭ trumpet's low E3 as heard.
 TEST(MidiGm, KeyRangesHoldTheInstrumentsDefiningNotes) {
   for (int p = 0; p < 128; ++p) {
     const KeySpan r = gm_key_range(static_cast<std::uint8_t>(p));
@@ -126,7 +126,7 @@ TEST(MidiGm, KeyRangesHoldTheInstrumentsDefiningNotes) {
   holds("Acoustic Guitar (nylon)", {40, 45, 50, 55, 59, 64});
   holds("Flute", {60, 96});
   holds("Acoustic Grand Piano", {21, 108});
-  holds("Trumpet", {54});
+  holds("Trumpet", {52});
   EXPECT_EQ(gm_key_range(40).low, 55) << "nothing below the violin's G string";
   EXPECT_EQ(gm_key_range(43).low, 28) << "nothing below the contrabass's E string";
 }
