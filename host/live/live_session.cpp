@@ -46,7 +46,7 @@ void LiveSession::send_events() {
         record = notes_.size();
         notes_.push_back({m.live.track, m.live.events[k].key, event_us_[first + k], sent_us, 0, 0});
       }
-      sent_on_.push_back({*seq, k, event_us_[first + k], record});
+      sent_on_.insert_or_assign(static_cast<std::uint32_t>(*seq) << 8 | k, SentOn{event_us_[first + k], record});
     }
   }
   events_.erase(events_.begin(), events_.begin() + static_cast<std::ptrdiff_t>(i));
@@ -60,22 +60,24 @@ void LiveSession::take_device_events() {
   const std::int64_t now = player::steady_us();
   for (const protocol::StartedEntry& s : ev.started) {
     ++progress_.started;
-    const auto it = std::find_if(sent_on_.begin(), sent_on_.end(),
-                                 [&](const SentOn& o) { return o.seq == s.seq && o.index == s.index; });
+    const auto it = sent_on_.find(static_cast<std::uint32_t>(s.seq) << 8 | s.index);
     if (it == sent_on_.end()) continue;
-    progress_.latency_ms.push_back(static_cast<double>(now - it->received_us) / 1000.0);
-    if (it->record != SIZE_MAX) {
-      notes_[it->record].started_us = now;
-      notes_[it->record].actual_tick = s.actual_tick;
+    const SentOn& o = it->second;
+    progress_.latency_ms.push_back(static_cast<double>(now - o.received_us) / 1000.0);
+    if (o.record != SIZE_MAX) {
+      notes_[o.record].started_us = now;
+      notes_[o.record].actual_tick = s.actual_tick;
     }
     sent_on_.erase(it);
   }
   for (const protocol::Error& e : ev.errors) {
     ++progress_.refused;
+    if (e.type == static_cast<std::uint8_t>(protocol::Type::live))
+      for (std::uint32_t k = 0; k < protocol::kNotesPerBatch; ++k)
+        sent_on_.erase(static_cast<std::uint32_t>(e.seq) << 8 | k);
     progress_.last_error = std::string(protocol::name(e.code)) + " (report " + std::to_string(e.seq) + ", " +
                            protocol::name(static_cast<protocol::Type>(e.type)) + ")";
   }
-  if (sent_on_.size() > 4096) sent_on_.erase(sent_on_.begin(), sent_on_.begin() + 2048);  // never answered
 }
 
 LiveEnd LiveSession::run(const MidiInput& input, double seconds, const std::function<bool()>& stop,

@@ -7,6 +7,7 @@
 #include <deque>
 #include <functional>
 #include <string>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -61,8 +62,6 @@ class LiveSession {
 
  private:
   struct SentOn {
-    std::uint16_t seq;
-    std::uint8_t index;
     std::int64_t received_us;
     std::size_t record;  // its NoteRecord, or SIZE_MAX when none is kept
   };
@@ -76,8 +75,10 @@ class LiveSession {
   std::function<void(const ChannelMessage&)> hear_;
   std::vector<ChannelMessage> heard_;  // this round's messages, for hear_
   std::vector<DeviceEvent> events_;
-  std::vector<std::int64_t> event_us_;   // when the message of each event arrived
-  std::vector<SentOn> sent_on_;          // note-ons whose Started has not come yet
+  std::vector<std::int64_t> event_us_;  // when the message of each event arrived
+  // Note-ons whose Started has not come yet, by seq << 8 | index in the report: a report the device
+  // refused takes its entries with it; one lost on the way is replaced when its seq comes round again.
+  std::unordered_map<std::uint32_t, SentOn> sent_on_;
   std::deque<std::uint16_t> in_flight_;  // seq of Live reports the device has not processed yet
   LiveProgress progress_;
   bool keep_notes_;
