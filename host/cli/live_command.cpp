@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <optional>
@@ -27,6 +28,7 @@
 #include "host/midi/gm.hpp"
 #include "host/live/midi_port.hpp"
 #include "host/player/live_terminal.hpp"
+#include "host/view/live_view.hpp"
 
 namespace hmp::cli {
 namespace {
@@ -44,6 +46,7 @@ struct LiveOptions {
   std::string device = "auto";
   double seconds = 0;
   bool wait = false;
+  bool no_view = false;
   std::optional<std::string> log;
   bool force = false;
 };
@@ -167,6 +170,37 @@ void write_log(const std::string& path, const live::LiveSession& session) {
   output::close_output(f);
 }
 
+// The window: the notes at the present line as they are played, scrolling into the past, over the keys
+// of the mapping's range; `q` in it (or closing it) stops the run. Null and `error` when none can be had.
+std::unique_ptr<view::LiveView> open_live_view(const midi::Song& channels, live::LiveSession& session,
+                                               const live::MapperOptions& mo, const std::string& overlay,
+                                               std::atomic<bool>& quit, std::string& error) {
+  view::LiveViewOptions options;
+  options.setup.title = "hmp live";
+  options.setup.keys = std::pair{mo.keys.low, mo.keys.high};
+  view::LiveViewHooks hooks;
+  hooks.song_time = [&session](view::Clock::time_point t) {
+    return session.session_us() + std::chrono::duration_cast<std::chrono::microseconds>(t - view::Clock::now()).count();
+  };
+  const auto haptic = static_cast<std::uint32_t>(std::max(mo.channel, 0));
+  hooks.state = [overlay, haptic] {
+    view::LiveState st;
+    st.haptic_track = haptic;
+    st.overlay = overlay;
+    return st;
+  };
+  hooks.key = [&quit](char k) {
+    if (k == 'q') quit = true;
+  };
+  hooks.played = [&session, notes = std::vector<live::PlayedNote>()](std::int64_t t0, std::int64_t t1,
+                                                                     std::vector<view::Bar>& out) mutable {
+    notes.clear();
+    session.played(t0, t1, notes);
+    for (const live::PlayedNote& n : notes) out.push_back({n.start_us, n.end_us, n.key, n.velocity, n.channel});
+  };
+  return view::LiveView::open(channels, std::move(options), std::move(hooks), error);
+}
+
 int run_live(const LiveOptions& o) {
   if (o.list) return list_ports();
   const live::MapperOptions mo = mapper_options(o);
@@ -225,7 +259,23 @@ int run_live(const LiveOptions& o) {
                  static_cast<unsigned long long>(p.counts.notes_on), static_cast<unsigned long long>(p.started),
                  held.c_str(), lost.c_str(), p.last_error.empty() ? "" : (", refused: " + p.last_error).c_str());
   };
-  const auto stop = [] { return player::stop_signal() != 0; };
+  // The window's roll has a layer per MIDI channel; the song behind it has no notes.
+  midi::Song channels;
+  channels.tracks.resize(16);
+  std::atomic<bool> quit{false};
+  std::unique_ptr<view::LiveView> window;
+  if (!o.no_view) {
+    std::string why;
+    window = open_live_view(
+        channels, session, mo,
+        fmt::format("live   {}   keys {}   envelope {}   mapping {}   (q: quit)", in->name(), live::to_string(mo.keys),
+                    envelope::name(static_cast<envelope::Preset>(mo.preset)), o.mapping),
+        quit, why);
+    if (!window)
+      std::fprintf(stderr, "warning: no animation window: %s; going on without it (--no-view: do not try)\n",
+                   why.c_str());
+  }
+  const auto stop = [&] { return player::stop_signal() != 0 || quit.load() || (window && window->closed()); };
   const auto started = std::chrono::steady_clock::now();
   int code = kExitOk;
   for (;;) {
@@ -242,6 +292,7 @@ int run_live(const LiveOptions& o) {
       break;
     }
   }
+  window.reset();
   session.finish();
   if (tty) std::fprintf(stderr, "\n");
   const live::LiveProgress& p = session.progress();
@@ -282,6 +333,7 @@ void register_live(CLI::App& app, Registry& registry) {
   cmd->add_option("--device", o->device, kDeviceHelp);
   cmd->add_option("--seconds", o->seconds, "Stop after this many seconds (default: at Ctrl-C)");
   cmd->add_flag("--wait", o->wait, "A port that is not there (yet, or any more) is waited for");
+  cmd->add_flag("--no-view", o->no_view, "No window (by default the notes scroll by in one as they are played)");
   cmd->add_option("--log", o->log,
                   "JSON lines: every note-on with its times (received, sent, started), then a summary");
   cmd->add_flag("-f,--force", o->force, "Overwrite an existing log file");

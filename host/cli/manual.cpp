@@ -6,6 +6,11 @@ namespace hmp::cli {
 
 namespace {
 
+// Every page's EXIT STATUS section: the same rule for hmp and each of its commands.
+constexpr const char* kExitStatus =
+    ".SH EXIT STATUS\n0 on success, 1 when a run failed, 2 on bad input (a file, an option): one line on standard "
+    "error says what and where.\n";
+
 // Text as roff: backslashes and hyphens escaped, no line starting with a control character.
 std::string roff(std::string_view text) {
   std::string out;
@@ -74,9 +79,7 @@ std::string man_page(const CLI::App& program, const CLI::App* command, std::stri
     }
     page += ".SH OPTIONS\n.TP\n.B \\-\\-version\nThe version of hmp and of its device protocol.\n";
     page += ".TP\n.B \\-h, \\-\\-help\nThe commands, or with a command its options.\n";
-    page +=
-        ".SH EXIT STATUS\n0 on success, 1 when a run failed, 2 on bad input (a file, an option): one line "
-        "on standard error says what and where.\n";
+    page += kExitStatus;
     page += ".SH SEE ALSO\n";
     std::string sep;
     for (const CLI::App* c : commands_of(program)) {
@@ -108,7 +111,7 @@ std::string man_page(const CLI::App& program, const CLI::App* command, std::stri
     page += "\n";
   }
   if (const std::string footer = command->get_footer(); !footer.empty()) page += ".SH NOTES\n" + roff(footer) + "\n";
-  page += ".SH EXIT STATUS\n0 on success, 1 when a run failed, 2 on bad input.\n";
+  page += kExitStatus;
   page += ".SH SEE ALSO\n.BR hmp (1)\n";
   return page;
 }

@@ -10,12 +10,44 @@ namespace {
 constexpr std::int64_t kSyncPeriodUs = 100'000, kShowPeriodUs = 200'000, kPortCheckUs = 500'000;
 // The output's ramp-in after play: short, as the first key may come at once (a song's player has 500 ms).
 constexpr std::uint16_t kRampInMs = 20;
-constexpr std::size_t kInFlight = 8;  // Live reports sent and not yet processed by the device
+constexpr std::size_t kInFlight = 8;       // Live reports sent and not yet processed by the device
+constexpr std::size_t kPlayedKept = 4096;  // notes the window can show: minutes of fast playing
 
 }  // namespace
 
 LiveSession::LiveSession(player::DeviceLink& link, const MapperOptions& options, bool keep_notes)
     : link_(link), mapper_(options), keep_notes_(keep_notes) {}
+
+// The mapper's events for one message (from `first_event` on) as notes of the window: a note-on starts
+// one, a release ends the channel's sounding note of that key.
+void LiveSession::record_played(const ChannelMessage& m, std::size_t first_event) {
+  const std::int64_t now = session_us();
+  const std::lock_guard<std::mutex> lock(played_mutex_);
+  for (std::size_t i = first_event; i < events_.size(); ++i) {
+    const DeviceEvent& e = events_[i];
+    if (e.event.op == protocol::LiveOp::on) {
+      played_.push_back({e.track, e.event.key, m.data2, now, INT64_MAX});
+      if (played_.size() > kPlayedKept) played_.pop_front();
+    } else if (e.event.op == protocol::LiveOp::off) {
+      for (auto it = played_.rbegin(); it != played_.rend(); ++it) {
+        if (it->channel != e.track || it->key != e.event.key || it->end_us != INT64_MAX) continue;
+        it->end_us = now;
+        break;
+      }
+    }
+  }
+}
+
+void LiveSession::played(std::int64_t t0_us, std::int64_t t1_us, std::vector<PlayedNote>& out) const {
+  const std::int64_t now = session_us();
+  const std::lock_guard<std::mutex> lock(played_mutex_);
+  for (const PlayedNote& n : played_) {
+    if (n.start_us >= t1_us || n.end_us <= t0_us) continue;
+    PlayedNote shown = n;
+    shown.end_us = std::min(n.end_us, std::max(now, n.start_us + 1));
+    out.push_back(shown);
+  }
+}
 
 void LiveSession::receive(void* self, const std::uint8_t* bytes, std::size_t size) {
   auto* me = static_cast<LiveSession*>(self);
@@ -96,7 +128,9 @@ LiveEnd LiveSession::run(const MidiInput& input, double seconds, const std::func
     if (seconds > 0 && static_cast<double>(now - start) >= seconds * 1e6) return LiveEnd::time_up;
     ring_.drain([&](const MidiChunk& c) {
       stream_.feed(c.bytes, c.size, [&](const ChannelMessage& msg) {
+        const std::size_t first = events_.size();
         mapper_.on_message(msg, events_);
+        record_played(msg, first);
         if (hear_) heard_.push_back(msg);
       });
       event_us_.resize(events_.size(), c.received_us);

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <deque>
 #include <functional>
+#include <mutex>
 #include <string>
 #include <unordered_map>
 #include <utility>
@@ -39,6 +40,13 @@ struct NoteRecord {
   std::uint32_t actual_tick = 0;
 };
 
+// A note as played, for the window: its times in µs since the session began, end_us INT64_MAX while it
+// sounds (a note the pedal holds sounds on).
+struct PlayedNote {
+  std::uint8_t channel = 0, key = 0, velocity = 0;
+  std::int64_t start_us = 0, end_us = INT64_MAX;
+};
+
 // Why run() returned.
 enum class LiveEnd { stopped, time_up, port_gone };
 
@@ -59,6 +67,10 @@ class LiveSession {
   void finish();
   const LiveProgress& progress() const { return progress_; }
   const std::vector<NoteRecord>& notes() const { return notes_; }
+  // µs since the session began (the clock of PlayedNote).
+  std::int64_t session_us() const { return player::steady_us() - origin_us_; }
+  // Any thread: the notes overlapping [t0_us, t1_us), in the order played; a sounding one ends now.
+  void played(std::int64_t t0_us, std::int64_t t1_us, std::vector<PlayedNote>& out) const;
 
  private:
   struct SentOn {
@@ -72,6 +84,10 @@ class LiveSession {
   LiveMapper mapper_;
   MidiStream stream_;
   MessageRing ring_;
+  void record_played(const ChannelMessage& m, std::size_t first_event);
+  std::int64_t origin_us_ = player::steady_us();
+  mutable std::mutex played_mutex_;
+  std::deque<PlayedNote> played_;  // the last kPlayedKept notes, under played_mutex_
   std::function<void(const ChannelMessage&)> hear_;
   std::vector<ChannelMessage> heard_;  // this round's messages, for hear_
   std::vector<DeviceEvent> events_;

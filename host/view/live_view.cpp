@@ -28,7 +28,7 @@ LiveView::LiveView(const midi::Song& song, LiveViewOptions options, LiveViewHook
     : options_(std::move(options)), hooks_(std::move(hooks)), index_(song) {
   seconds_across_ = std::clamp(options_.seconds_across, kMinAcross, kMaxAcross);
   hidden_.assign(index_.tracks(), false);
-  keys_ = key_range(song);
+  keys_ = options_.setup.keys ? *options_.setup.keys : key_range(song);
   for (std::size_t t = 0; t < options_.track_labels.size() && t < index_.tracks(); ++t) {
     if (!options_.track_labels[t].empty()) legend_tracks_.push_back(static_cast<std::uint32_t>(t));
   }
@@ -102,6 +102,11 @@ void LiveView::run(std::string* open_error, std::atomic<int>* opened) {
       fill_frame(frame, state, start);
     }
     frame.song_us = hooks_.song_time(start + present_delay_);
+    frame.played.clear();
+    if (hooks_.played) {
+      const RollLayout layout = make_layout();
+      hooks_.played(layout.window_begin_us(frame.song_us), layout.window_end_us(frame.song_us), frame.played);
+    }
     update_touch(frame, state, start);
     frame.cursor_pressing = pressing_ && !dragging_progress_;
     events.clear();

@@ -56,6 +56,9 @@ struct LiveViewHooks {
   std::function<void(std::uint32_t track)> select_track;  // pushed into a track's bar for 0.5 s
   // The device's output up to `song_us`, newest last: fills up to `max` samples, returns how many.
   std::function<int(std::int64_t song_us, float* out, int max)> vibration;
+  // Notes that are not the song's (`hmp live`): those overlapping [t0_us, t1_us) of the clock's time,
+  // appended to `out`; a note still held ends at the present.
+  std::function<void(std::int64_t t0_us, std::int64_t t1_us, std::vector<Bar>& out)> played;
   std::function<void(const FrameTiming&)> on_frame;  // tests and the benchmark
 };
 

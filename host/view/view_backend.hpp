@@ -5,10 +5,13 @@
 // exception (host/modules/module_loader.hpp).
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "host/midi/song.hpp"
+#include "host/view/note_index.hpp"
 
 namespace hmp::view {
 
@@ -17,11 +20,12 @@ struct ViewSetup {
   std::string title = "hmp";
   int width = 1280, height = 720;  // logical size (HiDPI screens get more pixels)
   bool fullscreen = false;
-  bool hidden = false;           // tests: draw without showing
-  bool capture = false;          // keep every frame's pixels for read_pixels (tests, screenshots)
-  bool vsync = true;             // wait for the display's refresh (off: as fast as it draws)
-  bool draw_everything = false;  // the view-frame benchmark's comparison: every note of the song sent and
-                                 // drawn each frame, as players that do not index their notes do
+  bool hidden = false;                      // tests: draw without showing
+  bool capture = false;                     // keep every frame's pixels for read_pixels (tests, screenshots)
+  bool vsync = true;                        // wait for the display's refresh (off: as fast as it draws)
+  std::optional<std::pair<int, int>> keys;  // the roll's lowest and highest key (default: the song's, with room)
+  bool draw_everything = false;             // the view-frame benchmark's comparison: every note of the song sent and
+                                            // drawn each frame, as players that do not index their notes do
 };
 
 // What the last frame cost (the view-frame benchmark): the CPU time of this thread to work out the frame
@@ -55,6 +59,7 @@ struct FrameState {
   bool cursor = false;              // the touch cursor (grip or mouse) at (cursor_x, cursor_y) window pixels
   float cursor_x = 0, cursor_y = 0;
   bool cursor_pressing = false;  // pushing in (button held / grip pushed into a bar)
+  std::vector<Bar> played;       // notes that are not the song's (`hmp live`'s input), drawn over its tracks
   float vibration[256] = {};     // the strip under the roll: the device's output over the last frames
   int vibration_samples = 0;
 };
@@ -99,7 +104,7 @@ class OffscreenFrames {
 class ViewBackend {
  public:
   static constexpr const char* kModule = "view";
-  static constexpr int kAbi = 3;
+  static constexpr int kAbi = 4;
   // A window, or null and `error` says why (no display, no OpenGL 3.3, …) in one line.
   virtual std::unique_ptr<ViewWindow> open(const ViewSetup& setup, std::string& error) const = 0;
   // Off-screen frames of setup.width × setup.height pixels, or null and `error` in one line.

@@ -24,6 +24,7 @@
 
 #include "host/common/child_process.hpp"
 #include "host/live/midi_port.hpp"
+#include "tests/support/xvfb.hpp"
 
 namespace {
 
@@ -152,7 +153,7 @@ std::string until_complete(const JackServer& jack, Play&& play, Complete&& compl
 constexpr int kSingles = 300, kChords = 60, kNotes = kSingles + 5 * kChords;
 
 std::string play_notes_and_chords(std::string* err) {
-  HmpRun hmp({"live", "--api", "jack", "--no-audio", "--device", "sim", "--seconds", "6"});
+  HmpRun hmp({"live", "--api", "jack", "--no-audio", "--no-view", "--device", "sim", "--seconds", "6"});
   RtMidiOut out(RtMidi::UNIX_JACK, "hmp-test-keys");
   if (!connect(out, "hmp:hmp")) return "no port: " + read_file(hmp.err);
   constexpr unsigned char kChord[] = {48, 52, 55, 60, 64};
@@ -205,7 +206,7 @@ TEST(LiveJack, ABurstWaitsForTheDeviceAndLosesNothing) {
   if (!jack.up()) GTEST_FAIL() << jack.why();
   std::string err;
   const auto burst = [&] {
-    HmpRun hmp({"live", "--api", "jack", "--no-audio", "--device", "sim", "--seconds", "5"});
+    HmpRun hmp({"live", "--api", "jack", "--no-audio", "--no-view", "--device", "sim", "--seconds", "5"});
     RtMidiOut out(RtMidi::UNIX_JACK, "hmp-test-burst");
     if (!connect(out, "hmp:hmp")) return "no port: " + read_file(hmp.err);
     std::this_thread::sleep_for(300ms);
@@ -232,12 +233,41 @@ TEST(LiveJack, ABurstWaitsForTheDeviceAndLosesNothing) {
   std::printf("%s", summary.c_str());
 }
 
+// With a display the window opens (no warning), the notes still all start, and `q`-less runs end on time.
+TEST(LiveJack, WithADisplayTheWindowOpensAndEveryNoteStillStarts) {
+  ASSERT_TRUE(hmp::test::xvfb().running()) << "Xvfb did not start (package xvfb)";
+  JackServer jack;
+  if (!jack.up()) GTEST_FAIL() << jack.why();
+  std::string err;
+  const auto play = [&] {
+    HmpRun hmp({"live", "--api", "jack", "--no-audio", "--device", "sim", "--seconds", "3"});
+    RtMidiOut out(RtMidi::UNIX_JACK, "hmp-test-view");
+    if (!connect(out, "hmp:hmp")) return "no port: " + read_file(hmp.err);
+    for (int i = 0; i < 40; ++i) {
+      const auto key = static_cast<unsigned char>(48 + i % 24);
+      send(out, {0x90, key, 100});
+      std::this_thread::sleep_for(20ms);
+      send(out, {0x80, key, 0});
+      std::this_thread::sleep_for(5ms);
+    }
+    EXPECT_EQ(hmp.wait(), 0) << read_file(hmp.err);
+    err = read_file(hmp.err);
+    return read_file(hmp.out);
+  };
+  const std::string all = "live: 40 notes on, 40 off, 0 bends; the device started 40 ";
+  const std::string summary =
+      until_complete(jack, play, [&](const std::string& s) { return s.find(all) != std::string::npos; });
+  EXPECT_NE(summary.find(all), std::string::npos) << summary << err;
+  EXPECT_EQ(err.find("warning"), std::string::npos) << err;
+}
+
 TEST(LiveJack, APortThatDisappearsEndsTheRunWithOneLine) {
   JackServer jack;
   if (!jack.up()) GTEST_FAIL() << jack.why();
   auto keys = std::make_unique<RtMidiOut>(RtMidi::UNIX_JACK, "hmp-test-gone");
   keys->openVirtualPort("keys");
-  HmpRun hmp({"live", "--api", "jack", "--no-audio", "--device", "sim", "--input", "hmp-test-gone", "--seconds", "20"});
+  HmpRun hmp({"live", "--api", "jack", "--no-audio", "--no-view", "--device", "sim", "--input", "hmp-test-gone",
+              "--seconds", "20"});
   std::this_thread::sleep_for(1500ms);
   keys.reset();  // the keyboard unplugged
   const auto t0 = std::chrono::steady_clock::now();
@@ -250,13 +280,13 @@ TEST(LiveJack, APortThatDisappearsEndsTheRunWithOneLine) {
 TEST(LiveJack, NoServerOrNoSuchPortIsBadInput) {
   {
     ::setenv("JACK_DEFAULT_SERVER", ("hmp-nobody-" + std::to_string(::getpid())).c_str(), 1);
-    HmpRun hmp({"live", "--api", "jack", "--no-audio", "--device", "sim"});
+    HmpRun hmp({"live", "--api", "jack", "--no-audio", "--no-view", "--device", "sim"});
     EXPECT_EQ(hmp.wait(), 2);
     EXPECT_EQ(read_file(hmp.err), "error: jack MIDI input: no JACK server running\n");
   }
   JackServer jack;
   if (!jack.up()) GTEST_FAIL() << jack.why();
-  HmpRun hmp({"live", "--api", "jack", "--no-audio", "--device", "sim", "--input", "no-such-keyboard"});
+  HmpRun hmp({"live", "--api", "jack", "--no-audio", "--no-view", "--device", "sim", "--input", "no-such-keyboard"});
   EXPECT_EQ(hmp.wait(), 2);
   EXPECT_EQ(read_file(hmp.err),
             "error: jack MIDI input: no port named like 'no-such-keyboard' (hmp live --list shows them)\n");

@@ -110,8 +110,8 @@ int main(int argc, char** argv) {
   const double seconds = 4.0 + s.notes * spacing_s;
   std::string error;
   const pid_t child =
-      hmp::start_child({{"hmp", "live", "--api", "jack", "--no-audio", "--input", "hmp-bench:keys", "--device", device,
-                         "--seconds", std::to_string(seconds), "--log", log, "--force"},
+      hmp::start_child({{"hmp", "live", "--api", "jack", "--no-audio", "--no-view", "--input", "hmp-bench:keys",
+                         "--device", device, "--seconds", std::to_string(seconds), "--log", log, "--force"},
                         hmp,
                         "",
                         "/dev/null",

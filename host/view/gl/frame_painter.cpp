@@ -10,9 +10,9 @@
 #include "host/view/gl/text_layer.hpp"
 
 namespace hmp::view::gl {
-FramePainter::FramePainter(const midi::Song& song, bool draw_everything)
+FramePainter::FramePainter(const midi::Song& song, bool draw_everything, std::optional<std::pair<int, int>> keys)
     : draw_everything_(draw_everything), index_(song) {
-  const auto [lo, hi] = key_range(song);
+  const auto [lo, hi] = keys ? *keys : key_range(song);
   layout_params_.key_low = lo;
   layout_params_.key_high = hi;
   renderer_ = std::make_unique<RollRenderer>();
@@ -55,6 +55,10 @@ void FramePainter::paint(const FrameState& state, int width_px, int height_px, f
       index_.visible(t, t0, t1, visible_);
     }
     for (const Bar& b : visible_)
+      instances_.push_back({layout.bar_rect(b, state.song_us), layout.colour(b, state.song_us)});
+  }
+  for (const Bar& b : state.played) {
+    if (b.track < tracks && !hidden(b.track))
       instances_.push_back({layout.bar_rect(b, state.song_us), layout.colour(b, state.song_us)});
   }
   // The present: a thin line at the roll's centre, over it.

@@ -3,6 +3,8 @@
 // or an off-screen one for the video export (offscreen_frames). Both draw through this one painter, so a
 // video frame shows exactly what the window would at the same song time and size.
 #include <memory>
+#include <optional>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -18,7 +20,7 @@ class TextLayer;
 class FramePainter {
  public:
   // Needs a current OpenGL 3.3 core context; `song` outlives the painter.
-  FramePainter(const midi::Song& song, bool draw_everything);
+  FramePainter(const midi::Song& song, bool draw_everything, std::optional<std::pair<int, int>> keys);
   ~FramePainter();
   FramePainter(const FramePainter&) = delete;
   FramePainter& operator=(const FramePainter&) = delete;

@@ -111,7 +111,7 @@ std::unique_ptr<SdlGlWindow> SdlGlWindow::open(const ViewSetup& setup, std::stri
 
 SdlGlWindow::SdlGlWindow(const ViewSetup& setup, SDL_Window* window, void* context)
     : setup_(setup), window_(window), context_(context), fullscreen_(setup.fullscreen) {
-  painter_ = std::make_unique<FramePainter>(*setup.song, setup.draw_everything);
+  painter_ = std::make_unique<FramePainter>(*setup.song, setup.draw_everything, setup.keys);
   const auto* name = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
   renderer_name_ = name != nullptr ? name : "?";
 }

@@ -113,7 +113,7 @@ EglOffscreenFrames::EglOffscreenFrames(const ViewSetup& setup, void* display, vo
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);  // no mipmaps
   glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, colour_, 0);
   complete_ = glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
-  painter_ = std::make_unique<FramePainter>(*setup.song, setup.draw_everything);
+  painter_ = std::make_unique<FramePainter>(*setup.song, setup.draw_everything, setup.keys);
   const auto* name = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
   renderer_name_ = name != nullptr ? name : "?";
   pixels_.resize(static_cast<std::size_t>(setup.width) * static_cast<std::size_t>(setup.height) * 4);

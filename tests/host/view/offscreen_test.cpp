@@ -3,10 +3,12 @@
 // frames need no display at all.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdlib>
 #include <thread>
 
+#include "host/view/roll_layout.hpp"
 #include "host/view/view_backend.hpp"
 #include "tests/support/xvfb.hpp"
 
@@ -126,6 +128,64 @@ TEST(Offscreen, FramesEqualTheWindowsFrames) {
     }
     EXPECT_EQ(differ, 0u) << "pixels differing at t = " << t << " µs";
   }
+}
+
+}  // namespace
+
+namespace {
+
+// `hmp live`'s notes, which are not the song's: drawn where the roll layout puts them (left of the
+// present line, over the keys of the setup's range) in their channel's colour, and nowhere without them.
+TEST(Offscreen, PlayedNotesAreDrawnWhereTheLayoutPutsThem) {
+  hmp::midi::Song channels;
+  channels.tracks.resize(16);
+  ViewSetup setup;
+  setup.song = &channels;
+  setup.width = 640;
+  setup.height = 360;
+  setup.keys = std::pair{21, 108};
+  std::string error;
+  auto frames = open_offscreen(setup, error);
+  ASSERT_TRUE(frames) << error;
+  FrameState f;
+  f.song_us = 5'000'000;
+  f.haptic_track = 2;
+  f.previous_haptic = 2;
+  const Bar played{3'000'000, 4'500'000, 60, 100, 2};
+  const std::size_t size = 640u * 360u * 4u;
+  const std::uint8_t* px = frames->draw(f);
+  const std::vector<std::uint8_t> without(px, px + size);
+  f.played = {played};
+  px = frames->draw(f);
+  const std::vector<std::uint8_t> with(px, px + size);
+
+  LayoutParams p = for_drawable(LayoutParams{}, 640, 360, 1.0f, f.seconds_across);
+  p.key_low = 21;
+  p.key_high = 108;
+  const RollLayout layout(p, 16, 2);
+  const Rect r = layout.bar_rect(played, f.song_us);
+  ASSERT_LT(r.x1, roll_width(p) * 0.5f) << "a note that ended is in the past, left of the present";
+  const Rgb c = layout.colour(played, f.song_us);
+  const auto at = [&](const std::vector<std::uint8_t>& v, float x, float y) {  // bottom-up RGBA
+    const std::size_t i =
+        (static_cast<std::size_t>(359 - static_cast<int>(y)) * 640u + static_cast<std::size_t>(x)) * 4;
+    return std::array<int, 3>{v[i], v[i + 1], v[i + 2]};
+  };
+  const float cx = (r.x0 + r.x1) / 2, cy = (r.y0 + r.y1) / 2;
+  const std::array<int, 3> want = {static_cast<int>(std::lround(c.r * 255)), static_cast<int>(std::lround(c.g * 255)),
+                                   static_cast<int>(std::lround(c.b * 255))};
+  const std::array<int, 3> got = at(with, cx, cy);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(got[static_cast<std::size_t>(k)], want[static_cast<std::size_t>(k)], 2) << k;
+  EXPECT_NE(at(without, cx, cy), got) << "the bar is the played note's, not the background";
+  // Nothing else changed outside the bar (and its antialiased edge).
+  std::size_t outside = 0;
+  for (float y = 0; y < 360; ++y) {
+    for (float x = 0; x < 640; ++x) {
+      if (x >= r.x0 - 2 && x <= r.x1 + 2 && y >= r.y0 - 2 && y <= r.y1 + 2) continue;
+      outside += at(with, x, y) != at(without, x, y);
+    }
+  }
+  EXPECT_EQ(outside, 0u);
 }
 
 }  // namespace
