@@ -68,23 +68,23 @@ int list_ports() {
   const live::MidiPortBackend& b = backend();
   for (const live::MidiApi api : {live::MidiApi::alsa, live::MidiApi::jack}) {
     std::string error;
-    const std::vector<live::MidiPortInfo> ports = b.inputs(api, error);
+    const std::vector<live::MidiPortInfo> ins = b.inputs(api, error);
     if (!error.empty()) {
       fmt::print("{}: not available: {}\n", live::name(api), error);
       continue;
     }
-    fmt::print("{}: {} input port{}\n", live::name(api), ports.size(), ports.size() == 1 ? "" : "s");
-    for (const live::MidiPortInfo& p : ports) fmt::print("  {}\n", p.name);
+    const std::vector<live::MidiPortInfo> outs = b.outputs(api, error);
+    for (const auto& [ports, what] : {std::pair{&ins, "input"}, std::pair{&outs, "output (hmp play --midi-out)"}}) {
+      fmt::print("{}: {} {} port{}\n", live::name(api), ports->size(), what, ports->size() == 1 ? "" : "s");
+      for (const live::MidiPortInfo& p : *ports) fmt::print("  {}\n", p.name);
+    }
   }
   return kExitOk;
 }
 
-// --api as given, else JACK where a server runs (a DAW's world), else the ALSA sequencer.
+// --api as given, else live::default_api.
 live::MidiApi choose_api(const LiveOptions& o, const live::MidiPortBackend& b) {
-  if (o.api) return parse_api(*o.api);
-  std::string error;
-  b.inputs(live::MidiApi::jack, error);
-  return error.empty() ? live::MidiApi::jack : live::MidiApi::alsa;
+  return o.api ? parse_api(*o.api) : live::default_api(b);
 }
 
 // --instrument as a GM program 0–127; nullopt when not given.
@@ -314,7 +314,8 @@ int run_live(const LiveOptions& o) {
 void register_live(CLI::App& app, Registry& registry) {
   auto o = std::make_shared<LiveOptions>();
   CLI::App* cmd = app.add_subcommand("live", "Feel MIDI as it is played: a keyboard's or a DAW's notes, at once");
-  cmd->add_flag("--list", o->list, "List the MIDI input ports (ALSA sequencer and JACK) and exit");
+  cmd->add_flag("--list", o->list,
+                "List the MIDI input ports (and the output ports hmp play --midi-out can use) and exit");
   cmd->add_option("--input", o->input,
                   "The input port whose name contains PORT (default: a port of our own named hmp, to connect to)");
   cmd->add_option("--api", o->api, "alsa or jack (default: jack where a JACK server runs, else alsa)");

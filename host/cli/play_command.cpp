@@ -13,6 +13,8 @@
 
 #include "host/audio/audio_events.hpp"
 #include "host/audio/audio_player.hpp"
+#include "host/live/midi_out.hpp"
+#include "host/live/midi_port.hpp"
 #include "host/audio/virtual_card.hpp"
 #include "host/cli/commands.hpp"
 #include "host/cli/device_hello.hpp"
@@ -46,8 +48,21 @@ struct PlayOptions {
   bool force = false;
   bool loop = false, shuffle = false;
   bool exit_on_device_loss = false;
+  std::optional<std::string> midi_out;
   HapticCliOptions haptic;
 };
+
+// --midi-out's port, opened (JACK where a server runs, else the ALSA sequencer); bad input when it is not
+// there.
+std::unique_ptr<live::MidiOutput> open_midi_out(const std::string& port) {
+  std::string why;
+  const live::MidiPortBackend* b = live::midi_port_backend(&why);
+  if (b == nullptr) throw BadInput("--midi-out: no MIDI ports: " + why);
+  const live::MidiApi api = live::default_api(*b);
+  std::unique_ptr<live::MidiOutput> out = b->open_output(api, port == "-" ? "" : port, why);
+  if (!out) throw BadInput(fmt::format("--midi-out {}: {}", port, why));
+  return out;
+}
 
 void check_window(const PlayOptions& o, const midi::Song& song) {
   if (o.from_s && *o.from_s >= song.duration_s()) {
@@ -142,6 +157,7 @@ struct PlaylistRun {
   player::StatusLine& status;
   player::PlayLog& log;
   player::PlayerOptions& po;
+  live::MidiOutput* midi_out = nullptr;  // --midi-out
   player::Counters total{};
   player::PlayLog::Totals totals{};
   std::set<std::size_t> skipped_files;  // list indices: a file skipped on every pass counts once
@@ -176,6 +192,13 @@ struct PlaylistRun {
     };
     player::Player player(link, audio, song, po);
     running = &player;
+    // The song to another synthesizer, on the clock the device's notes follow.
+    std::unique_ptr<live::MidiOutSender> midi;
+    if (midi_out != nullptr) {
+      midi = std::make_unique<live::MidiOutSender>(
+          *midi_out, audio::audio_events(song),
+          live::MidiOutSender::Clock{[this] { return audio.song_time_us(); }, [this] { return audio.playing(); }});
+    }
     // The animation (design §14): where there is no window to be had, one warning and the song plays on.
     std::unique_ptr<view::LiveView> window;
     if (!o.no_view) {
@@ -201,6 +224,11 @@ struct PlaylistRun {
       throw;
     }
     window.reset();
+    if (midi) {
+      const std::string why = midi->error();
+      midi.reset();
+      if (!why.empty()) std::fprintf(stderr, "warning: --midi-out %s: %s\n", midi_out->name().c_str(), why.c_str());
+    }
     status.show(player.snapshot(), true);
     status.close();
     const player::Snapshot end = player.snapshot();
@@ -235,6 +263,8 @@ int run_play(const PlayOptions& o) {
   std::optional<ReadySong> first;
   if (alone) first = ready_song(o, list.current(), true);
 
+  std::unique_ptr<live::MidiOutput> midi_out;
+  if (o.midi_out) midi_out = open_midi_out(*o.midi_out);  // a port that is not there: before the device
   transport::OpenedDevice opened = transport::open_device(transport::parse_device_spec(o.device), haptic.tick_hz);
   if (!opened.note.empty()) std::fprintf(stderr, "%s\n", opened.note.c_str());
   player::DeviceLink link(*opened.transport, link_options_for(opened));
@@ -277,7 +307,7 @@ int run_play(const PlayOptions& o) {
   po.on_message = [&](const std::string& text) { status.message(text); };
   if (!o.exit_on_device_loss) po.find_device = [&] { return transport::reopen_device(opened); };
 
-  PlaylistRun run{o, list, alone, link, hello, opened, audio, keys, status, log, po, {}, {}, {}};
+  PlaylistRun run{o, list, alone, link, hello, opened, audio, keys, status, log, po, midi_out.get(), {}, {}, {}};
   player::Outcome outcome = player::Outcome::finished;
   int last_move = 1;  // a song that cannot be read is passed over in the direction the user went
   std::size_t played_this_pass = 0;
@@ -360,6 +390,9 @@ void register_play(CLI::App& app, Registry& registry) {
   cmd->add_option("--device", o->device, kDeviceHelp)->capture_default_str();
   add_audio_options(cmd, o->audio);
   cmd->add_flag("--no-view", o->no_view, "No animation window");
+  cmd->add_option("--midi-out", o->midi_out,
+                  "Also send the song as MIDI, on the device's clock, to the output port whose name contains PORT "
+                  "(hmp live --list shows them; - for a port of our own, hmp, to connect to)");
   cmd->add_flag("--fullscreen", o->fullscreen, "The animation window fills the screen (f toggles)");
   cmd->add_option("--speed", o->speed,
                   "Playback speed 0.5–2 (sound and device follow; [ and ] change it while playing)")

@@ -1,6 +1,7 @@
 #pragma once
-// MIDI input ports (module "midiport", host/live/rtmidi/: RtMidi over the ALSA sequencer and JACK), so that
-// only `hmp live` loads those libraries. Errors come back as text, never as exceptions.
+// MIDI ports (module "midiport", host/live/rtmidi/: RtMidi over the ALSA sequencer and JACK): the inputs
+// `hmp live` reads and the outputs `hmp play --midi-out` writes, so that only those load the libraries.
+// Errors come back as text, never as exceptions.
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -30,10 +31,19 @@ class MidiInput {
   virtual bool present() const = 0;
 };
 
+// An open output port: each message goes out at once, whole and in order.
+class MidiOutput {
+ public:
+  virtual ~MidiOutput() = default;
+  virtual std::string name() const = 0;
+  // false when the back-end refused it (the port gone); `error` then says why.
+  virtual bool send(const std::uint8_t* bytes, std::size_t size, std::string& error) = 0;
+};
+
 class MidiPortBackend {
  public:
   static constexpr const char* kModule = "midiport";
-  static constexpr int kAbi = 1;
+  static constexpr int kAbi = 2;
 
   // The input ports of one system. Non-empty `error`: that system could not be asked (no ALSA sequencer,
   // no JACK server running), and the list is empty.
@@ -42,10 +52,18 @@ class MidiPortBackend {
   // named "hmp" that other programs connect to. Null and `error` says why.
   virtual std::unique_ptr<MidiInput> open(MidiApi api, const std::string& port, MidiReceive receive, void* context,
                                           std::string& error) const = 0;
+  // The output ports of one system (other programs' inputs: a synthesizer, a DAW's track), as inputs().
+  virtual std::vector<MidiPortInfo> outputs(MidiApi api, std::string& error) const = 0;
+  // Opens the output port whose name contains `port` (the first one), or with `port` empty a port of our
+  // own named "hmp" that other programs connect to. Null and `error` says why.
+  virtual std::unique_ptr<MidiOutput> open_output(MidiApi api, const std::string& port, std::string& error) const = 0;
 
  protected:
   ~MidiPortBackend() = default;  // one static object in the module, never deleted through this
 };
+
+// JACK where a server runs (a DAW's world), else the ALSA sequencer.
+MidiApi default_api(const MidiPortBackend& b);
 
 // The module, loaded on first use; null (and `why`) when it cannot be had.
 const MidiPortBackend* midi_port_backend(std::string* why = nullptr);

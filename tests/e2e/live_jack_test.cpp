@@ -1,7 +1,8 @@
 // `hmp live` end to end through a real JACK server (jackd's dummy back-end: no sound hardware), started and
 // stopped here under a name of its own: a JACK MIDI client of this test (RtMidi) plays into hmp's port,
 // and the simulated device must start every note exactly once; a port that disappears ends the run with
-// one line and exit 1; no JACK server and a port that is not there are one line and exit 2.
+// one line and exit 1; no JACK server and a port that is not there are one line and exit 2. And the other
+// way, `hmp play --midi-out`: a JACK MIDI input of this test receives the song on the device's clock.
 //
 // JACK drops the MIDI events of a cycle whose client did not finish in time (an xrun, which jackd logs as
 // "JackEngine::XRun"); a busy machine can cause one however hmp behaves. A run that lost notes and saw an
@@ -11,7 +12,9 @@
 
 #include <RtMidi.h>
 
+#include <algorithm>
 #include <chrono>
+#include <mutex>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -24,6 +27,8 @@
 
 #include "host/common/child_process.hpp"
 #include "host/live/midi_port.hpp"
+#include "tests/support/load_guard.hpp"
+#include "tests/support/midi_builder.hpp"
 #include "tests/support/xvfb.hpp"
 
 namespace {
@@ -259,6 +264,116 @@ TEST(LiveJack, WithADisplayTheWindowOpensAndEveryNoteStillStarts) {
       until_complete(jack, play, [&](const std::string& s) { return s.find(all) != std::string::npos; });
   EXPECT_NE(summary.find(all), std::string::npos) << summary << err;
   EXPECT_EQ(err.find("warning"), std::string::npos) << err;
+}
+
+// What a synthesizer's JACK input receives: each message with the steady-clock time it came.
+struct Received {
+  std::mutex mutex;
+  std::vector<std::pair<std::chrono::steady_clock::time_point, std::vector<unsigned char>>> messages;
+  static void take(double, std::vector<unsigned char>* m, void* self) {
+    auto* me = static_cast<Received*>(self);
+    const std::lock_guard<std::mutex> lock(me->mutex);
+    me->messages.emplace_back(std::chrono::steady_clock::now(), *m);
+  }
+};
+
+// A song known by construction: channel 1 (violin) a note every 250 ms, channel 2 (piano) every 500 ms,
+// 3 s; `hmp play --midi-out` must send every note-on, each after its channel's program, at its song time
+// relative to the first (the clock the device follows; here the host's, without sound), and end by
+// silencing both channels.
+TEST(LiveJack, PlayMidiOutSendsTheSongOnTheDevicesClock) {
+  JackServer jack;
+  if (!jack.up()) GTEST_FAIL() << jack.why();
+  midi_test::Events tempo, violin, piano;
+  tempo.tempo(0, 500'000).end();
+  violin.program(0, 0, 40);
+  for (int i = 0; i < 12; ++i) violin.on(i == 0 ? 0 : 40, 0, 60 + i, 70 + i).off(200, 0, 60 + i);
+  piano.program(0, 1, 0);
+  for (int i = 0; i < 6; ++i) piano.on(i == 0 ? 0 : 80, 1, 48 + 2 * i, 90).off(400, 1, 48 + 2 * i);
+  violin.end();
+  piano.end();
+  const std::string song = temp_path("song.mid");
+  {
+    const midi_test::Bytes bytes = midi_test::smf(1, 480, {tempo, violin, piano});
+    std::ofstream(song, std::ios::binary)
+        .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  }
+  struct Want {
+    std::uint8_t status, key, velocity;
+    double at_s;
+  };
+  std::vector<Want> want;
+  for (int i = 0; i < 12; ++i)
+    want.push_back({0x90, static_cast<std::uint8_t>(60 + i), static_cast<std::uint8_t>(70 + i), 0.25 * i});
+  for (int i = 0; i < 6; ++i) want.push_back({0x91, static_cast<std::uint8_t>(48 + 2 * i), 90, 0.5 * i});
+  std::stable_sort(want.begin(), want.end(), [](const Want& a, const Want& b) { return a.at_s < b.at_s; });
+
+  std::string err, failure;
+  double worst_ms = 0;
+  const hmp::test::LoadWatch load;
+  const auto play = [&] {
+    Received got;
+    RtMidiIn synth(RtMidi::UNIX_JACK, "hmp-test-synth");
+    synth.setCallback(&Received::take, &got);
+    synth.openVirtualPort("in");
+    HmpRun hmp({"play", song, "--device", "sim", "--no-audio", "--no-view", "--midi-out", "hmp-test-synth"});
+    EXPECT_EQ(hmp.wait(), 0) << read_file(hmp.err);
+    err = read_file(hmp.err);
+    std::this_thread::sleep_for(100ms);
+    const std::lock_guard<std::mutex> lock(got.mutex);
+    std::vector<std::pair<std::chrono::steady_clock::time_point, std::vector<unsigned char>>> ons;
+    int program_seen[2] = {-1, -1};
+    bool silenced[2] = {false, false};
+    failure.clear();
+    for (const auto& [t, m] : got.messages) {
+      const int ch = m[0] & 0x0F;
+      if (ch > 1) failure += "a message on channel " + std::to_string(ch + 1) + "; ";
+      if ((m[0] & 0xF0) == 0xC0 && ch <= 1) program_seen[ch] = m[1];
+      if ((m[0] & 0xF0) == 0xB0 && m[1] == 123 && ch <= 1) silenced[ch] = true;
+      if ((m[0] & 0xF0) != 0x90 || m[2] == 0) continue;
+      if (ch <= 1 && program_seen[ch] != (ch == 0 ? 40 : 0)) failure += "a note before its program; ";
+      ons.push_back({t, m});
+    }
+    if (ons.size() != want.size()) {
+      failure += std::to_string(ons.size()) + " note-ons, not " + std::to_string(want.size()) + "; ";
+      return std::string("lost");
+    }
+    // Each onset against the song's time, both from the first note, less their median offset (one late
+    // reference note does not move the others).
+    std::vector<double> offset_ms;
+    for (std::size_t i = 0; i < want.size(); ++i) {
+      const auto& m = ons[i].second;
+      if (m[0] != want[i].status || m[1] != want[i].key || m[2] != want[i].velocity)
+        failure += "note-on " + std::to_string(i) + " is not the song's; ";
+      const double at_s = std::chrono::duration<double>(ons[i].first - ons[0].first).count();
+      offset_ms.push_back((at_s - want[i].at_s) * 1e3);
+    }
+    std::vector<double> sorted = offset_ms;
+    std::sort(sorted.begin(), sorted.end());
+    const double median = sorted[sorted.size() / 2];
+    worst_ms = 0;
+    for (const double o : offset_ms) worst_ms = std::max(worst_ms, std::abs(o - median));
+    if (!silenced[0] || !silenced[1]) failure += "a channel not silenced at the end; ";
+    return std::string("complete");
+  };
+  until_complete(jack, play, [](const std::string& s) { return s == "complete"; });
+  EXPECT_EQ(failure, "") << err;
+  std::printf("midi-out: 18 note-ons, worst onset error %.2f ms (from their median)\n", worst_ms);
+  HMP_SKIP_IF_TOO_LOADED(load, worst_ms <= 5.0, "worst onset error " << worst_ms << " ms");
+  EXPECT_LE(worst_ms, 5.0) << "onsets against the song's times";
+  std::filesystem::remove(song);
+}
+
+TEST(LiveJack, PlayMidiOutToAPortThatIsNotThereIsBadInput) {
+  JackServer jack;
+  if (!jack.up()) GTEST_FAIL() << jack.why();
+  HmpRun hmp({"play", std::string(HMP_REPO_DIR) + "/examples/bach-bwv1050-brandenburg5-mvt3-allegro.mid", "--device",
+              "sim", "--no-audio", "--no-view", "--midi-out", "no-such-synth"});
+  EXPECT_EQ(hmp.wait(), 2);
+  EXPECT_NE(read_file(hmp.err).find("error: --midi-out no-such-synth: no jack MIDI output port named like "
+                                    "'no-such-synth' (hmp live --list shows them)\n"),
+            std::string::npos)
+      << read_file(hmp.err);
 }
 
 TEST(LiveJack, APortThatDisappearsEndsTheRunWithOneLine) {

@@ -1,4 +1,4 @@
-// The midiport module's entry (hmp-midiport.so): MIDI input through RtMidi (Debian's librtmidi), which
+// The midiport module's entry (hmp-midiport.so): MIDI in and out through RtMidi (Debian's librtmidi), which
 // speaks both the ALSA sequencer and JACK. RtMidi reports errors by throwing RtMidiError; they stop here.
 #include <RtMidi.h>
 #include <alsa/asoundlib.h>
@@ -65,6 +65,51 @@ struct Errors {
   }
 };
 
+// Opens `rt` (an RtMidiIn or RtMidiOut) on the first port whose name contains `port`, or with `port`
+// empty on a port of our own named "hmp"; the port's name for the user, or "" and `errors` says why.
+template <class RtPort>
+std::string open_port(RtPort& rt, MidiApi api, const std::string& port, const char* direction, const char* listing,
+                      Errors& errors) {
+  // Connects to the system first: with no JACK server RtMidi would go on to register a port on no client.
+  const unsigned count = rt.getPortCount();
+  if (!errors.first.empty()) return "";
+  if (port.empty()) {
+    rt.openVirtualPort("hmp");
+    return "hmp (" + std::string(live::name(api)) + ", for other programs to connect to)";
+  }
+  for (unsigned i = 0; i < count; ++i) {
+    const std::string candidate = rt.getPortName(i);
+    if (candidate.find(port) == std::string::npos) continue;
+    rt.openPort(i, std::string("hmp-") + direction);
+    return candidate;
+  }
+  if (errors.first.empty()) {
+    errors.first = "no " + std::string(live::name(api)) + " MIDI " +
+                   (direction == std::string("in") ? "input" : "output") + " port named like '" + port + "' (" +
+                   listing + " shows them)";
+  }
+  return "";
+}
+
+// The ports an RtMidiIn (inputs) or RtMidiOut (outputs) can open on one system.
+template <class RtPort>
+std::vector<MidiPortInfo> list_ports(MidiApi api, std::string& error) {
+  std::vector<MidiPortInfo> out;
+  if (error = unavailable(api); !error.empty()) return out;
+  try {
+    Errors errors;
+    RtPort rt(rt_api(api), "hmp-list");
+    rt.setErrorCallback(&Errors::keep, &errors);
+    const unsigned count = rt.getPortCount();
+    for (unsigned i = 0; i < count; ++i) out.push_back({api, rt.getPortName(i)});
+    error = errors.first;
+  } catch (const RtMidiError& e) {
+    error = plain(e.getMessage());
+  }
+  if (!error.empty()) out.clear();
+  return out;
+}
+
 class RtInput final : public MidiInput {
  public:
   RtInput(MidiApi api, MidiReceive receive, void* context)
@@ -82,28 +127,8 @@ class RtInput final : public MidiInput {
   // Opens the first port whose name contains `port`; false (and `error`) if none does or it fails.
   bool open(const std::string& port, std::string& error) {
     in_.setCallback(&RtInput::on_message, this);
-    // Connects to the system first: with no JACK server RtMidi would go on to register a port on no client.
-    const unsigned count = in_.getPortCount();
-    if (!errors_.first.empty()) {
-      error = errors_.first;
-      return false;
-    }
-    if (port.empty()) {
-      in_.openVirtualPort("hmp");
-      name_ = "hmp (" + std::string(live::name(api_)) + ", for other programs to connect to)";
-      virtual_ = true;
-    } else {
-      for (unsigned i = 0; i < count && name_.empty(); ++i) {
-        const std::string candidate = in_.getPortName(i);
-        if (candidate.find(port) == std::string::npos) continue;
-        in_.openPort(i, "hmp-in");
-        name_ = candidate;
-      }
-      if (name_.empty() && errors_.first.empty()) {
-        errors_.first = "no " + std::string(live::name(api_)) + " MIDI input port named like '" + port +
-                        "' (hmp live --list shows them)";
-      }
-    }
+    name_ = open_port(in_, api_, port, "in", "hmp live --list", errors_);
+    virtual_ = port.empty();
     error = errors_.first;
     return error.empty();
   }
@@ -132,23 +157,58 @@ class RtInput final : public MidiInput {
   bool virtual_ = false;
 };
 
+class RtOutput final : public MidiOutput {
+ public:
+  explicit RtOutput(MidiApi api) : api_(api), out_(rt_api(api), "hmp") {
+    out_.setErrorCallback(&Errors::keep, &errors_);
+  }
+  ~RtOutput() override {
+    try {
+      out_.closePort();
+    } catch (const RtMidiError&) {
+    }
+  }
+  // As RtInput::open, for the other direction.
+  bool open(const std::string& port, std::string& error) {
+    name_ = open_port(out_, api_, port, "out", "hmp live --list", errors_);
+    error = errors_.first;
+    return error.empty();
+  }
+  std::string name() const override { return name_; }
+  bool send(const std::uint8_t* bytes, std::size_t size, std::string& error) override {
+    try {
+      out_.sendMessage(bytes, size);
+    } catch (const RtMidiError& e) {
+      errors_.first = plain(e.getMessage());
+    }
+    error = errors_.first;
+    return error.empty();
+  }
+
+ private:
+  MidiApi api_;
+  Errors errors_;
+  RtMidiOut out_;
+  std::string name_;
+};
+
 class RtMidiBackend final : public MidiPortBackend {
  public:
   std::vector<MidiPortInfo> inputs(MidiApi api, std::string& error) const override {
-    std::vector<MidiPortInfo> out;
-    if (error = unavailable(api); !error.empty()) return out;
+    return list_ports<RtMidiIn>(api, error);
+  }
+  std::vector<MidiPortInfo> outputs(MidiApi api, std::string& error) const override {
+    return list_ports<RtMidiOut>(api, error);
+  }
+  std::unique_ptr<MidiOutput> open_output(MidiApi api, const std::string& port, std::string& error) const override {
+    if (error = unavailable(api); !error.empty()) return nullptr;
     try {
-      Errors errors;
-      RtMidiIn in(rt_api(api), "hmp-list");
-      in.setErrorCallback(&Errors::keep, &errors);
-      const unsigned count = in.getPortCount();
-      for (unsigned i = 0; i < count; ++i) out.push_back({api, in.getPortName(i)});
-      error = errors.first;
+      auto out = std::make_unique<RtOutput>(api);
+      if (out->open(port, error)) return out;
     } catch (const RtMidiError& e) {
       error = plain(e.getMessage());
     }
-    if (!error.empty()) out.clear();
-    return out;
+    return nullptr;
   }
   std::unique_ptr<MidiInput> open(MidiApi api, const std::string& port, MidiReceive receive, void* context,
                                   std::string& error) const override {
