@@ -315,7 +315,7 @@ void register_live(CLI::App& app, Registry& registry) {
   auto o = std::make_shared<LiveOptions>();
   CLI::App* cmd = app.add_subcommand("live", "Feel MIDI as it is played: a keyboard's or a DAW's notes, at once");
   cmd->add_flag("--list", o->list,
-                "List the MIDI input ports (and the output ports hmp play --midi-out can use) and exit");
+                "List the MIDI input ports (and the output ports hmp play can send a song to) and exit");
   cmd->add_option("--input", o->input,
                   "The input port whose name contains PORT (default: a port of our own named hmp, to connect to)");
   cmd->add_option("--api", o->api, "alsa or jack (default: jack where a JACK server runs, else alsa)");

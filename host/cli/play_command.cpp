@@ -392,7 +392,7 @@ void register_play(CLI::App& app, Registry& registry) {
   cmd->add_flag("--no-view", o->no_view, "No animation window");
   cmd->add_option("--midi-out", o->midi_out,
                   "Also send the song as MIDI, on the device's clock, to the output port whose name contains PORT "
-                  "(hmp live --list shows them; - for a port of our own, hmp, to connect to)");
+                  "(`hmp live` with its list option shows them; - for a port of our own, hmp, to connect to)");
   cmd->add_flag("--fullscreen", o->fullscreen, "The animation window fills the screen (f toggles)");
   cmd->add_option("--speed", o->speed,
                   "Playback speed 0.5–2 (sound and device follow; [ and ] change it while playing)")
