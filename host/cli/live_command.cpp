@@ -96,17 +96,18 @@ std::optional<std::uint8_t> instrument(const LiveOptions& o) {
   return program;
 }
 
-live::MapperOptions mapper_options(const LiveOptions& o) {
+// `program`: --instrument, parsed once by the caller.
+live::MapperOptions mapper_options(const LiveOptions& o, std::optional<std::uint8_t> program) {
   live::MapperOptions m;
   if (o.channel < 0 || o.channel > 16) throw BadInput(fmt::format("--channel {}: use 1–16", o.channel));
   m.channel = o.channel - 1;
   if (o.key_range) {
     m.keys = live::parse_key_range(*o.key_range);
-  } else if (const std::optional<std::uint8_t> program = instrument(o)) {
+  } else if (program) {
     const midi::KeySpan span = midi::gm_key_range(*program);
     m.keys = {span.low, span.high};
   }
-  envelope::Preset preset = envelope::auto_preset(instrument(o).value_or(0), 0);
+  envelope::Preset preset = envelope::auto_preset(program.value_or(0), 0);
   if (o.envelope && !envelope::find_builtin(o.envelope->c_str(), preset))
     throw BadInput("--envelope " + *o.envelope + ": unknown");
   m.preset = static_cast<std::uint8_t>(preset);
@@ -203,7 +204,8 @@ std::unique_ptr<view::LiveView> open_live_view(const midi::Song& channels, live:
 
 int run_live(const LiveOptions& o) {
   if (o.list) return list_ports();
-  const live::MapperOptions mo = mapper_options(o);
+  const std::optional<std::uint8_t> program = instrument(o);
+  const live::MapperOptions mo = mapper_options(o, program);
   const audio::AudioOptions audio_opts = audio_options(o.audio);  // checks --soundfont
   if (o.log) output::check_writable(*o.log, o.force);
   if (o.api) parse_api(*o.api);  // bad input before any port or device is opened
@@ -228,7 +230,7 @@ int run_live(const LiveOptions& o) {
   connect_and_describe(link, opened);
   live::LiveSession session(link, mo, o.log.has_value());
   audio::AudioPlayer sound(audio_opts);
-  live::LiveSound heard(mo.channel, instrument(o));
+  live::LiveSound heard(mo.channel, program);
   if (sound.audible()) {
     std::fprintf(stderr, "audio: %s, output latency %.1f ms\n", sound.driver_name().c_str(),
                  sound.output_latency_s() * 1e3);
@@ -240,7 +242,6 @@ int run_live(const LiveOptions& o) {
   }
   player::install_stop_signals();
   std::unique_ptr<live::MidiInput> in = open_port(b, api, o, session, true);
-  const std::optional<std::uint8_t> program = instrument(o);
   std::fprintf(
       stderr, "live: input %s, %s, %s, keys %s, envelope %s, mapping %s; Ctrl-C stops\n", in->name().c_str(),
       o.channel == 0 ? "every channel" : fmt::format("channel {}", o.channel).c_str(),

@@ -13,6 +13,9 @@ constexpr std::uint16_t kRampInMs = 20;
 constexpr std::size_t kInFlight = 8;       // Live reports sent and not yet processed by the device
 constexpr std::size_t kPlayedKept = 4096;  // notes the window can show: minutes of fast playing
 
+// sent_on_'s key: a note-on by its report's seq and its index in the report.
+std::uint32_t sent_key(std::uint16_t seq, std::uint32_t index) { return static_cast<std::uint32_t>(seq) << 8 | index; }
+
 }  // namespace
 
 LiveSession::LiveSession(player::DeviceLink& link, const MapperOptions& options, bool keep_notes)
@@ -78,7 +81,7 @@ void LiveSession::send_events() {
         record = notes_.size();
         notes_.push_back({m.live.track, m.live.events[k].key, event_us_[first + k], sent_us, 0, 0});
       }
-      sent_on_.insert_or_assign(static_cast<std::uint32_t>(*seq) << 8 | k, SentOn{event_us_[first + k], record});
+      sent_on_.insert_or_assign(sent_key(*seq, k), SentOn{event_us_[first + k], record});
     }
   }
   events_.erase(events_.begin(), events_.begin() + static_cast<std::ptrdiff_t>(i));
@@ -92,7 +95,7 @@ void LiveSession::take_device_events() {
   const std::int64_t now = player::steady_us();
   for (const protocol::StartedEntry& s : ev.started) {
     ++progress_.started;
-    const auto it = sent_on_.find(static_cast<std::uint32_t>(s.seq) << 8 | s.index);
+    const auto it = sent_on_.find(sent_key(s.seq, s.index));
     if (it == sent_on_.end()) continue;
     const SentOn& o = it->second;
     progress_.latency_ms.push_back(static_cast<double>(now - o.received_us) / 1000.0);
@@ -105,8 +108,7 @@ void LiveSession::take_device_events() {
   for (const protocol::Error& e : ev.errors) {
     ++progress_.refused;
     if (e.type == static_cast<std::uint8_t>(protocol::Type::live))
-      for (std::uint32_t k = 0; k < protocol::kNotesPerBatch; ++k)
-        sent_on_.erase(static_cast<std::uint32_t>(e.seq) << 8 | k);
+      for (std::uint32_t k = 0; k < protocol::kNotesPerBatch; ++k) sent_on_.erase(sent_key(e.seq, k));
     progress_.last_error = std::string(protocol::name(e.code)) + " (report " + std::to_string(e.seq) + ", " +
                            protocol::name(static_cast<protocol::Type>(e.type)) + ")";
   }

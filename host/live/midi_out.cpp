@@ -19,16 +19,12 @@ std::uint8_t status(std::uint8_t kind, std::uint8_t channel) {
 
 }  // namespace
 
-void midi_bytes(const audio::AudioEvent& e, int (&programs)[16], std::vector<std::uint8_t>& out) {
+void midi_message(const audio::AudioEvent& e, std::vector<std::uint8_t>& out) {
   const std::uint8_t ch = e.channel & 0x0F;
   using Kind = audio::AudioEvent::Kind;
   using Control = midi::Control::Kind;
   switch (e.kind) {
     case Kind::note_on:
-      if (programs[ch] != e.program) {
-        out.insert(out.end(), {status(0xC0, ch), static_cast<std::uint8_t>(e.program & 0x7F)});
-        programs[ch] = e.program;
-      }
       out.insert(out.end(), {status(0x90, ch), static_cast<std::uint8_t>(e.key & 0x7F),
                              static_cast<std::uint8_t>(std::clamp<int>(e.velocity, 1, 127))});
       return;
@@ -46,7 +42,7 @@ void midi_bytes(const audio::AudioEvent& e, int (&programs)[16], std::vector<std
         case Control::pressure:
           out.insert(out.end(), {status(0xD0, ch), static_cast<std::uint8_t>(e.value & 0x7F)});
           return;
-        case Control::program: return;  // each note-on carries its program (above)
+        case Control::program: return;  // each note-on carries its program (MidiOutSender::send)
       }
   }
 }
@@ -77,13 +73,14 @@ void MidiOutSender::write(const std::vector<std::uint8_t>& bytes) {
 }
 
 void MidiOutSender::send(const audio::AudioEvent& e) {
-  std::vector<std::uint8_t> bytes;
-  midi_bytes(e, programs_, bytes);
-  // One message at a time: a program change, then the note.
-  if (bytes.size() == 5) {
-    write({bytes.begin(), bytes.begin() + 2});
-    bytes.erase(bytes.begin(), bytes.begin() + 2);
+  const std::uint8_t ch = e.channel & 0x0F;
+  // The program travels with each note: a program change first when the channel's last one differs.
+  if (e.kind == audio::AudioEvent::Kind::note_on && programs_[ch] != e.program) {
+    write({status(0xC0, ch), static_cast<std::uint8_t>(e.program & 0x7F)});
+    programs_[ch] = e.program;
   }
+  std::vector<std::uint8_t> bytes;
+  midi_message(e, bytes);
   if (!bytes.empty()) write(bytes);
   if (e.kind == audio::AudioEvent::Kind::note_on) sounding_ = true;
   ++sent_;

@@ -18,10 +18,9 @@
 
 namespace hmp::live {
 
-// The MIDI bytes of one audio event: up to two messages (a program change before a note of another
-// program than the channel's last, then the event), appended to `out`. `programs` holds each channel's
-// last program sent (−1: none yet) and is updated.
-void midi_bytes(const audio::AudioEvent& e, int (&programs)[16], std::vector<std::uint8_t>& out);
+// The MIDI message of one audio event (note-on, note-off, controller, pitch bend, channel pressure),
+// appended to `out`; nothing for a program change, which each note-on carries instead.
+void midi_message(const audio::AudioEvent& e, std::vector<std::uint8_t>& out);
 
 class MidiOutSender {
  public:
