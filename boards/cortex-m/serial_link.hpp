@@ -28,14 +28,17 @@
 
 namespace hmp::board {
 
+// Where a link hands the reports it receives (the board's inbox).
+struct LinkSink {
+  void* ctx = nullptr;
+  bool (*has_room)(void* ctx) = nullptr;                                 // may another report be taken?
+  void (*deliver)(void* ctx, const protocol::Report& report) = nullptr;  // one intact report
+};
+
 template <typename Uart>
 class SerialLink {
  public:
-  struct Sink {
-    void* ctx = nullptr;
-    bool (*has_room)(void* ctx) = nullptr;                                 // may another report be taken?
-    void (*deliver)(void* ctx, const protocol::Report& report) = nullptr;  // one intact report
-  };
+  using Sink = LinkSink;
   struct Counters {
     std::uint32_t rx_bytes = 0;
     std::uint32_t rx_overruns = 0;  // bytes the UART lost (cannot happen in QEMU: it waits for DATA reads)

@@ -36,20 +36,29 @@ void An386Board::on_motor_output(void* ctx, const float (&duty)[fw::kMotorCount]
   for (int i = 0; i < fw::kMotorCount; ++i) m.duty[i] = duty[i];
 }
 
-void An386Board::start_link() {
-  Link::Sink sink;
+bool An386Board::start_link(bool net) {
+  LinkSink sink;
   sink.ctx = this;
   sink.has_room = &An386Board::inbox_has_room;
   sink.deliver = &An386Board::deliver;
+  // Below the tick (SysTick keeps 0): the link never delays the tick, and a report's arrival tick is
+  // read consistently (the tick cannot be half-way through when the link's interrupt runs).
+  constexpr std::uint8_t kLinkPriority = 0x80;
+  if (net) {
+    net_.set_sink(sink);
+    if (!net_.start()) return false;
+    net_on_ = true;
+    nvic::set_priority(kEthernet.irq(), kLinkPriority);
+    nvic::enable(kEthernet.irq());
+    return true;
+  }
   link_.set_sink(sink);
-  // Below the tick (SysTick keeps 0): the UART never delays the tick, and a report's arrival tick is
-  // read consistently (the tick cannot be half-way through when the UART interrupt runs).
-  constexpr std::uint8_t kUartPriority = 0x80;
   kUart0.init(kCoreHz, 115200);
-  nvic::set_priority(kUart0.rx_irq(), kUartPriority);
-  nvic::set_priority(kUart0.tx_irq(), kUartPriority);
+  nvic::set_priority(kUart0.rx_irq(), kLinkPriority);
+  nvic::set_priority(kUart0.tx_irq(), kLinkPriority);
   nvic::enable(kUart0.rx_irq());
   nvic::enable(kUart0.tx_irq());
+  return true;
 }
 
 void An386Board::drop_rx() {
@@ -72,12 +81,17 @@ void An386Board::stop() {
   timer_.stop();
   nvic::disable(kUart0.rx_irq());
   nvic::disable(kUart0.tx_irq());
+  nvic::disable(kEthernet.irq());
 }
 
 void An386Board::on_tick() {
   core_.on_tick();
   ticks_ = ticks_ + 1;
-  link_.resume_rx();
+  if (net_on_) {
+    net_.resume_rx();
+  } else {
+    link_.resume_rx();
+  }
 }
 
 void An386Board::on_output(void* ctx, float value) {
@@ -87,7 +101,8 @@ void An386Board::on_output(void* ctx, float value) {
 }
 
 bool An386Board::on_send(void* ctx, const protocol::Report& report) {
-  return static_cast<An386Board*>(ctx)->link_.queue_report(report);
+  auto* self = static_cast<An386Board*>(ctx);
+  return self->net_on_ ? self->net_.queue_report(report) : self->link_.queue_report(report);
 }
 
 void An386Board::on_log(void*, const char* line) { Line().text("log: ").text(line).print(); }
@@ -115,17 +130,25 @@ void An386Board::deliver(void* ctx, const protocol::Report& report) {
 }
 
 void An386Board::print_summary() const {
+  const NetLink::Counters& n = net_.counters();
   const framing::DecoderCounters& f = link_.frame_counters();
   const Link::Counters& l = link_.counters();
   const fw::Stats& s = core_.stats();
   // Laid out by hand (one log line, its fields side by side), so the formatter leaves it:
   // clang-format off
-  Line().text("link: frames=").u32(f.packets).text(" crc_errors=").u32(f.crc_errors)
-      .text(" malformed=").u32(f.malformed).text(" oversized=").u32(f.oversized)
-      .text(" wrong_size=").u32(f.wrong_size).text(" rx_bytes=").u32(l.rx_bytes)
-      .text(" rx_overruns=").u32(l.rx_overruns).text(" rx_held=").u32(l.rx_held)
-      .text(" tx_frames=").u32(l.tx_frames).text(" tx_dropped=").u32(l.tx_dropped)
-      .text(" inbox_refused=").u32(inbox_refused_).text(" rx_lost=").u32(rx_lost_).print();
+  if (net_on_) {
+    Line().text("net: rx_frames=").u32(n.rx_frames).text(" rx_foreign=").u32(n.rx_foreign)
+        .text(" rx_held=").u32(n.rx_held).text(" tx_frames=").u32(n.tx_frames)
+        .text(" tx_dropped=").u32(n.tx_dropped).text(" inbox_refused=").u32(inbox_refused_)
+        .text(" rx_lost=").u32(rx_lost_).print();
+  } else {
+    Line().text("link: frames=").u32(f.packets).text(" crc_errors=").u32(f.crc_errors)
+        .text(" malformed=").u32(f.malformed).text(" oversized=").u32(f.oversized)
+        .text(" wrong_size=").u32(f.wrong_size).text(" rx_bytes=").u32(l.rx_bytes)
+        .text(" rx_overruns=").u32(l.rx_overruns).text(" rx_held=").u32(l.rx_held)
+        .text(" tx_frames=").u32(l.tx_frames).text(" tx_dropped=").u32(l.tx_dropped)
+        .text(" inbox_refused=").u32(inbox_refused_).text(" rx_lost=").u32(rx_lost_).print();
+  }
   // clang-format on
   // Laid out by hand (one log line, its fields side by side), so the formatter leaves it:
   // clang-format off

@@ -1,6 +1,7 @@
 #pragma once
-// The qemu-an386 board: the firmware core (firmware/core.hpp) on SysTick and UART0, logging over
-// semihosting. Fills in the BoardSeam; the images' main() and interrupt handlers call in here.
+// The qemu-an386 board: the firmware core (firmware/core.hpp) on SysTick and UART0 (or the Ethernet
+// controller: net_link.hpp), logging over semihosting. Fills in the BoardSeam; the images' main() and interrupt
+// handlers call in here.
 //
 // Priorities: SysTick (the tick) is the highest; the UART interrupts sit below it, so a report's
 // arrival never interrupts a tick half-way and the tick is never delayed by the line. The main loop
@@ -11,6 +12,7 @@
 #include "firmware/core.hpp"
 #include "output_trace.hpp"
 #include "boards/cortex-m/serial_link.hpp"
+#include "net_link.hpp"
 #include "boards/cortex-m/systick_timer.hpp"
 #include "uart.hpp"
 
@@ -31,7 +33,8 @@ class An386Board {
   An386Board(const An386Board&) = delete;
   An386Board& operator=(const An386Board&) = delete;
 
-  void start_link();  // UART0 and its interrupts
+  // The host link and its interrupts: UART0, or the Ethernet controller when `net` (false when it has none).
+  bool start_link(bool net = false);
   void start_tick();  // SysTick interrupt at the tick rate
   // Until tick `tick` the UART drops what it receives, as the UART of a board that is still starting
   // does (a real USART that is not enabled yet loses the bytes; this one would otherwise hold them).
@@ -45,6 +48,13 @@ class An386Board {
     link_.on_rx_interrupt();
   }
   void on_uart_tx() { link_.on_tx_interrupt(); }
+  void on_ethernet() {
+    if (ticks_ < listen_from_tick_) {
+      rx_lost_ += net_.drop_received();
+      return;
+    }
+    net_.on_interrupt();
+  }
 
   // Main loop.
   bool poll() { return core_.poll(); }  // the core's background work; true if there was any
@@ -55,7 +65,10 @@ class An386Board {
   void print_summary() const;
 
   fw::Core& core() { return core_; }
-  const Link& link() const { return link_; }
+  // Changes with every byte (UART) or frame (Ethernet) received: the exit-when-idle option watches it.
+  std::uint32_t rx_activity() const { return net_on_ ? net_.rx_count() : link_.rx_bytes(); }
+  // Reception is held back for a full inbox (reports are waiting in the UART or the controller).
+  bool rx_paused() const { return net_on_ ? net_.rx_paused() : link_.rx_paused(); }
 
  private:
   void drop_rx();
@@ -71,13 +84,15 @@ class An386Board {
 
   TickTimer timer_;
   Link link_{kUart0};
+  NetLink net_{kEthernet};
+  bool net_on_ = false;
   OutputTrace trace_;
   std::uint32_t tick_hz_;
   bool tracing_;
   std::uint32_t inbox_refused_ = 0;  // on_packet said no although the link checked for room (a bug)
   volatile std::uint32_t ticks_ = 0;
   std::uint32_t listen_from_tick_ = 0;
-  std::uint32_t rx_lost_ = 0;  // bytes dropped before listen_from_tick_
+  std::uint32_t rx_lost_ = 0;  // bytes (UART) or frames (Ethernet) dropped before listen_from_tick_
   BenchMotors* motors_ = nullptr;
   fw::Core core_;  // last: its seam points at the members above
 };

@@ -1,5 +1,6 @@
 // The qemu-an386 firmware image: the firmware core on SysTick (the tick) and UART0 (the host link,
-// framed reports), logging over semihosting. Options come from the semihosting command line (QEMU
+// framed reports) or, with link=net, the Ethernet controller (a report per frame), logging over
+// semihosting. Options come from the semihosting command line (QEMU
 // -append "…", README.md): tick rate, the output trace for tests, and an exit when the host has gone
 // quiet. Without exit-idle-ms it runs until QEMU is stopped.
 #include <new>
@@ -24,6 +25,7 @@ An386Board* g_board = nullptr;
 extern "C" void SysTick_Handler() { g_board->on_tick(); }
 extern "C" void UART0_RX_Handler() { g_board->on_uart_rx(); }
 extern "C" void UART0_TX_Handler() { g_board->on_uart_tx(); }
+extern "C" void ETHERNET_Handler() { g_board->on_ethernet(); }
 
 int main() {
   const hmp::board::Options opt = hmp::board::read_options();
@@ -33,17 +35,20 @@ int main() {
   Line().text("HMP qemu-an386 firmware ").u32(hmp::fw::kFirmwareMajor).text(".").u32(hmp::fw::kFirmwareMinor)
       .text(".").u32(hmp::fw::kFirmwarePatch).text(" tick_hz=").u32(opt.tick_hz)
       .text(" trace=").text(opt.trace ? "on" : "off").text(" exit_idle_ms=").u32(opt.exit_idle_ms)
-      .text(" listen_after_ms=").u32(opt.listen_after_ms).print();
+      .text(" listen_after_ms=").u32(opt.listen_after_ms).text(" link=").text(opt.net ? "net" : "uart").print();
   // clang-format on
 
   g_board = new (g_board_storage) An386Board(opt.tick_hz, opt.trace);
   g_board->listen_from_tick(
       static_cast<std::uint32_t>(static_cast<std::uint64_t>(opt.listen_after_ms) * opt.tick_hz / 1000));
-  g_board->start_link();
+  if (!g_board->start_link(opt.net)) {
+    Line().text("link=net: no Ethernet controller answers at its address").print();
+    return hmp::board::kExitBadOption;
+  }
   g_board->start_tick();
 
   const auto idle_ticks = static_cast<std::uint32_t>(static_cast<std::uint64_t>(opt.exit_idle_ms) * opt.tick_hz / 1000);
-  std::uint32_t seen_rx = g_board->link().rx_bytes();
+  std::uint32_t seen_rx = g_board->rx_activity();
   std::uint32_t last_rx_tick = 0;
   for (;;) {
     while (g_board->poll()) {
@@ -51,8 +56,8 @@ int main() {
     g_board->drain_trace(false);
     if (idle_ticks != 0) {
       const std::uint32_t now = g_board->ticks();
-      const std::uint32_t rx = g_board->link().rx_bytes();
-      if (rx != seen_rx || g_board->link().rx_paused()) {  // held-back bytes are not silence
+      const std::uint32_t rx = g_board->rx_activity();
+      if (rx != seen_rx || g_board->rx_paused()) {  // held-back bytes are not silence
         seen_rx = rx;
         last_rx_tick = now;
       } else if (now - last_rx_tick >= idle_ticks) {

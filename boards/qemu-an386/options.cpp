@@ -40,6 +40,10 @@ bool apply(const char* word, Options& o) {
   if (starts_with(word, "hz=")) return parse_u32(word + 3, o.tick_hz) && TickTimer::valid_rate(kCoreHz, o.tick_hz);
   if (starts_with(word, "exit-idle-ms=")) return parse_u32(word + 13, o.exit_idle_ms);
   if (starts_with(word, "listen-after-ms=")) return parse_u32(word + 16, o.listen_after_ms);
+  if (equals(word, "link=net") || equals(word, "link=uart")) {
+    o.net = word[5] == 'n';
+    return true;
+  }
   return false;
 }
 
@@ -71,7 +75,11 @@ Options read_options() {
   semihost::get_cmdline(cmdline, sizeof cmdline);
   const Options opt = parse_options(cmdline);
   if (opt.error != nullptr)
-    Line().text("bad option: ").text(opt.error).text(" (hz=N trace exit-idle-ms=N listen-after-ms=N)").print();
+    Line()
+        .text("bad option: ")
+        .text(opt.error)
+        .text(" (hz=N trace exit-idle-ms=N listen-after-ms=N link=uart|net)")
+        .print();
   return opt;
 }
 

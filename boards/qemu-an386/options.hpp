@@ -15,7 +15,8 @@ struct Options {
 #endif
   bool trace = false;                 // trace: per-tick outputs and received reports on semihosting
   std::uint32_t exit_idle_ms = 0;     // exit-idle-ms=N: exit 0 after N ms without a received byte (0: never)
-  std::uint32_t listen_after_ms = 0;  // listen-after-ms=N: the UART drops what it receives for N ms
+  std::uint32_t listen_after_ms = 0;  // listen-after-ms=N: the link drops what it receives for N ms
+  bool net = false;                   // link=net: the host link is the Ethernet controller (link=uart: UART0)
   const char* error = nullptr;        // the first word that could not be used (then the rest is unread)
 };
 

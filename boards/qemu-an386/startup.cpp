@@ -25,12 +25,13 @@ void PendSV_Handler() __attribute__((weak, alias("Default_Handler")));
 void SysTick_Handler() __attribute__((weak, alias("Default_Handler")));
 void UART0_RX_Handler() __attribute__((weak, alias("Default_Handler")));
 void UART0_TX_Handler() __attribute__((weak, alias("Default_Handler")));
+void ETHERNET_Handler() __attribute__((weak, alias("Default_Handler")));
 }
 
 namespace {
 
 namespace ex = hmp::board::exception;
-// AN386 wires 32 external interrupts (QEMU: num-irq 32). UART0 RX/TX are IRQ 0/1.
+// AN386 wires 32 external interrupts (QEMU: num-irq 32). UART0 RX/TX are IRQ 0/1, the Ethernet controller IRQ 13.
 using VectorTable = hmp::board::VectorTable<32>;
 
 constexpr VectorTable make_vector_table() {
@@ -48,6 +49,7 @@ constexpr VectorTable make_vector_table() {
   for (auto& h : t.irq) h = Default_Handler;
   t.irq[0] = UART0_RX_Handler;
   t.irq[1] = UART0_TX_Handler;
+  t.irq[13] = ETHERNET_Handler;
   return t;
 }
 

@@ -8,7 +8,7 @@ namespace hmp::cli {
 
 // --device's help where `auto` is the default (play, live).
 inline constexpr const char* kDeviceHelp =
-    "auto (HID, else the simulated device), sim, qemu, hid[:VID:PID], serial:PATH";
+    "auto (HID, else the simulated device), sim, qemu, qemu:net, hid[:VID:PID], serial:PATH";
 
 // DeviceLink options for the opened device (an emulator gets longer to answer hello).
 player::DeviceLink::Options link_options_for(const transport::OpenedDevice& opened);

@@ -14,7 +14,7 @@ namespace {
 
 [[noreturn]] void bad(std::string_view text, std::string_view why) {
   throw BadInput("bad --device '" + std::string(text) + "': " + std::string(why) +
-                 " (expected auto, sim, qemu, hid, hid:VID:PID, hid:/dev/hidrawN or serial:PATH[@BAUD])");
+                 " (expected auto, sim, qemu, qemu:net, hid, hid:VID:PID, hid:/dev/hidrawN or serial:PATH[@BAUD])");
 }
 
 // "serial:/dev/ttyACM0@921600": the speed is the part after the last '@' when it is all digits, so a
@@ -42,8 +42,9 @@ DeviceSpec parse_device_spec(std::string_view text) {
   if (text == "auto") return spec;
   if (text == "sim") {
     spec.kind = DeviceSpec::Kind::sim;
-  } else if (text == "qemu") {
+  } else if (text == "qemu" || text == "qemu:net") {
     spec.kind = DeviceSpec::Kind::qemu;
+    spec.qemu_net = text == "qemu:net";
   } else if (text == "hid") {
     spec.kind = DeviceSpec::Kind::hid;
   } else if (text.starts_with("hid:")) {
@@ -71,7 +72,7 @@ std::string to_string(const DeviceSpec& spec) {
   switch (spec.kind) {
     case DeviceSpec::Kind::automatic: return "auto";
     case DeviceSpec::Kind::sim: return "sim";
-    case DeviceSpec::Kind::qemu: return "qemu";
+    case DeviceSpec::Kind::qemu: return spec.qemu_net ? "qemu:net" : "qemu";
     case DeviceSpec::Kind::hid: return "hid:" + (spec.path.empty() ? to_string(spec.hid) : spec.path);
     case DeviceSpec::Kind::serial:
       return "serial:" + spec.path + (spec.baud != 0 ? "@" + std::to_string(spec.baud) : "");
@@ -115,7 +116,7 @@ OpenedDevice open_kind(const DeviceSpec& spec, std::uint32_t tick_hz) {
       break;
     }
     case DeviceSpec::Kind::qemu:
-      opened.qemu = std::make_unique<QemuDevice>(QemuDevice::Options{tick_hz});
+      opened.qemu = std::make_unique<QemuDevice>(QemuDevice::Options{tick_hz, spec.qemu_net});
       opened.transport = opened.qemu->connect();
       break;
   }

@@ -1,5 +1,5 @@
 #pragma once
-// `--device auto|sim|qemu|hid[:VID:PID|:PATH]|serial:PATH[@BAUD]` (design §3): parsing, and opening the
+// `--device auto|sim|qemu[:net]|hid[:VID:PID|:PATH]|serial:PATH[@BAUD]` (design §3): parsing, and opening the
 // transport each kind names.
 #include <cstdint>
 #include <memory>
@@ -11,16 +11,16 @@
 #include "host/transport/qemu_device.hpp"
 #include "host/transport/transport.hpp"
 #include "shared/synth/tick_rate.hpp"
-#include "host/transport/transport.hpp"
 
 namespace hmp::transport {
 
 struct DeviceSpec {
   enum class Kind { automatic, sim, qemu, hid, serial };
   Kind kind = Kind::automatic;
-  HidId hid;          // hid: which VID:PID (default: the protocol's)
-  std::string path;   // hid: a /dev/hidrawN given instead of an id; serial: the tty, pty or socket
-  unsigned baud = 0;  // serial: line speed after '@' (0: keep the line's speed)
+  HidId hid;              // hid: which VID:PID (default: the protocol's)
+  std::string path;       // hid: a /dev/hidrawN given instead of an id; serial: the tty, pty or socket
+  unsigned baud = 0;      // serial: line speed after '@' (0: keep the line's speed)
+  bool qemu_net = false;  // qemu: over the board's Ethernet controller instead of its UART
 };
 
 // Throws hmp::BadInput with a one-line message naming the text on anything else.

@@ -17,6 +17,7 @@
 
 #include "host/common/child_process.hpp"
 #include "host/common/install_layout.hpp"
+#include "host/transport/ether_transport.hpp"
 #include "host/transport/serial_transport.hpp"
 
 namespace hmp::transport {
@@ -70,6 +71,23 @@ std::unique_ptr<Transport> QemuDevice::connect() {
   if (::mkdtemp(dir_template) == nullptr)
     throw TransportError(std::string("--device qemu: mkdtemp: ") + std::strerror(errno));
   dir_ = dir_template;
+  std::vector<std::string> args = {emulator,
+                                   "-M",
+                                   "mps2-an386",
+                                   "-nographic",
+                                   "-monitor",
+                                   "none",
+                                   "-semihosting-config",
+                                   "enable=on,target=native",
+                                   "-kernel",
+                                   image_,
+                                   "-append",
+                                   "hz=" + std::to_string(options_.tick_hz)};
+  return options_.net ? connect_net(args) : connect_uart(args);
+}
+
+// UART0 as a serial link: the emulator connects to a socket we listen on.
+std::unique_ptr<Transport> QemuDevice::connect_uart(std::vector<std::string> args) {
   const std::string socket_path = dir_ + "/uart0.sock";
   listen_fd_ = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
   sockaddr_un addr{};
@@ -79,30 +97,8 @@ std::unique_ptr<Transport> QemuDevice::connect() {
       ::listen(listen_fd_, 1) != 0) {
     throw TransportError("--device qemu: cannot listen on " + socket_path + ": " + std::strerror(errno));
   }
-
-  // -icount shift=0: one instruction is 1 ns of virtual time; while the firmware waits for its next
-  // tick (wfi) the virtual clock catches up with real time, so the device ticks at its real rate.
-  const std::vector<std::string> args = {emulator,
-                                         "-M",
-                                         "mps2-an386",
-                                         "-nographic",
-                                         "-monitor",
-                                         "none",
-                                         "-semihosting-config",
-                                         "enable=on,target=native",
-                                         "-chardev",
-                                         "socket,id=uart0,path=" + socket_path,
-                                         "-serial",
-                                         "chardev:uart0",
-                                         "-kernel",
-                                         image_,
-                                         "-append",
-                                         "hz=" + std::to_string(options_.tick_hz)};
-  std::string error;
-  // Its own process group: the terminal's Ctrl-C is ours, and we stop the emulator.
-  pid_ = start_child({args, "", "", "/dev/null", "/dev/null", dir_ + "/semihosting.log", true}, error);
-  if (pid_ < 0) throw TransportError("--device qemu: cannot start " + emulator + ": " + error);
-
+  args.insert(args.end(), {"-chardev", "socket,id=uart0,path=" + socket_path, "-serial", "chardev:uart0"});
+  start(args);
   pollfd p{listen_fd_, POLLIN, 0};
   if (::poll(&p, 1, 10'000) != 1) {
     const std::string why = log();
@@ -113,6 +109,39 @@ std::unique_ptr<Transport> QemuDevice::connect() {
   const int fd = ::accept4(listen_fd_, nullptr, nullptr, SOCK_CLOEXEC);
   if (fd < 0) throw TransportError(std::string("--device qemu: accept: ") + std::strerror(errno));
   return SerialTransport::adopt(fd, "qemu");
+}
+
+// The Ethernet controller: QEMU's datagram back-end sends its frames to our socket and takes ours at its
+// own, which exists once the emulator has set up its network.
+std::unique_ptr<Transport> QemuDevice::connect_net(std::vector<std::string> args) {
+  const std::string ours = dir_ + "/host.sock", theirs = dir_ + "/nic.sock";
+  auto link = EtherTransport::bind(ours, "qemu:net");
+  args.back() += " link=net";
+  args.insert(args.end(),
+              {"-serial", "null", "-netdev",
+               "dgram,id=net0,local.type=unix,local.path=" + theirs + ",remote.type=unix,remote.path=" + ours, "-net",
+               "nic,netdev=net0,model=lan9118"});
+  start(args);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  std::error_code ec;
+  while (!fs::exists(theirs, ec)) {
+    if (std::chrono::steady_clock::now() >= deadline) {
+      const std::string why = log();
+      stop();
+      throw TransportError("--device qemu:net: the emulator did not open its network within 10 s" +
+                           (why.empty() ? std::string() : ": " + why.substr(0, why.find('\n'))));
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  link->connect(theirs);
+  return link;
+}
+
+void QemuDevice::start(const std::vector<std::string>& args) {
+  std::string error;
+  // Its own process group: the terminal's Ctrl-C is ours, and we stop the emulator.
+  pid_ = start_child({args, "", "", "/dev/null", "/dev/null", dir_ + "/semihosting.log", true}, error);
+  if (pid_ < 0) throw TransportError("--device qemu: cannot start " + args.front() + ": " + error);
 }
 
 void QemuDevice::stop() {

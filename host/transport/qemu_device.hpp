@@ -2,8 +2,10 @@
 // `--device qemu` (design §3, §13): boots the qemu-an386 firmware image in qemu-system-arm and talks to
 // it over its UART0 as a serial link (boards/qemu-an386/README.md). The emulator connects to a
 // unix-domain socket this object listens on in a private temporary folder, so the link exists before
-// the firmware runs its first instruction. The emulator runs in its own process group (a Ctrl-C on
-// the terminal reaches only hmp, which stops the device cleanly) and is stopped when this object goes.
+// the firmware runs its first instruction. `--device qemu:net` talks to it over its Ethernet controller
+// instead (a report per frame, ether_transport.hpp): the emulated UART takes one byte per round trip of
+// the emulator's main loop (~90 µs), the network a whole report. The emulator runs in its own process group (a Ctrl-C
+// on the terminal reaches only hmp, which stops the device cleanly) and is stopped when this object goes.
 //
 // The image: $HMP_QEMU_ELF, else, run from a build tree, its source tree's qemu-an386 cross tree
 // (build/qemu-an386/boards/qemu-an386/hmp_fw_qemu_an386-VERSION.elf), else the installed one
@@ -14,6 +16,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "host/transport/transport.hpp"
 #include "shared/synth/tick_rate.hpp"
@@ -24,6 +27,7 @@ class QemuDevice {
  public:
   struct Options {
     std::uint32_t tick_hz = synth::kNominalTickHz;
+    bool net = false;  // the Ethernet link instead of UART0
   };
   explicit QemuDevice(const Options& options);
   ~QemuDevice();
@@ -38,6 +42,9 @@ class QemuDevice {
   const std::string& image() const { return image_; }
 
  private:
+  std::unique_ptr<Transport> connect_uart(std::vector<std::string> args);
+  std::unique_ptr<Transport> connect_net(std::vector<std::string> args);
+  void start(const std::vector<std::string>& args);  // the emulator with these arguments
   void stop();
   Options options_;
   std::string image_;

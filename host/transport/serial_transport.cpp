@@ -14,6 +14,8 @@
 #include <cstring>
 #include <utility>
 
+#include "host/transport/fd_wait.hpp"
+
 namespace hmp::transport {
 
 namespace {
@@ -72,11 +74,6 @@ int connect_unix_socket(const std::string& path) {
     throw TransportError("cannot connect to " + path + ": " + os_error(err));
   }
   return fd;
-}
-
-int milliseconds_until(SteadyClock::time_point deadline) {
-  const auto left = std::chrono::ceil<std::chrono::milliseconds>(deadline - SteadyClock::now()).count();
-  return left <= 0 ? 0 : static_cast<int>(std::min<long long>(left, 1'000'000));
 }
 
 }  // namespace
@@ -144,14 +141,7 @@ framing::DecoderCounters SerialTransport::frame_counters() const {
 }
 
 bool SerialTransport::wait(short events, SteadyClock::time_point deadline) {
-  for (;;) {
-    pollfd fds[2] = {{fd_, events, 0}, {wake_fd_, POLLIN, 0}};
-    const int n = ::poll(fds, 2, milliseconds_until(deadline));
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) return false;
-    // Readiness, hang-up and errors all mean "try the call again": it reports what happened.
-    return true;
-  }
+  return wait_fd(fd_, wake_fd_, events, deadline);
 }
 
 SerialTransport::ReadResult SerialTransport::read_available() {

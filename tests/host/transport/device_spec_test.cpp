@@ -22,6 +22,9 @@ TEST(TransportDeviceSpec, ParsesEveryForm) {
   EXPECT_EQ(parse_device_spec("auto").kind, Kind::automatic);
   EXPECT_EQ(parse_device_spec("sim").kind, Kind::sim);
   EXPECT_EQ(parse_device_spec("qemu").kind, Kind::qemu);
+  EXPECT_FALSE(parse_device_spec("qemu").qemu_net);
+  EXPECT_EQ(parse_device_spec("qemu:net").kind, Kind::qemu);
+  EXPECT_TRUE(parse_device_spec("qemu:net").qemu_net);
   EXPECT_EQ(parse_device_spec("hid").kind, Kind::hid);
   EXPECT_EQ(parse_device_spec("hid").hid, hmp::transport::HidId{});
   const DeviceSpec h = parse_device_spec("hid:16c0:05df");
@@ -36,14 +39,15 @@ TEST(TransportDeviceSpec, ParsesEveryForm) {
   EXPECT_EQ(b.path, "/dev/ttyACM0");
   EXPECT_EQ(b.baud, 921600u);
   EXPECT_EQ(parse_device_spec("serial:/tmp/a@b/uart").path, "/tmp/a@b/uart");  // '@' not followed by digits
-  for (const char* text : {"auto", "sim", "qemu", "hid:1209:0001", "hid:/dev/hidraw0", "serial:/dev/pts/4",
+  for (const char* text : {"auto", "sim", "qemu", "qemu:net", "hid:1209:0001", "hid:/dev/hidraw0", "serial:/dev/pts/4",
                            "serial:/dev/ttyUSB0@115200"}) {
     EXPECT_EQ(hmp::transport::to_string(parse_device_spec(text)), text);
   }
 }
 
 TEST(TransportDeviceSpec, RejectsWithTheTextInTheMessage) {
-  for (const char* text : {"", "usb", "hid:", "hid:zz:01", "serial:", "serial:@9600", "serial:/dev/x@0", "SIM"}) {
+  for (const char* text : {"", "usb", "qemu:", "qemu:uart", "qemu:net:x", "hid:", "hid:zz:01",
+                           "serial:", "serial:@9600", "serial:/dev/x@0", "SIM"}) {
     try {
       parse_device_spec(text);
       ADD_FAILURE() << "accepted '" << text << "'";
