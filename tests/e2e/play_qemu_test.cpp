@@ -8,32 +8,21 @@
 
 #include <unistd.h>
 
-#include <cstdlib>
 #include <filesystem>
 
 #include "play_harness.hpp"
-#include "host/transport/qemu_device.hpp"
 #include "tests/support/load_guard.hpp"
+#include "tests/support/qemu_board.hpp"
 
 namespace {
 
 namespace test = hmp::test;
 namespace fs = std::filesystem;
 
-// Where hmp looks ($HMP_QEMU_ELF, else the source tree's qemu-an386 tree; empty: none).
-std::string image() { return hmp::transport::find_qemu_image(); }
-
-bool have_emulator() {
-  const char* e = std::getenv("QEMU_SYSTEM_ARM");
-  return test::run_command(std::string("command -v ") + (e != nullptr && *e != '\0' ? e : "qemu-system-arm")).status ==
-         0;
-}
-
 class PlayQemu : public testing::TestWithParam<const char*> {};
 
 TEST_P(PlayQemu, FlutePassageEveryNoteOnItsTick) {
-  if (!fs::exists(image())) GTEST_SKIP() << "no firmware image at " << image() << " (cmake --preset qemu-an386)";
-  if (!have_emulator()) GTEST_SKIP() << "qemu-system-arm is not installed";
+  if (const std::string missing = test::qemu_board_missing(); !missing.empty()) GTEST_SKIP() << missing;
   const auto expected = test::passage_notes(1, 130, 140);
   ASSERT_GT(expected.size(), 40u);
   const std::string log_path =
