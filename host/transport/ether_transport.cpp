@@ -75,12 +75,7 @@ bool EtherTransport::wait(short events, SteadyClock::time_point deadline) const 
 Received EtherTransport::receive(Report& out, Timeout timeout) {
   const auto deadline = SteadyClock::now() + timeout;
   for (;;) {
-    if (!inbox_.empty()) {
-      std::memcpy(out, inbox_.front().data(), protocol::kReportSize);
-      inbox_.pop_front();
-      state_.count_received();
-      return Received::report;
-    }
+    if (inbox_.take(out, state_)) return Received::report;
     if (!state_.is_open()) return Received::closed;
     std::uint8_t frame[2048];
     const ssize_t n = ::recv(fd_, frame, sizeof frame, 0);
@@ -90,7 +85,7 @@ Received EtherTransport::receive(Report& out, Timeout timeout) {
         state_.count_dropped();
         continue;
       }
-      std::memcpy(inbox_.emplace_back().data(), report, protocol::kReportSize);
+      inbox_.push(report);
       continue;
     }
     if (errno == EINTR) continue;

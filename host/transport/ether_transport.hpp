@@ -7,14 +7,13 @@
 //
 // A datagram socket has no hang-up: a peer that exits is noticed when a send finds no one there (the
 // player sends at least a Sync every 100 ms).
-#include <array>
 #include <chrono>
 #include <cstdint>
-#include <deque>
 #include <memory>
 #include <string>
 
 #include "host/transport/link_state.hpp"
+#include "host/transport/report_inbox.hpp"
 #include "host/transport/transport.hpp"
 
 namespace hmp::transport {
@@ -42,7 +41,7 @@ class EtherTransport final : public Transport {
   int fd_ = -1;
   int wake_fd_ = -1;  // eventfd written by close(): wakes a receive()/send() blocked in poll
   std::string name_;
-  std::deque<std::array<std::uint8_t, protocol::kReportSize>> inbox_;  // receive thread only
+  ReportInbox inbox_;  // receive thread only
   LinkState state_;
 };
 

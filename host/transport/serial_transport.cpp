@@ -150,10 +150,7 @@ SerialTransport::ReadResult SerialTransport::read_available() {
     const ssize_t n = ::read(fd_, buf, sizeof(buf));
     if (n > 0) {
       for (ssize_t i = 0; i < n; ++i) {
-        if (decoder_.push(buf[i])) {
-          auto& slot = inbox_.emplace_back();
-          std::memcpy(slot.data(), decoder_.packet(), protocol::kReportSize);
-        }
+        if (decoder_.push(buf[i])) inbox_.push(decoder_.packet());
       }
       std::lock_guard lock(counters_mutex_);
       frame_counters_ = decoder_.counters();
@@ -176,12 +173,7 @@ SerialTransport::ReadResult SerialTransport::read_available() {
 Received SerialTransport::receive(Report& out, Timeout timeout) {
   const auto deadline = SteadyClock::now() + timeout;
   for (;;) {
-    if (!inbox_.empty()) {
-      std::memcpy(out, inbox_.front().data(), protocol::kReportSize);
-      inbox_.pop_front();
-      state_.count_received();
-      return Received::report;
-    }
+    if (inbox_.take(out, state_)) return Received::report;
     if (!state_.is_open()) return Received::closed;
     const ReadResult r = read_available();
     if (r != ReadResult::would_block) continue;

@@ -12,12 +12,12 @@
 #include <array>
 #include <chrono>
 #include <cstdint>
-#include <deque>
 #include <memory>
 #include <mutex>
 #include <string>
 
 #include "host/transport/link_state.hpp"
+#include "host/transport/report_inbox.hpp"
 #include "host/transport/transport.hpp"
 #include "shared/framing/framing.hpp"
 
@@ -64,8 +64,8 @@ class SerialTransport final : public Transport {
   bool resync_ = true;  // send thread: put a 0x00 before the next frame (first frame, after a failed write)
   std::string name_;
   Options options_;
-  framing::Decoder decoder_{protocol::kReportSize};                    // receive thread only
-  std::deque<std::array<std::uint8_t, protocol::kReportSize>> inbox_;  // receive thread only
+  framing::Decoder decoder_{protocol::kReportSize};  // receive thread only
+  ReportInbox inbox_;                                // receive thread only
   mutable std::mutex counters_mutex_;
   framing::DecoderCounters frame_counters_;  // copy of decoder_'s, for other threads
   LinkState state_;
