@@ -112,7 +112,7 @@ bool EtherTransport::send(const Report& report) {
     if (err == EINTR) continue;
     if (err == EAGAIN || err == EWOULDBLOCK) {
       if (!wait(POLLOUT, deadline) && SteadyClock::now() >= deadline) {
-        state_.mark_closed(name_ + " stalled: no frame taken for 2 s");
+        state_.mark_closed(name_ + " stalled: no frame taken for " + std::to_string(kSendTimeout.count()) + " s");
         return false;
       }
       continue;

@@ -18,7 +18,7 @@
 
 namespace hmp::transport {
 
-class EtherTransport final : public Transport {
+class EtherTransport final : public TransportWithState {
  public:
   // Binds a socket at `path` (to which the peer sends). Throws TransportError with a one-line message.
   static std::unique_ptr<EtherTransport> bind(const std::string& path, const std::string& name);
@@ -30,9 +30,6 @@ class EtherTransport final : public Transport {
   Received receive(Report& out, Timeout timeout) override;
   std::string name() const override { return name_; }
   void close() override;
-  bool is_open() const override { return state_.is_open(); }
-  std::string closed_reason() const override { return state_.reason(); }
-  LinkCounters counters() const override { return state_.counters(); }
 
  private:
   EtherTransport(int fd, int wake_fd, std::string name);
@@ -42,7 +39,6 @@ class EtherTransport final : public Transport {
   int wake_fd_ = -1;  // eventfd written by close(): wakes a receive()/send() blocked in poll
   std::string name_;
   ReportInbox inbox_;  // receive thread only
-  LinkState state_;
 };
 
 }  // namespace hmp::transport

@@ -30,4 +30,16 @@ class LinkState {
   std::atomic<std::uint64_t> sent_{0}, received_{0}, dropped_{0};
 };
 
+// A transport whose open/closed state and counters live in a LinkState: the three queries of Transport
+// answered from it (serial, Ethernet frames, the simulated device).
+class TransportWithState : public Transport {
+ public:
+  bool is_open() const final { return state_.is_open(); }
+  std::string closed_reason() const final { return state_.reason(); }
+  LinkCounters counters() const final { return state_.counters(); }
+
+ protected:
+  LinkState state_;
+};
+
 }  // namespace hmp::transport

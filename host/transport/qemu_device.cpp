@@ -33,6 +33,11 @@ std::string env(const char* name) {
 
 }  // namespace
 
+std::string qemu_emulator() {
+  const std::string chosen = env("QEMU_SYSTEM_ARM");
+  return chosen.empty() ? "qemu-system-arm" : chosen;
+}
+
 std::string find_qemu_image() {
   if (const std::string e = env("HMP_QEMU_ELF"); !e.empty()) return e;
   const std::string name = install::image_file_name("qemu-an386", ".elf");
@@ -65,13 +70,12 @@ std::unique_ptr<Transport> QemuDevice::connect() {
         "--preset qemu-an386`, or set HMP_QEMU_ELF)");
   }
   if (!fs::exists(image_)) throw TransportError("--device qemu: " + image_ + " does not exist");
-  const std::string emulator = env("QEMU_SYSTEM_ARM").empty() ? "qemu-system-arm" : env("QEMU_SYSTEM_ARM");
 
   char dir_template[] = "/tmp/hmp-qemu-XXXXXX";
   if (::mkdtemp(dir_template) == nullptr)
     throw TransportError(std::string("--device qemu: mkdtemp: ") + std::strerror(errno));
   dir_ = dir_template;
-  std::vector<std::string> args = {emulator,
+  std::vector<std::string> args = {qemu_emulator(),
                                    "-M",
                                    "mps2-an386",
                                    "-nographic",
@@ -82,7 +86,7 @@ std::unique_ptr<Transport> QemuDevice::connect() {
                                    "-kernel",
                                    image_,
                                    "-append",
-                                   "hz=" + std::to_string(options_.tick_hz)};
+                                   "hz=" + std::to_string(options_.tick_hz) + (options_.net ? " link=net" : "")};
   return options_.net ? connect_net(args) : connect_uart(args);
 }
 
@@ -100,12 +104,7 @@ std::unique_ptr<Transport> QemuDevice::connect_uart(std::vector<std::string> arg
   args.insert(args.end(), {"-chardev", "socket,id=uart0,path=" + socket_path, "-serial", "chardev:uart0"});
   start(args);
   pollfd p{listen_fd_, POLLIN, 0};
-  if (::poll(&p, 1, 10'000) != 1) {
-    const std::string why = log();
-    stop();
-    throw TransportError("--device qemu: the emulator did not connect to its UART within 10 s" +
-                         (why.empty() ? std::string() : ": " + why.substr(0, why.find('\n'))));
-  }
+  if (::poll(&p, 1, 10'000) != 1) fail("--device qemu: the emulator did not connect to its UART within 10 s");
   const int fd = ::accept4(listen_fd_, nullptr, nullptr, SOCK_CLOEXEC);
   if (fd < 0) throw TransportError(std::string("--device qemu: accept: ") + std::strerror(errno));
   return SerialTransport::adopt(fd, "qemu");
@@ -116,7 +115,6 @@ std::unique_ptr<Transport> QemuDevice::connect_uart(std::vector<std::string> arg
 std::unique_ptr<Transport> QemuDevice::connect_net(std::vector<std::string> args) {
   const std::string ours = dir_ + "/host.sock", theirs = dir_ + "/nic.sock";
   auto link = EtherTransport::bind(ours, "qemu:net");
-  args.back() += " link=net";
   args.insert(args.end(),
               {"-serial", "null", "-netdev",
                "dgram,id=net0,local.type=unix,local.path=" + theirs + ",remote.type=unix,remote.path=" + ours, "-net",
@@ -125,16 +123,18 @@ std::unique_ptr<Transport> QemuDevice::connect_net(std::vector<std::string> args
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
   std::error_code ec;
   while (!fs::exists(theirs, ec)) {
-    if (std::chrono::steady_clock::now() >= deadline) {
-      const std::string why = log();
-      stop();
-      throw TransportError("--device qemu:net: the emulator did not open its network within 10 s" +
-                           (why.empty() ? std::string() : ": " + why.substr(0, why.find('\n'))));
-    }
+    if (std::chrono::steady_clock::now() >= deadline)
+      fail("--device qemu:net: the emulator did not open its network within 10 s");
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
   link->connect(theirs);
   return link;
+}
+
+void QemuDevice::fail(const std::string& what) {
+  const std::string why = log();  // the firmware's or the emulator's first words, if any
+  stop();
+  throw TransportError(what + (why.empty() ? std::string() : ": " + why.substr(0, why.find('\n'))));
 }
 
 void QemuDevice::start(const std::vector<std::string>& args) {

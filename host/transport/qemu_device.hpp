@@ -45,6 +45,8 @@ class QemuDevice {
   std::unique_ptr<Transport> connect_uart(std::vector<std::string> args);
   std::unique_ptr<Transport> connect_net(std::vector<std::string> args);
   void start(const std::vector<std::string>& args);  // the emulator with these arguments
+  // Stops the emulator and throws `what`, with the first line of its log when it wrote one.
+  [[noreturn]] void fail(const std::string& what);
   void stop();
   Options options_;
   std::string image_;
@@ -55,5 +57,7 @@ class QemuDevice {
 
 // Where the image is looked for (see above); empty when neither place has one.
 std::string find_qemu_image();
+// The emulator to run: $QEMU_SYSTEM_ARM, else qemu-system-arm (found on the PATH when it runs).
+std::string qemu_emulator();
 
 }  // namespace hmp::transport

@@ -23,7 +23,7 @@
 
 namespace hmp::transport {
 
-class SerialTransport final : public Transport {
+class SerialTransport final : public TransportWithState {
  public:
   struct Options {
     unsigned baud = 0;  // ttys of real UARTs: line speed (9600 … 4000000); 0 keeps the current speed
@@ -44,9 +44,6 @@ class SerialTransport final : public Transport {
   Received receive(Report& out, Timeout timeout) override;
   std::string name() const override { return name_; }
   void close() override;
-  bool is_open() const override { return state_.is_open(); }
-  std::string closed_reason() const override { return state_.reason(); }
-  LinkCounters counters() const override { return state_.counters(); }
   // The frame decoder's counters (intact packets, CRC errors, malformed, oversized, wrong size).
   framing::DecoderCounters frame_counters() const;
 
@@ -68,7 +65,6 @@ class SerialTransport final : public Transport {
   ReportInbox inbox_;                                // receive thread only
   mutable std::mutex counters_mutex_;
   framing::DecoderCounters frame_counters_;  // copy of decoder_'s, for other threads
-  LinkState state_;
 };
 
 }  // namespace hmp::transport

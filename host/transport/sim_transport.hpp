@@ -24,7 +24,7 @@
 
 namespace hmp::transport {
 
-class SimTransport final : public Transport {
+class SimTransport final : public TransportWithState {
  public:
   enum class Pacing { real_time, virtual_time };
   struct Options {
@@ -42,9 +42,6 @@ class SimTransport final : public Transport {
   Received receive(Report& out, Timeout timeout) override;
   std::string name() const override { return "sim"; }
   void close() override;
-  bool is_open() const override { return state_.is_open(); }
-  std::string closed_reason() const override { return state_.reason(); }
-  LinkCounters counters() const override { return state_.counters(); }
 
   Pacing pacing() const { return options_.pacing; }
   std::uint32_t tick_hz() const { return options_.tick_hz; }
@@ -76,7 +73,6 @@ class SimTransport final : public Transport {
   SteadyClock::time_point start_time_;
   std::uint64_t start_tick_ = 0;
   bool stop_ = false;
-  LinkState state_;
   std::thread pacer_;  // last: started once everything above exists
 };
 

@@ -19,8 +19,7 @@ inline std::string qemu_board_missing() {
   const std::string image = transport::find_qemu_image();
   std::error_code ec;
   if (image.empty() || !fs::exists(image, ec)) return "no qemu-an386 firmware image (cmake --preset qemu-an386)";
-  const char* chosen = std::getenv("QEMU_SYSTEM_ARM");
-  const std::string emulator = chosen != nullptr && *chosen != '\0' ? chosen : "qemu-system-arm";
+  const std::string emulator = transport::qemu_emulator();
   if (emulator.find('/') != std::string::npos) {
     return ::access(emulator.c_str(), X_OK) == 0 ? "" : emulator + " is not executable";
   }
