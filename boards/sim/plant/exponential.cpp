@@ -333,11 +333,11 @@ class Exponential final : public Integrator {
     // G·P(h/2 + h/4) = G·P(h/2) + (G·E(h/2))·P(h/4). G, the switch functions' gradient, is sparse.
     static_assert(kCheckpointLevel == 2, "the rows below are written for four checkpoints");
     const auto row = [&](int c) { return &l.rows[static_cast<std::size_t>(c) * kMaxSwitches * kMaxState]; };
-    multiply_rows(gradient_.data(), ng, l.chain.integral(2), row(0), n);
-    multiply_rows(gradient_.data(), ng, l.chain.integral(1), row(1), n);
-    multiply_rows(gradient_.data(), ng, l.chain.integral(0), row(3), n);
-    multiply_rows(gradient_.data(), ng, l.chain.exponential(1), tmp_.data(), n);
-    multiply_rows(tmp_.data(), ng, l.chain.integral(2), row(2), n);
+    l.chain.left_multiply(gradient_.data(), ng, n, l.chain.integral(2), row(0));
+    l.chain.left_multiply(gradient_.data(), ng, n, l.chain.integral(1), row(1));
+    l.chain.left_multiply(gradient_.data(), ng, n, l.chain.integral(0), row(3));
+    l.chain.left_multiply(gradient_.data(), ng, n, l.chain.exponential(1), tmp_.data());
+    l.chain.left_multiply(tmp_.data(), ng, n, l.chain.integral(2), row(2));
     const double* half = row(1);
     double* three_quarters = row(2);
     for (int i = 0; i < ng * n; ++i) three_quarters[i] += half[i];

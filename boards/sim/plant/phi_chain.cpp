@@ -11,20 +11,24 @@ namespace hmp::sim::plant {
 
 namespace {
 
-// The Taylor series of φ₂ is summed at ‖X‖₁ ≤ 4 (terms of up to 4²/4! ≈ 0.7 of I: no cancellation to
-// speak of), forward, until what is left after a term is below 10⁻¹⁷: each term is a product by the
-// sparse X, a fraction of a doubling's three dense products, so a larger norm and more terms cost less
-// than more levels.
-constexpr double kTaylorNorm = 4.0;
+// The Taylor series of φ₂ is summed at ‖X‖₁ ≤ 8, forward, until what is left after a term is below
+// 10⁻¹⁷: each term is a product by the sparse X, about a twelfth of a doubling's three dense products, so
+// a larger norm and more terms cost less than more levels. The bound is set by cancellation: the terms
+// of a lightly damped mode grow to 8⁶/8! ≈ 6.5 of I before they fall; at 16, a 7 kHz string mode over
+// 10 ms lost E's tenth digit (tests/boards/sim/phi_chain_test.cpp), at 8 it keeps it.
+constexpr double kTaylorNorm = 8.0;
 constexpr double kTaylorTail = 1e-17;
 constexpr int kMaxTaylorTerms = 60;
 
 // Parlett–Reinsch balancing by powers of two: on return b = D⁻¹·a·D with D = diag(scale); a has row
-// stride n, b row stride ld (its columns n … ld − 1 zero).
+// stride n, b row stride ld (its columns n … ld − 1 zero). The sweeps start from the scale passed in
+// (powers of two, or all 1): a linearisation of the same plant a little further along is balanced by
+// nearly the same D, and starting there saves most of the ~5 sweeps a start from 1 takes.
 void balance(const double* a, double* b, int ld, double* scale, int n) {
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < ld; ++j) b[i * ld + j] = j < n ? a[i * n + j] : 0.0;
-  for (int i = 0; i < n; ++i) scale[i] = 1.0;
+  for (int i = 0; i < n; ++i) {
+    const double inverse = 1 / scale[i];  // a power of two: exact
+    for (int j = 0; j < ld; ++j) b[i * ld + j] = j < n ? a[i * n + j] * inverse * scale[j] : 0.0;
+  }
   for (int sweep = 0; sweep < 100; ++sweep) {
     bool done = true;
     for (int i = 0; i < n; ++i) {
@@ -56,15 +60,6 @@ void balance(const double* a, double* b, int ld, double* scale, int n) {
   }
 }
 
-double norm1(const double* a, int ld, int n) {
-  double column[kMaxState] = {};
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) column[j] += std::fabs(a[i * ld + j]);
-  double best = 0;
-  for (int j = 0; j < n; ++j) best = std::fmax(best, column[j]);
-  return best;
-}
-
 // The products are most of a linearisation's cost: on x86-64 they are built twice, for AVX2 with FMA and
 // for the baseline, and the loader picks the one the CPU runs.
 #if defined(__x86_64__)
@@ -73,18 +68,28 @@ double norm1(const double* a, int ld, int n) {
 #define HMP_VECTOR_CLONES
 #endif
 
-// c = a·b: a is m×k, b is k×cols, row-major; c must not alias either.
-HMP_VECTOR_CLONES void product(const double* a, int m, int k, const double* b, int cols, double* c) {
-  for (int i = 0; i < m; ++i) {
-    double* row = c + i * cols;
-    for (int j = 0; j < cols; ++j) row[j] = 0;
-    for (int l = 0; l < k; ++l) {
-      const double ail = a[i * k + l];
-      if (ail == 0) continue;  // the plant's matrices keep many exact zeros
-      const double* bl = b + l * cols;
-      for (int j = 0; j < cols; ++j) row[j] += ail * bl[j];
-    }
+HMP_VECTOR_CLONES double norm1(const double* a, int ld, int n) {
+  double column[kMaxState] = {};
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) column[j] += std::fabs(a[i * ld + j]);
+  double best = 0;
+  for (int j = 0; j < n; ++j) best = std::fmax(best, column[j]);
+  return best;
+}
+
+// The element-wise steps of the series and the doubling, over whole padded matrices of `size` doubles:
+// term = t·s, sum += term; y += t + s·x; and y += t.
+HMP_VECTOR_CLONES void scale_and_add(const double* t, double s, double* term, double* sum, int size) {
+  for (int i = 0; i < size; ++i) {
+    term[i] = t[i] * s;
+    sum[i] += term[i];
   }
+}
+HMP_VECTOR_CLONES void add_scaled(const double* t, double s, const double* x, double* y, int size) {
+  for (int i = 0; i < size; ++i) y[i] += t[i] + s * x[i];
+}
+HMP_VECTOR_CLONES void add(const double* t, double* y, int size) {
+  for (int i = 0; i < size; ++i) y[i] += t[i];
 }
 
 // The chain's own matrices have rows padded to a multiple of kLanes doubles (their extra columns zero),
@@ -113,10 +118,10 @@ template <class V, int NV>
   for (int q = 0; q < NV; ++q) std::memcpy(c + kWidth * q, &sum[q], sizeof sum[q]);
 }
 
-// c = a·b, a given by its rows' nonzeros, b and c n×n of row stride ld = NV vectors V; c must not alias b.
+// c = a·b, a given by its rows' nonzeros, b and c of row stride ld = NV vectors V; c must not alias b.
 template <class V, int NV>
-[[gnu::always_inline]] inline void sparse_rows(const SparseRows& a, const double* b, double* c, int n, int ld) {
-  for (int i = 0; i < n; ++i) {
+[[gnu::always_inline]] inline void sparse_rows(const SparseRows& a, const double* b, double* c, int ld) {
+  for (int i = 0; i < a.rows; ++i) {
     const int first = a.start[i];
     row_sum<V, NV>(b, ld, &a.column[first], &a.value[first], a.start[i + 1] - first, c + i * ld);
   }
@@ -125,31 +130,31 @@ template <class V, int NV>
 // sparse_rows for the NV that ld needs, ld a multiple of kLanes up to kMaxState rounded up.
 template <class V, int... K>
 [[gnu::always_inline]] inline void sparse_rows_of(std::integer_sequence<int, K...>, const SparseRows& a,
-                                                  const double* b, double* c, int n, int ld) {
+                                                  const double* b, double* c, int ld) {
   constexpr int kPerLane = kLanes / static_cast<int>(sizeof(V) / sizeof(double));
-  ((ld == kLanes * (K + 1) ? sparse_rows<V, kPerLane*(K + 1)>(a, b, c, n, ld) : void()), ...);
+  ((ld == kLanes * (K + 1) ? sparse_rows<V, kPerLane*(K + 1)>(a, b, c, ld) : void()), ...);
 }
 using LaneGroups = std::make_integer_sequence<int, (kMaxState + kLanes - 1) / kLanes>;
 
-HMP_VECTOR_CLONES void sparse_product4(const SparseRows& a, const double* b, double* c, int n, int ld) {
-  sparse_rows_of<Vector4>(LaneGroups{}, a, b, c, n, ld);
+HMP_VECTOR_CLONES void sparse_product4(const SparseRows& a, const double* b, double* c, int ld) {
+  sparse_rows_of<Vector4>(LaneGroups{}, a, b, c, ld);
 }
 
 #if defined(__x86_64__)
-__attribute__((target("arch=x86-64-v4"))) void sparse_product8(const SparseRows& a, const double* b, double* c, int n,
+__attribute__((target("arch=x86-64-v4"))) void sparse_product8(const SparseRows& a, const double* b, double* c,
                                                                int ld) {
-  sparse_rows_of<Vector8>(LaneGroups{}, a, b, c, n, ld);
+  sparse_rows_of<Vector8>(LaneGroups{}, a, b, c, ld);
 }
 #endif
 
-// c = a·b for n×n matrices of row stride ld (a multiple of kLanes, columns n … ld − 1 zero); c must not
-// alias b.
-void sparse_product(const SparseRows& a, const double* b, double* c, int n, int ld) {
+// c = a·b for b and c of row stride ld (a multiple of kLanes, columns n … ld − 1 zero), c with a's rows;
+// c must not alias b.
+void sparse_product(const SparseRows& a, const double* b, double* c, int ld) {
 #if defined(__x86_64__)
   static const bool wide = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq");
-  if (wide) return sparse_product8(a, b, c, n, ld);
+  if (wide) return sparse_product8(a, b, c, ld);
 #endif
-  sparse_product4(a, b, c, n, ld);
+  sparse_product4(a, b, c, ld);
 }
 
 // out = D·m·D⁻¹ (undoes the balancing); m has row stride `stride`, out n.
@@ -161,8 +166,6 @@ void unbalance(const double* m, int stride, const double* scale, double* out, in
 }
 
 }  // namespace
-
-void multiply_rows(const double* a, int m, const double* b, double* c, int n) { product(a, m, n, b, n, c); }
 
 PhiChain::PhiChain(int max_levels)
     : max_levels_(max_levels < 1 ? 1 : (max_levels > kMaxLevels ? kMaxLevels : max_levels)),
@@ -176,7 +179,7 @@ PhiChain::PhiChain(int max_levels)
       we_(kPadded),
       wp_(kPadded),
       wq_(kPadded),
-      scale_(kMaxState) {}
+      scale_(kMaxState, 1.0) {}
 
 void PhiChain::compute(const double* a, int n, double h, int levels) {
   n_ = n;
@@ -199,12 +202,12 @@ void PhiChain::compute(const double* a, int n, double h, int levels) {
     if (level < max_levels_) keep(level);
     if (level == 0) break;
     const double step = std::ldexp(h, -level);
-    rows_.gather(e, n, ld_);
-    sparse_product(rows_, q, t, n, ld_);
-    for (int i = 0; i < size; ++i) q[i] += t[i] + step * p[i];
-    sparse_product(rows_, p, t, n, ld_);
-    for (int i = 0; i < size; ++i) p[i] += t[i];
-    sparse_product(rows_, e, u, n, ld_);
+    rows_.gather(e, n, n, ld_);
+    sparse_product(rows_, q, t, ld_);
+    add_scaled(t, step, p, q, size);
+    sparse_product(rows_, p, t, ld_);
+    add(t, p, size);
+    sparse_product(rows_, e, u, ld_);
     std::memcpy(e, u, sizeof(double) * static_cast<std::size_t>(size));
   }
 }
@@ -214,7 +217,7 @@ void PhiChain::series(int level) {
   const double tau = std::ldexp(h_, -level);
   double *x = x_.data(), *t = tmp_.data();
   for (int i = 0; i < size; ++i) x[i] = tau * b_[static_cast<std::size_t>(i)];
-  rows_.gather(x, n, ld);
+  rows_.gather(x, n, n, ld);
   // φ₂(X) = Σ_k X^k/(k + 2)!: term_k = X·term_{k−1}/(k + 2). After term_k the rest is at most
   // ‖term_k‖₁·Σ_j (‖X‖₁/(k + 3))^j; the terms of the plant's X shrink far faster than ‖X‖₁^k/(k + 2)!
   // (its norm is inflated by couplings between states of different speeds), so the sum stops at the
@@ -226,19 +229,15 @@ void PhiChain::series(int level) {
   for (int i = 0; i < size; ++i) sum[i] = term[i];
   const double norm = tau * norm_;
   for (int k = 1; k <= kMaxTaylorTerms; ++k) {
-    sparse_product(rows_, term, t, n, ld);
-    const double inv = 1.0 / (k + 2);
-    for (int i = 0; i < size; ++i) {
-      term[i] = t[i] * inv;
-      sum[i] += term[i];
-    }
+    sparse_product(rows_, term, t, ld);
+    scale_and_add(t, 1.0 / (k + 2), term, sum, size);
     const double ratio = norm / (k + 3);
     if (ratio < 1 && norm1(term, ld, n) < kTaylorTail * (1 - ratio)) break;
   }
   double *e = we_.data(), *p = wp_.data(), *q = wq_.data();
-  sparse_product(rows_, q, p, n, ld);
+  sparse_product(rows_, q, p, ld);
   for (int i = 0; i < n; ++i) p[i * ld + i] += 1;  // φ₁(X) = I + X·φ₂(X)
-  sparse_product(rows_, p, e, n, ld);
+  sparse_product(rows_, p, e, ld);
   for (int i = 0; i < n; ++i) e[i * ld + i] += 1;  // E = e^X = I + X·φ₁(X)
   for (int i = 0; i < size; ++i) {
     q[i] *= tau * tau;  // Q = τ²·φ₂(X)
@@ -246,19 +245,31 @@ void PhiChain::series(int level) {
   }
 }
 
-void SparseRows::gather(const double* a, int n, int ld) {
+void SparseRows::gather(const double* a, int rows_in, int cols, int lda) {
+  rows = rows_in;
   int count = 0;
-  for (int i = 0; i < n; ++i) {
+  for (int i = 0; i < rows; ++i) {
     start[static_cast<std::size_t>(i)] = count;
-    for (int j = 0; j < n; ++j) {
-      const double v = a[i * ld + j];
+    for (int j = 0; j < cols; ++j) {
+      const double v = a[i * lda + j];
       if (v == 0) continue;
       column[static_cast<std::size_t>(count)] = static_cast<std::uint8_t>(j);
       value[static_cast<std::size_t>(count)] = v;
       ++count;
     }
   }
-  start[static_cast<std::size_t>(n)] = count;
+  start[static_cast<std::size_t>(rows)] = count;
+}
+
+void PhiChain::left_multiply(const double* a, int m, int lda, const double* b, double* c) {
+  const int n = n_, ld = ld_;
+  double *padded = tmp_.data(), *product = x_.data();
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < ld; ++j) padded[i * ld + j] = j < n ? b[i * n + j] : 0.0;
+  rows_.gather(a, m, n, lda);
+  sparse_product(rows_, padded, product, ld);
+  for (int i = 0; i < m; ++i)
+    for (int j = 0; j < n; ++j) c[i * n + j] = product[i * ld + j];
 }
 
 void PhiChain::keep(int level) {

@@ -5,7 +5,7 @@
 // exactly: y(τ) = y(0) + P(τ)·(A·y(0) + b).
 //
 // Method: balancing (a diagonal similarity by powers of two, so rows and columns of states in different
-// units, radians, amperes and metres, have comparable norms), then a Taylor series of φ₂ at ‖τA‖₁ ≤ 4
+// units, radians, amperes and metres, have comparable norms), then a Taylor series of φ₂ at ‖τA‖₁ ≤ 8
 // (as many terms as that norm needs) at the finest level the norm requires, and the doubling formulas
 // E(2τ) = E(τ)², P(2τ) = P(τ) + E(τ)·P(τ), Q(2τ) = Q(τ) + E(τ)·Q(τ) + τ·P(τ) up to h. Levels finer
 // than the doubling starts from are summed on their own, the first time they are asked for: most
@@ -20,13 +20,15 @@
 
 namespace hmp::sim::plant {
 
-// A matrix of row stride ld by its rows' nonzeros, gathered once and multiplied many times: row i is
-// value[k] at column[k] for k = start[i] … start[i + 1] − 1.
+// A matrix by its rows' nonzeros, gathered once and multiplied many times: row i < rows is value[k] at
+// column[k] for k = start[i] … start[i + 1] − 1.
 struct SparseRows {
+  int rows = 0;
   std::array<int, kMaxState + 1> start{};
   std::array<std::uint8_t, static_cast<std::size_t>(kMaxState) * kMaxState> column{};
   std::array<double, static_cast<std::size_t>(kMaxState) * kMaxState> value{};
-  void gather(const double* a, int n, int ld);
+  // The first `cols` columns of `rows` rows of a, row stride lda (rows, cols ≤ kMaxState).
+  void gather(const double* a, int rows, int cols, int lda);
 };
 
 class PhiChain {
@@ -41,6 +43,10 @@ class PhiChain {
   const double* integral(int level) { return at(p_, level); }
   // Q(τ): the response to an input growing linearly from 0.
   const double* ramp(int level) { return at(q_, level); }
+  // c = a·b for an m×n a of row stride lda and b one of the functions above (n×n, stride n), in the
+  // chain's vector products (a's zeros skipped); c is m×n, stride n, and must not alias a or b. Uses the
+  // chain's work matrices: b must have been read before the call (as an argument is).
+  void left_multiply(const double* a, int m, int lda, const double* b, double* c);
 
   static constexpr int kMaxLevels = 12;
   // The work matrices' rows are padded to a multiple of this many doubles: whole vectors of 8 or 4.
@@ -70,8 +76,5 @@ class PhiChain {
   std::vector<double> scale_;              // balancing: A = D·B·D⁻¹, D = diag(scale_)
   SparseRows rows_;                        // the left factor of the products being taken
 };
-
-// c = a·b for an m×n a and an n×n b (row-major); c must not alias. Zeros in a are skipped.
-void multiply_rows(const double* a, int m, const double* b, double* c, int n);
 
 }  // namespace hmp::sim::plant
