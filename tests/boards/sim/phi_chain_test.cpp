@@ -57,7 +57,9 @@ void closed_form(const Oscillator& o, Real t, Real (&e)[4], Real (&p)[4], Real (
   apply(pm, q);
 }
 
-void check(const std::vector<Oscillator>& oscillators, double h, double tolerance, int eager_levels) {
+// `before`: a matrix the chain is computed on first (its balancing then starts from that one's scale).
+void check(const std::vector<Oscillator>& oscillators, double h, double tolerance, int eager_levels,
+           const std::vector<double>& before = {}) {
   const int n = 2 * static_cast<int>(oscillators.size());
   // The similarity: state i scaled by 10^(8·i/n − 4), alternating up and down the range.
   std::vector<Real> d(static_cast<std::size_t>(n));
@@ -74,6 +76,7 @@ void check(const std::vector<Oscillator>& oscillators, double h, double toleranc
             block[i * 2 + j] * d[static_cast<std::size_t>(b + i)] / d[static_cast<std::size_t>(b + j)]);
   }
   PhiChain chain(6);
+  if (!before.empty()) chain.compute(before.data(), n, h, eager_levels);
   chain.compute(a.data(), n, h, eager_levels);
   for (int level = 0; level < 6; ++level) {
     const Real t = std::ldexp(static_cast<Real>(h), -level);
@@ -116,6 +119,21 @@ TEST(PhiChain, ShortAndLongSteps) {
   const std::vector<Oscillator> set = {{62.8L, 0.3L}, {4.5e4L, 0.0045L}, {1e3L, 0.9L}};
   for (double h : {1e-6, 1e-4, 1e-2})
     for (int eager : {6, 1}) check(set, h, 1e-10, eager);
+}
+
+// Balancing starts from the scale of the chain's last matrix: one whose states were scaled the other way
+// round (the similarity's exponents negated) must not leave the next one less accurate.
+TEST(PhiChain, BalancingFromAnotherMatrixScaleKeepsTheClosedForms) {
+  const std::vector<Oscillator> set = {{62.8L, 0.3L}, {4.5e4L, 0.0045L}, {1e3L, 0.9L}, {6e3L, 0.02L}};
+  const int n = 2 * static_cast<int>(set.size());
+  std::vector<double> other(static_cast<std::size_t>(n * n), 0.0);
+  for (int b = 0; b < n; b += 2) {
+    const double up = std::pow(10.0, 3.0 * b / n - 4.0);  // its own similarity, unrelated to check()'s
+    other[static_cast<std::size_t>(b * n + b + 1)] = up;
+    other[static_cast<std::size_t>((b + 1) * n + b)] = -1e6 / up;
+    other[static_cast<std::size_t>((b + 1) * n + b + 1)] = -50.0;
+  }
+  for (int eager : {6, 1}) check(set, 1e-3, 1e-10, eager, other);
 }
 
 TEST(PhiChain, ZeroMatrixGivesTheIntegralsOfOneAndOfS) {
