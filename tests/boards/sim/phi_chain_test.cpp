@@ -136,6 +136,41 @@ TEST(PhiChain, BalancingFromAnotherMatrixScaleKeepsTheClosedForms) {
   for (int eager : {6, 1}) check(set, 1e-3, 1e-10, eager, other);
 }
 
+// left_multiply (the integrator's switch rows G·P) against the product summed here in long double: a
+// G of 5 rows with every third entry zero and rows of very different sizes, over a 13-state matrix (not a
+// multiple of the chain's vector width), by each function of two levels.
+TEST(PhiChain, LeftMultiplyIsTheRowsTimesTheFunction) {
+  const int n = 13, m = 5;
+  std::vector<double> a(static_cast<std::size_t>(n * n)), g(static_cast<std::size_t>(m * n));
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      a[static_cast<std::size_t>(i * n + j)] = (i + 2 * j) % 5 == 0 ? 0.0 : std::sin(1.0 + i * n + j) * 300.0;
+  for (int k = 0; k < m; ++k)
+    for (int j = 0; j < n; ++j)
+      g[static_cast<std::size_t>(k * n + j)] =
+          (k + j) % 3 == 0 ? 0.0 : std::cos(2.0 + k * n + j) * std::pow(10.0, k - 2);
+  PhiChain chain(3);
+  chain.compute(a.data(), n, 1e-3, 3);
+  std::vector<double> got(static_cast<std::size_t>(m * n));
+  for (int level : {0, 2})
+    for (int f = 0; f < 3; ++f) {
+      const double* b = f == 0 ? chain.exponential(level) : f == 1 ? chain.integral(level) : chain.ramp(level);
+      chain.left_multiply(g.data(), m, n, b, got.data());
+      for (int k = 0; k < m; ++k)
+        for (int j = 0; j < n; ++j) {
+          Real want = 0, size = 0;
+          for (int l = 0; l < n; ++l) {
+            const Real term = static_cast<Real>(g[static_cast<std::size_t>(k * n + l)]) * b[l * n + j];
+            want += term;
+            size += std::fabs(term);
+          }
+          const Real err = std::fabs(static_cast<Real>(got[static_cast<std::size_t>(k * n + j)]) - want);
+          EXPECT_LE(static_cast<double>(err), 1e-14 * static_cast<double>(size) + 1e-300)
+              << "function " << f << ", level " << level << ", row " << k << ", column " << j;
+        }
+    }
+}
+
 TEST(PhiChain, ZeroMatrixGivesTheIntegralsOfOneAndOfS) {
   const double a[9] = {};
   PhiChain chain(3);
