@@ -1,12 +1,14 @@
 // hmp live [--list] [--input PORT] [--api alsa|jack] [--channel N] [--instrument GM] [--key-range LOW:HIGH]
-// [--envelope NAME] [--mapping MODE] [--device SPEC] [--no-audio …] [--seconds S] [--wait] — feel MIDI as
-// it is played: every note of a keyboard or a DAW, from an ALSA sequencer or JACK input port, sent to the
-// device the moment it arrives and heard through FluidSynth (docs/live.md).
+// [--envelope NAME] [--mapping MODE] [--device SPEC] [--no-audio …] [--sync-sound | --vibration-delay-ms MS]
+// [--seconds S] [--wait] — feel MIDI as it is played: every note of a keyboard or a DAW, from an ALSA
+// sequencer or JACK input port, sent to the device the moment it arrives (or when its sound is heard) and
+// heard through FluidSynth (docs/live.md).
 #include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <optional>
 #include <string>
@@ -49,7 +51,22 @@ struct LiveOptions {
   bool no_view = false;
   std::optional<std::string> log;
   bool force = false;
+  bool sync_sound = false;                   // the vibration waits for the sound's output latency
+  std::optional<double> vibration_delay_ms;  // or for this long
 };
+
+// The longest a vibration may be held back: far beyond any sound path worth matching.
+constexpr double kMaxVibrationDelayMs = 1000;
+
+void check_vibration_delay(const LiveOptions& o) {
+  if (o.vibration_delay_ms) {
+    const double ms = *o.vibration_delay_ms;
+    if (!(ms >= 0 && ms <= kMaxVibrationDelayMs))
+      throw BadInput(fmt::format("--vibration-delay-ms {}: a delay from 0 to {:g} ms", ms, kMaxVibrationDelayMs));
+  }
+  if (o.sync_sound && o.audio.no_audio)
+    throw BadInput("--sync-sound with --no-audio: there is no sound to wait for (--vibration-delay-ms sets a delay)");
+}
 
 live::MidiApi parse_api(const std::string& text) {
   if (text == "alsa") return live::MidiApi::alsa;
@@ -136,16 +153,17 @@ std::unique_ptr<live::MidiInput> open_port(const live::MidiPortBackend& b, live:
   }
 }
 
-std::string latency_text(const live::LiveProgress& p) {
+std::string latency_text(const live::LiveProgress& p, double delay_ms) {
   if (p.latency_ms.empty()) return "no latency measured";
-  return fmt::format("message to Started report p50 {:.2f} ms, p99 {:.2f} ms, max {:.2f} ms over {} notes",
+  return fmt::format("message to Started report p50 {:.2f} ms, p99 {:.2f} ms, max {:.2f} ms over {} notes{}",
                      percentile(p.latency_ms, 50), percentile(p.latency_ms, 99), percentile(p.latency_ms, 100),
-                     p.latency_ms.size());
+                     p.latency_ms.size(),
+                     delay_ms > 0 ? fmt::format(", {:.1f} ms of it the vibration delay", delay_ms) : "");
 }
 
 // One JSON line per note-on (times in µs of CLOCK_MONOTONIC, which JACK's clock reads too; started_us
 // null when no Started report came), then a summary line. Checked before the run; written at its end.
-void write_log(const std::string& path, const live::LiveSession& session) {
+void write_log(const std::string& path, const live::LiveSession& session, double delay_ms) {
   output::FilePtr f = output::open_for_writing(path, true);
   for (const live::NoteRecord& n : session.notes()) {
     nlohmann::json line = {{"channel", n.channel + 1},
@@ -166,7 +184,8 @@ void write_log(const std::string& path, const live::LiveSession& session) {
                                     {"bends", p.counts.bends},
                                     {"started", p.started},
                                     {"refused", p.refused},
-                                    {"dropped", p.dropped}}}};
+                                    {"dropped", p.dropped},
+                                    {"vibration_delay_ms", delay_ms}}}};
   std::fprintf(f.get(), "%s\n", summary.dump().c_str());
   output::close_output(f);
 }
@@ -209,6 +228,7 @@ int run_live(const LiveOptions& o) {
   const audio::AudioOptions audio_opts = audio_options(o.audio);  // checks --soundfont
   if (o.log) output::check_writable(*o.log, o.force);
   if (o.api) parse_api(*o.api);  // bad input before any port or device is opened
+  check_vibration_delay(o);
   const live::MidiPortBackend& b = backend();
   const live::MidiApi api = choose_api(o, b);
   if (std::string error; !o.wait) {
@@ -235,9 +255,20 @@ int run_live(const LiveOptions& o) {
   live::LiveSession session(link, mo, o.log.has_value());
   audio::AudioPlayer sound(audio_opts);
   live::LiveSound heard(mo.channel, program);
+  double delay_ms = o.vibration_delay_ms.value_or(0.0);
+  if (o.sync_sound) {
+    if (sound.audible())
+      delay_ms = sound.output_latency_s() * 1e3;
+    else
+      std::fprintf(stderr, "warning: --sync-sound: no sound device, so no sound to wait for; felt at once\n");
+  }
+  session.set_vibration_delay_us(std::llround(delay_ms * 1e3));
   if (sound.audible()) {
-    std::fprintf(stderr, "audio: %s, output latency %.1f ms\n", sound.driver_name().c_str(),
-                 sound.output_latency_s() * 1e3);
+    std::fprintf(stderr, "audio: %s, output latency %.1f ms%s\n", sound.driver_name().c_str(),
+                 sound.output_latency_s() * 1e3,
+                 o.sync_sound   ? " (the vibration waits as long: --sync-sound)"
+                 : delay_ms > 0 ? ""
+                                : " (the vibration comes that much before the sound; --sync-sound waits)");
     sound.set_events({});
     sound.start(0);
     session.set_listener([&](const live::ChannelMessage& msg) {
@@ -304,13 +335,14 @@ int run_live(const LiveOptions& o) {
   fmt::print(
       "live: {} notes on, {} off, {} bends; the device started {} ({}); {} report(s) refused; at most {} "
       "events waited for the device\n",
-      p.counts.notes_on, p.counts.notes_off, p.counts.bends, p.started, latency_text(p), p.refused, p.most_held);
+      p.counts.notes_on, p.counts.notes_off, p.counts.bends, p.started, latency_text(p, delay_ms), p.refused,
+      p.most_held);
   if (!p.last_error.empty()) std::fprintf(stderr, "live: the device refused %s\n", p.last_error.c_str());
   if (p.dropped > 0) {
     std::fprintf(stderr, "live: %llu MIDI message(s) lost: hmp fell behind its input\n",
                  static_cast<unsigned long long>(p.dropped));
   }
-  if (o.log) write_log(*o.log, session);
+  if (o.log) write_log(*o.log, session, delay_ms);
   return code;
 }
 
@@ -343,6 +375,12 @@ void register_live(CLI::App& app, Registry& registry) {
   cmd->add_option("--log", o->log,
                   "JSON lines: every note-on with its times (received, sent, started), then a summary");
   cmd->add_flag("-f,--force", o->force, "Overwrite an existing log file");
+  CLI::Option* sync = cmd->add_flag("--sync-sound", o->sync_sound,
+                                    "Hold each vibration back by the sound's output latency, so that a note is felt "
+                                    "when it is heard (default: felt at once, that much before)");
+  cmd->add_option("--vibration-delay-ms", o->vibration_delay_ms,
+                  "Hold each vibration back this long, 0–1000 ms (e.g. to meet another synthesizer's sound)")
+      ->excludes(sync);
   cmd->callback([o, &registry] { registry.set([o] { return run_live(*o); }); });
 }
 

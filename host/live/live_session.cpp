@@ -63,12 +63,16 @@ void LiveSession::receive(void* self, const std::uint8_t* bytes, std::size_t siz
 // back as USB does, so a burst beyond that waits here (counted in held) instead of being lost there.
 void LiveSession::send_events() {
   while (!in_flight_.empty() && link_.processed(in_flight_.front())) in_flight_.pop_front();
+  // The events due: those of messages that came at least the delay ago (they are in arrival order).
+  const std::int64_t due_before = player::steady_us() - delay_us_;
+  const std::size_t due =
+      static_cast<std::size_t>(std::upper_bound(event_us_.begin(), event_us_.end(), due_before) - event_us_.begin());
   std::size_t i = 0;
-  while (i < events_.size() && in_flight_.size() < kInFlight) {
+  while (i < due && in_flight_.size() < kInFlight) {
     protocol::Message m = protocol::make(protocol::Type::live, 0);
     m.live.track = events_[i].track;
     const std::size_t first = i;
-    while (i < events_.size() && events_[i].track == m.live.track && m.live.count < protocol::kNotesPerBatch)
+    while (i < due && events_[i].track == m.live.track && m.live.count < protocol::kNotesPerBatch)
       m.live.events[m.live.count++] = events_[i++].event;
     const std::optional<std::uint16_t> seq = link_.send(m);
     if (!seq) return;  // the link is dead: check() says so
@@ -86,7 +90,7 @@ void LiveSession::send_events() {
   }
   events_.erase(events_.begin(), events_.begin() + static_cast<std::ptrdiff_t>(i));
   event_us_.erase(event_us_.begin(), event_us_.begin() + static_cast<std::ptrdiff_t>(i));
-  progress_.held = events_.size();
+  progress_.held = due - i;
   progress_.most_held = std::max(progress_.most_held, progress_.held);
 }
 
@@ -157,7 +161,13 @@ LiveEnd LiveSession::run(const MidiInput& input, double seconds, const std::func
       show(progress_);
       next_show = now + kShowPeriodUs;
     }
-    link_.wait(std::chrono::microseconds(10'000));
+    // Until the link has news, the next delayed event is due, or 10 ms (the Sync, the port check).
+    std::int64_t wait_us = 10'000;
+    if (!events_.empty()) {
+      const std::int64_t until_due = event_us_.front() + delay_us_ - player::steady_us();
+      if (until_due > 0) wait_us = std::min(wait_us, until_due);
+    }
+    link_.wait(std::chrono::microseconds(wait_us));
   }
 }
 

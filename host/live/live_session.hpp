@@ -1,7 +1,7 @@
 #pragma once
 // `hmp live`'s run: MIDI messages from an input port (any thread) → LiveMapper → Live reports sent to the
-// device at once, a Sync every 100 ms (the device's watchdog), and the device's Started reports matched
-// with the messages that caused them, for the latency.
+// device at once (or after a set delay), a Sync every 100 ms (the device's watchdog), and the device's Started reports
+// matched with the messages that caused them, for the latency.
 #include <chrono>
 #include <cstdint>
 #include <deque>
@@ -24,7 +24,7 @@ struct LiveProgress {
   std::uint64_t started = 0;       // notes the device reported started
   std::uint64_t refused = 0;       // Live reports the device refused (each also in `last_error`)
   std::string last_error;          // the device's last Error, as text
-  std::size_t held = 0;            // events waiting for the device to take the reports before them
+  std::size_t held = 0;            // events due, waiting for the device to take the reports before them
   std::size_t most_held = 0;       // the most that ever waited
   std::uint64_t dropped = 0;       // MIDI messages lost because hmp's loop fell 8,192 chunks behind
   std::vector<double> latency_ms;  // per started note: message received → its Started report taken
@@ -59,6 +59,9 @@ class LiveSession {
   static void receive(void* self, const std::uint8_t* bytes, std::size_t size);
   // Also hands every channel message to `hear` (on run()'s thread, after its Live report is sent): the sound.
   void set_listener(std::function<void(const ChannelMessage&)> hear) { hear_ = std::move(hear); }
+  // Each Live report waits this long (µs) after its message came: the sound's output latency, so that a
+  // note is felt when it is heard rather than that much before. 0 (the default): sent at once.
+  void set_vibration_delay_us(std::int64_t us) { delay_us_ = us < 0 ? 0 : us; }
   // Sends Settings and play, then runs until `stop()` says so, `seconds` (> 0) have passed, or `input` is
   // gone; `show` is called about five times a second. Throws player::LinkError when the device is lost.
   LiveEnd run(const MidiInput& input, double seconds, const std::function<bool()>& stop,
@@ -99,6 +102,7 @@ class LiveSession {
   LiveProgress progress_;
   bool keep_notes_;
   std::vector<NoteRecord> notes_;
+  std::int64_t delay_us_ = 0;
 };
 
 }  // namespace hmp::live

@@ -20,6 +20,12 @@ expect_bad "--instrument 129: not a GM program" --instrument 129
 expect_bad "none.sf2: no such file" --soundfont "$tmp/none.sf2"
 expect_bad "--api midi: use alsa or jack" --api midi
 expect_bad "--seconds -1: must be ≥ 0" --seconds -1
+expect_bad "--vibration-delay-ms -1: a delay from 0 to 1000 ms" --vibration-delay-ms -1
+expect_bad "--vibration-delay-ms 1001: a delay from 0 to 1000 ms" --vibration-delay-ms 1001
+expect_bad "--vibration-delay-ms nan: a delay from 0 to 1000 ms" --vibration-delay-ms nan
+expect_bad "--vibration-delay-ms inf: a delay from 0 to 1000 ms" --vibration-delay-ms inf
+expect_bad "no sound to wait for" --sync-sound --no-audio
+expect_bad "--sync-sound excludes --vibration-delay-ms" --sync-sound --vibration-delay-ms 20
 # The log's name is checked first too: an existing file is kept without --force.
 echo keep >"$tmp/log.jsonl"
 expect_bad "exists" --log "$tmp/log.jsonl"

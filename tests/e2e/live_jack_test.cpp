@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <mutex>
 #include <cstdio>
 #include <cstdlib>
@@ -278,6 +279,84 @@ TEST(LiveJack, WithADisplayTheWindowOpensAndEveryNoteStillStarts) {
       until_complete(jack, play, [&](const std::string& s) { return s.find(all) != std::string::npos; });
   EXPECT_NE(summary.find(all), std::string::npos) << summary << err;
   EXPECT_EQ(err.find("warning"), std::string::npos) << err;
+}
+
+// A delay on the vibration (`extra`: --vibration-delay-ms, or --sync-sound with a sound device): each
+// note's Live report waits that long after its message and then goes at once. In the log every note was
+// sent at least the delay after it came (whatever the machine's load) and started within a few ms of
+// that; the summary line and the log's summary say the delay. `delay_ms` 0: the sound's output latency,
+// as hmp says it on stderr.
+void expect_vibrations_held_back(const JackServer& jack, std::vector<std::string> extra, double delay_ms) {
+  constexpr long kStartSlackUs = 15'000;
+  constexpr int kKeys = 20;
+  const std::string log = temp_path("delay.jsonl");
+  const hmp::test::LoadWatch load;
+  std::string err;
+  const auto play = [&] {
+    std::filesystem::remove(log);
+    std::vector<std::string> args = {"live", "--api",     "jack", "--no-view", "--device",
+                                     "sim",  "--seconds", "2",    "--log",     log};
+    args.insert(args.end(), extra.begin(), extra.end());
+    HmpRun hmp(args);
+    RtMidiOut out(RtMidi::UNIX_JACK, "hmp-test-delay");
+    if (!connect(out, "hmp:hmp")) return "no port: " + read_file(hmp.err);
+    for (int i = 0; i < kKeys; ++i) {
+      const auto key = static_cast<unsigned char>(48 + i);
+      send(out, {0x90, key, 100});
+      std::this_thread::sleep_for(10ms);
+      send(out, {0x80, key, 0});
+      std::this_thread::sleep_for(15ms);
+    }
+    EXPECT_EQ(hmp.wait(), 0) << read_file(hmp.err);
+    err = read_file(hmp.err);
+    return read_file(hmp.out);
+  };
+  const std::string all = "live: " + std::to_string(kKeys) + " notes on, " + std::to_string(kKeys) +
+                          " off, 0 bends; the device started " + std::to_string(kKeys) + " ";
+  const std::string summary =
+      until_complete(jack, play, [&](const std::string& s) { return s.find(all) != std::string::npos; });
+  ASSERT_NE(summary.find(all), std::string::npos) << summary << err;
+  if (delay_ms == 0) {
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(err, m, std::regex(R"(output latency ([0-9.]+) ms \(the vibration waits)"))) << err;
+    delay_ms = std::stod(m[1]);
+    ASSERT_GT(delay_ms, 5.0) << err;
+  }
+  char said[64];
+  std::snprintf(said, sizeof said, ", %.1f ms of it the vibration delay", delay_ms);
+  EXPECT_NE(summary.find(said), std::string::npos) << summary;
+  const std::string text = read_file(log);
+  const std::regex note(R"re("received_us":(\d+),"sent_us":(\d+),"started_us":(\d+))re");
+  // The delay as hmp holds it: whole µs of the rounded figure it prints, less that rounding.
+  const long delay_us = std::lround(delay_ms * 1e3) - 50;
+  int notes = 0;
+  long latest_start_us = 0;
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), note); it != std::sregex_iterator(); ++it) {
+    const long received = std::stol((*it)[1]), sent = std::stol((*it)[2]), started = std::stol((*it)[3]);
+    EXPECT_GE(sent - received, delay_us) << "note " << notes << " sent before its delay";
+    latest_start_us = std::max(latest_start_us, started - received - delay_us);
+    ++notes;
+  }
+  EXPECT_EQ(notes, kKeys) << text;
+  EXPECT_NE(text.find(R"("vibration_delay_ms":)"), std::string::npos) << text;
+  std::printf("vibration delay %.1f ms: %d notes, each started at most %.2f ms after it\n", delay_ms, notes,
+              static_cast<double>(latest_start_us) / 1e3);
+  HMP_SKIP_IF_TOO_LOADED(load, latest_start_us <= kStartSlackUs, "a note started " << latest_start_us << " µs late");
+  EXPECT_LE(latest_start_us, kStartSlackUs) << "a note started that long after its delay";
+  std::filesystem::remove(log);
+}
+
+TEST(LiveJack, AVibrationDelayHoldsEachNoteBackThatLong) {
+  JackServer jack;
+  if (!jack.up()) GTEST_FAIL() << jack.why();
+  expect_vibrations_held_back(jack, {"--no-audio", "--vibration-delay-ms", "40"}, 40.0);
+}
+
+// --sync-sound: the delay is the sound's output latency (the virtual sound card's, 21 ms by default).
+TEST(LiveJack, SyncSoundHoldsEachNoteBackByTheSoundsLatency) {
+  JackServer jack;
+  if (!jack.up()) GTEST_FAIL() << jack.why();
+  expect_vibrations_held_back(jack, {"--audio-driver", "virtual", "--sync-sound"}, 0.0);
 }
 
 // What a synthesizer's JACK input receives: each message with the steady-clock time it came.
