@@ -1,12 +1,17 @@
 // 10^6 random, malformed and hostile reports (seeded, a few seconds): the device never crashes, its
 // output never leaves the configured limit, every invalid report is counted and answered, and it still
 // works afterwards. Which reports are invalid is decided here, from the protocol's decoder and the
-// device contract in docs/firmware.md (not by asking the firmware).
+// device contract in docs/firmware.md (not by asking the firmware). Live reports are taken only while the
+// device plays, which depends on when each report is taken (a watchdog may pause it): the device's
+// Errors for them are matched, in order, with the oracle's verdict on each, and only the not_playing
+// refusals of valid ones add to the refusals it expects.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <deque>
 #include <random>
 
+#include "shared/common/bytes.hpp"
 #include "tests/firmware/host_link.hpp"
 
 namespace hmp::test {
@@ -20,8 +25,66 @@ class Oracle {
     for (std::uint8_t i = 0; i < envelope::kBuiltinCount; ++i) slot_used_[i] = true;
   }
   bool invalid(const p::Report& r) {
+    const bool bad = judge(r);
+    if (r[0] == static_cast<std::uint8_t>(p::Type::live)) {
+      const Verdict v = !bad       ? Verdict::valid
+                        : decoded_ ? (locked_ ? Verdict::locked : Verdict::refused)
+                                   : Verdict::malformed;
+      live_.push_back({bytes::get_u16(&r[1]), v});
+      ++live_count_[static_cast<int>(v)];
+    }
+    return bad;
+  }
+
+  // The device's Error for a report of the Live type: the earliest judged Live report of its seq whose
+  // verdict the code fits; every one before it must be a valid one the device took. False if none fits.
+  bool live_error(const p::Error& e) {
+    for (std::size_t i = 0; i < live_.size(); ++i) {
+      if (live_[i].seq == e.seq && fits(live_[i].verdict, e.code)) {
+        for (std::size_t k = 0; k < i; ++k)
+          if (live_[k].verdict != Verdict::valid) return false;  // refused, and not answered
+        if (live_[i].verdict == Verdict::valid) ++valid_not_playing_;
+        live_.erase(live_.begin(), live_.begin() + static_cast<std::ptrdiff_t>(i) + 1);
+        return true;
+      }
+    }
+    return false;
+  }
+  // Judged Live reports still waiting for an Error that are not valid ones (which may have been taken).
+  std::size_t live_unanswered() const {
+    std::size_t n = 0;
+    for (const Judged& j : live_) n += j.verdict != Verdict::valid;
+    return n;
+  }
+  std::uint64_t valid_not_playing() const { return valid_not_playing_; }
+  std::uint64_t live_valid() const { return live_count_[static_cast<int>(Verdict::valid)]; }
+  std::uint64_t live_refused() const { return live_count_[static_cast<int>(Verdict::refused)]; }
+
+ private:
+  // What the device must do with a Live report while playing: take it, or refuse it for its events
+  // (bad_slot, bad_value), its protocol version (version_mismatch) or its form (the decoder's verdict).
+  enum class Verdict { valid, refused, locked, malformed };
+  struct Judged {
+    std::uint16_t seq;
+    Verdict verdict;
+  };
+  static bool fits(Verdict v, p::ErrorCode code) {
+    switch (v) {
+      case Verdict::valid: return code == p::ErrorCode::not_playing;
+      case Verdict::refused:
+        return code == p::ErrorCode::not_playing || code == p::ErrorCode::bad_slot || code == p::ErrorCode::bad_value;
+      case Verdict::locked: return code == p::ErrorCode::version_mismatch;
+      case Verdict::malformed:  // the decoder's codes, bad_slot among them (a slot beyond the table)
+        return code != p::ErrorCode::none && code != p::ErrorCode::version_mismatch &&
+               code != p::ErrorCode::queue_full && code != p::ErrorCode::not_playing;
+    }
+    return false;
+  }
+
+  bool judge(const p::Report& r) {
     p::Message m;
-    if (p::decode(r, m) != p::ErrorCode::none) return true;
+    decoded_ = p::decode(r, m) == p::ErrorCode::none;
+    if (!decoded_) return true;
     if (!p::is_host_to_device(m.type)) return true;
     if (m.type == p::Type::hello) {
       locked_ = m.hello.protocol_version != p::kProtocolVersion;
@@ -35,19 +98,29 @@ class Oracle {
         return false;
       case p::Type::long_note: return !playable(m.long_note.preset, m.long_note.freq_q20);
       case p::Type::preset: slot_used_[m.preset.slot] = true; return false;
+      case p::Type::live:
+        for (std::uint8_t i = 0; i < m.live.count; ++i) {
+          const p::LiveEvent& e = m.live.events[i];
+          if (e.op == p::LiveOp::on && !playable(e.preset, e.freq_q20)) return true;
+          if (e.op == p::LiveOp::bend && !audible(e.freq_q20)) return true;
+        }
+        return false;
       default: return false;
     }
   }
 
- private:
-  bool playable(std::uint8_t slot, std::uint32_t freq_q20) const {
-    // 0 < f < tick_hz / 2, in Q12.20 Hz.
+  bool playable(std::uint8_t slot, std::uint32_t freq_q20) const { return slot_used_[slot] && audible(freq_q20); }
+  // 0 < f < tick_hz / 2, in Q12.20 Hz.
+  bool audible(std::uint32_t freq_q20) const {
     const double hz = static_cast<double>(freq_q20) / 1048576.0;
-    return slot_used_[slot] && hz > 0.0 && hz < static_cast<double>(tick_hz_) / 2.0;
+    return hz > 0.0 && hz < static_cast<double>(tick_hz_) / 2.0;
   }
   std::uint32_t tick_hz_;
-  bool locked_ = false;
+  bool locked_ = false, decoded_ = false;
   bool slot_used_[envelope::kSlotCount] = {};
+  std::deque<Judged> live_;  // Live reports judged, in the order sent, until their Error (if any) came
+  std::uint64_t live_count_[4] = {};
+  std::uint64_t valid_not_playing_ = 0;
 };
 
 class Generator {
@@ -109,7 +182,7 @@ class Generator {
     };
     static constexpr Weighted kMix[] = {{p::Type::notes, 400}, {p::Type::long_note, 40}, {p::Type::sync, 100},
                                         {p::Type::preset, 30}, {p::Type::settings, 20},  {p::Type::transport, 100},
-                                        {p::Type::hello, 8},   {p::Type::estop, 1}};
+                                        {p::Type::hello, 8},   {p::Type::estop, 1},      {p::Type::live, 150}};
     unsigned total = 0;
     for (const Weighted& w : kMix) total += w.weight;
     unsigned roll = pick(total);
@@ -122,7 +195,8 @@ class Generator {
       roll -= w.weight;
     }
     const std::uint64_t now = dev_.tick();
-    p::Message m = p::make(type, static_cast<std::uint16_t>(rng_()));
+    // Seqs in turn, as a host sends them: the Errors for Live reports are told apart by them.
+    p::Message m = p::make(type, next_seq_++);
     switch (m.type) {
       case p::Type::hello:
         m.hello.protocol_version = pick(4) == 0 ? static_cast<std::uint16_t>(1 + pick(5)) : p::kProtocolVersion;
@@ -170,6 +244,20 @@ class Generator {
         s.t_max_n = uniform(s.t_min_n + 0.01f, 20);
         break;
       }
+      case p::Type::live:
+        // A few keys on a few tracks, so that releases and bends find the notes held before them.
+        m.live.count = static_cast<std::uint8_t>(1 + pick(5));
+        m.live.track = static_cast<std::uint8_t>(pick(4));
+        for (std::uint8_t i = 0; i < m.live.count; ++i) {
+          p::LiveEvent& e = m.live.events[i];
+          const unsigned op = pick(10);
+          e.op = op < 5 ? p::LiveOp::on : (op < 8 ? p::LiveOp::off : p::LiveOp::bend);
+          e.key = static_cast<std::uint8_t>(pick(8) == 0 ? pick(256) : 60 + pick(12));
+          e.preset = e.op == p::LiveOp::on ? slot() : 0;
+          e.freq_q20 = e.op == p::LiveOp::off ? 0 : freq();
+          e.amp_q16 = e.op == p::LiveOp::on ? static_cast<std::uint16_t>(rng_()) : 0;
+        }
+        break;
       case p::Type::transport:
         m.transport.op = pick(10) == 0 ? static_cast<p::TransportOp>(pick(4)) : p::TransportOp::play;
         m.transport.tick = m.transport.op == p::TransportOp::seek ? rng_() : 0;
@@ -181,6 +269,7 @@ class Generator {
 
   std::mt19937_64 rng_;
   const sim::SimDevice& dev_;
+  std::uint16_t next_seq_ = 0;
 };
 
 void check_output(const sim::SimDevice& dev) {
@@ -196,14 +285,16 @@ TEST(FirmwareFuzz, MillionHostileReportsAreCountedAndNeverPushOutputPastLimits) 
   Oracle oracle(dev.core().tick_hz());
   Generator gen(20240611, dev);
   std::uint32_t expected_rejected = 0;
-  std::uint64_t errors_answered = 0, sounding_ticks = 0;
+  std::uint64_t errors_answered = 0, sounding_ticks = 0, live_unmatched = 0;
   p::Report r;
   const auto drain = [&] {
     p::Report out;
     p::Message m;
     while (dev.poll_report(out)) {
       ASSERT_EQ(p::decode(out, m), p::ErrorCode::none);
-      if (m.type == p::Type::error) ++errors_answered;
+      if (m.type != p::Type::error) continue;
+      ++errors_answered;
+      if (m.error.type == static_cast<std::uint8_t>(p::Type::live) && !oracle.live_error(m.error)) ++live_unmatched;
     }
   };
   for (std::uint32_t i = 0; i < kReports; ++i) {
@@ -222,7 +313,13 @@ TEST(FirmwareFuzz, MillionHostileReportsAreCountedAndNeverPushOutputPastLimits) 
 
   const fw::Stats& st = dev.core().stats();
   EXPECT_EQ(st.packets, kReports);
-  EXPECT_EQ(st.rejected, expected_rejected + st.queue_full);
+  EXPECT_EQ(st.rejected, expected_rejected + st.queue_full + oracle.valid_not_playing());
+  EXPECT_EQ(live_unmatched, 0u) << "Errors for Live reports that no verdict of the oracle fits";
+  EXPECT_EQ(oracle.live_unanswered(), 0u) << "Live reports the device should have refused";
+  // Live reports taken while playing and refused while not, and refused for their events.
+  EXPECT_GT(oracle.live_valid() - oracle.valid_not_playing(), 10000u);
+  EXPECT_GT(oracle.valid_not_playing(), 100u);
+  EXPECT_GT(oracle.live_refused(), 1000u);
   EXPECT_EQ(st.engine_refused, 0u);
   EXPECT_EQ(st.inbox_full, 0u);
   EXPECT_EQ(st.tx_dropped, 0u);
@@ -233,9 +330,13 @@ TEST(FirmwareFuzz, MillionHostileReportsAreCountedAndNeverPushOutputPastLimits) 
   EXPECT_LT(expected_rejected, kReports - kReports / 10);
   EXPECT_GT(st.started, 10000u);
   EXPECT_GT(sounding_ticks, 10000u);
-  std::printf("rejected %u, queue_full %u, started %u, late %u, stolen %u, ticks %llu (%llu sounding)\n", st.rejected,
-              st.queue_full, st.started, st.late, dev.core().engine().counters().stolen,
-              static_cast<unsigned long long>(dev.tick()), static_cast<unsigned long long>(sounding_ticks));
+  std::printf(
+      "rejected %u, queue_full %u, started %u, late %u, stolen %u, ticks %llu (%llu sounding); Live: %llu valid "
+      "(%llu refused, not playing), %llu with a bad event\n",
+      st.rejected, st.queue_full, st.started, st.late, dev.core().engine().counters().stolen,
+      static_cast<unsigned long long>(dev.tick()), static_cast<unsigned long long>(sounding_ticks),
+      static_cast<unsigned long long>(oracle.live_valid()), static_cast<unsigned long long>(oracle.valid_not_playing()),
+      static_cast<unsigned long long>(oracle.live_refused()));
 
   // Still a working device: a new session plays a note exactly like the engine.
   host.open_exact();
