@@ -32,6 +32,7 @@
 #include <thread>
 #include <vector>
 
+#include "host/transport/qemu_device.hpp"
 #include "host/transport/serial_transport.hpp"
 #include "shared/protocol/protocol.hpp"
 
@@ -49,19 +50,14 @@ inline std::string qemu_image_path() {
 #endif
 }
 
-inline std::string qemu_program() {
-  const char* env = std::getenv("QEMU_SYSTEM_ARM");
-  return env != nullptr && *env != '\0' ? env : "qemu-system-arm";
-}
-
 // Why a QEMU test cannot run here (for GTEST_SKIP), or empty when the image and the emulator are there.
 inline std::string qemu_missing() {
   const std::string image = qemu_image_path();
   if (image.empty() || !std::filesystem::exists(image)) {
     return "no firmware image at '" + image + "' (build the qemu-an386 preset)";
   }
-  if (std::system((qemu_program() + " --version >/dev/null 2>&1").c_str()) != 0)
-    return qemu_program() + " not installed";
+  if (std::system((transport::qemu_emulator() + " --version >/dev/null 2>&1").c_str()) != 0)
+    return transport::qemu_emulator() + " not installed";
   return {};
 }
 
@@ -84,8 +80,8 @@ class QemuFirmware {
       throw std::runtime_error("cannot listen on " + socket_path + ": " + std::strerror(errno));
     }
 
-    const std::vector<std::string> args = {qemu_program(), "-M", "mps2-an386", "-nographic", "-monitor", "none",
-                                           "-semihosting-config", "enable=on,target=native",
+    const std::vector<std::string> args = {transport::qemu_emulator(), "-M", "mps2-an386", "-nographic", "-monitor",
+                                           "none", "-semihosting-config", "enable=on,target=native",
                                            // One instruction = 1 ns of virtual time; while the guest sleeps in wfi,
                                            // virtual time follows real time (sleep=on, the default), so the firmware
                                            // ticks at its real rate and the host can keep up with it.
