@@ -155,6 +155,25 @@ std::string until_complete(const JackServer& jack, Play&& play, Complete&& compl
   return summary;
 }
 
+// Runs hmp with `args`, plays `count` notes into its port (keys 48 on, `span` of them in turn), each held
+// `held` and followed by `gap`, and returns hmp's stdout once it has ended (its stderr in *err).
+std::string play_keys(const std::vector<std::string>& args, int count, int span, std::chrono::milliseconds held,
+                      std::chrono::milliseconds gap, std::string* err) {
+  HmpRun hmp(args);
+  RtMidiOut out(RtMidi::UNIX_JACK, "hmp-test-keys");
+  if (!connect(out, "hmp:hmp")) return "no port: " + read_file(hmp.err);
+  for (int i = 0; i < count; ++i) {
+    const auto key = static_cast<unsigned char>(48 + i % span);
+    send(out, {0x90, key, 100});
+    std::this_thread::sleep_for(held);
+    send(out, {0x80, key, 0});
+    std::this_thread::sleep_for(gap);
+  }
+  EXPECT_EQ(hmp.wait(), 0) << read_file(hmp.err);
+  *err = read_file(hmp.err);
+  return read_file(hmp.out);
+}
+
 // 300 notes, one at a time, then 60 chords of five keys struck together (one message each, as a
 // keyboard sends them), on two channels; a bend while the chord sounds.
 constexpr int kSingles = 300, kChords = 60, kNotes = kSingles + 5 * kChords;
@@ -260,19 +279,8 @@ TEST(LiveJack, WithADisplayTheWindowOpensAndEveryNoteStillStarts) {
   if (!jack.up()) GTEST_FAIL() << jack.why();
   std::string err;
   const auto play = [&] {
-    HmpRun hmp({"live", "--api", "jack", "--no-audio", "--device", "sim", "--seconds", "3"});
-    RtMidiOut out(RtMidi::UNIX_JACK, "hmp-test-view");
-    if (!connect(out, "hmp:hmp")) return "no port: " + read_file(hmp.err);
-    for (int i = 0; i < 40; ++i) {
-      const auto key = static_cast<unsigned char>(48 + i % 24);
-      send(out, {0x90, key, 100});
-      std::this_thread::sleep_for(20ms);
-      send(out, {0x80, key, 0});
-      std::this_thread::sleep_for(5ms);
-    }
-    EXPECT_EQ(hmp.wait(), 0) << read_file(hmp.err);
-    err = read_file(hmp.err);
-    return read_file(hmp.out);
+    return play_keys({"live", "--api", "jack", "--no-audio", "--device", "sim", "--seconds", "3"}, 40, 24, 20ms, 5ms,
+                     &err);
   };
   const std::string all = "live: 40 notes on, 40 off, 0 bends; the device started 40 ";
   const std::string summary =
@@ -297,19 +305,7 @@ void expect_vibrations_held_back(const JackServer& jack, std::vector<std::string
     std::vector<std::string> args = {"live", "--api",     "jack", "--no-view", "--device",
                                      "sim",  "--seconds", "2",    "--log",     log};
     args.insert(args.end(), extra.begin(), extra.end());
-    HmpRun hmp(args);
-    RtMidiOut out(RtMidi::UNIX_JACK, "hmp-test-delay");
-    if (!connect(out, "hmp:hmp")) return "no port: " + read_file(hmp.err);
-    for (int i = 0; i < kKeys; ++i) {
-      const auto key = static_cast<unsigned char>(48 + i);
-      send(out, {0x90, key, 100});
-      std::this_thread::sleep_for(10ms);
-      send(out, {0x80, key, 0});
-      std::this_thread::sleep_for(15ms);
-    }
-    EXPECT_EQ(hmp.wait(), 0) << read_file(hmp.err);
-    err = read_file(hmp.err);
-    return read_file(hmp.out);
+    return play_keys(args, kKeys, kKeys, 10ms, 15ms, &err);
   };
   const std::string all = "live: " + std::to_string(kKeys) + " notes on, " + std::to_string(kKeys) +
                           " off, 0 bends; the device started " + std::to_string(kKeys) + " ";
