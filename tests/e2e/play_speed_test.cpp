@@ -10,6 +10,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <vector>
+#include <string>
+#include <sstream>
 
 #include "host/audio/audio_events.hpp"
 #include "host/audio/audio_player.hpp"
@@ -51,10 +54,20 @@ double seconds_between(std::chrono::steady_clock::time_point a, std::chrono::ste
   return std::chrono::duration<double>(a - b).count();
 }
 
-TEST(PlaySpeed, AtTwiceTheSpeedSoundAndDeviceFollow) {
-  ASSERT_TRUE(hmp::audio::find_soundfont().has_value()) << "no GM SoundFont (fluid-soundfont-gm)";
-  const hmp::midi::Song song = piano_song();
-  const hmp::test::LoadWatch load;
+// One play of the song at speed 2, as measured.
+struct SpeedRun {
+  double took = 0, took_limit = 0;
+  std::vector<double> skews_ms, gaps_ms;
+  double worst = 0, worst_gap = 0;
+  std::string onsets_missing;  // why fewer than kNotes − 1 onsets were found, else empty
+  bool held() const {
+    return took < took_limit && worst_gap <= 2.0 && worst <= 5.0 &&
+           skews_ms.size() >= static_cast<std::size_t>(kNotes - 1);
+  }
+};
+
+SpeedRun play_at_twice_the_speed(const hmp::midi::Song& song) {
+  SpeedRun r;
   hmp::transport::SimTransport sim;
   hmp::player::DeviceLink link(sim);
   link.connect();
@@ -64,7 +77,8 @@ TEST(PlaySpeed, AtTwiceTheSpeedSoundAndDeviceFollow) {
   // The card records from its creation on: loading the SoundFont (seconds from a cold disk) comes first.
   ao.virtual_record_frames = static_cast<std::size_t>(40.0 * ao.synth.sample_rate);
   hmp::audio::AudioPlayer audio(ao);
-  ASSERT_NE(audio.virtual_card(), nullptr) << audio.silence_reason();
+  EXPECT_NE(audio.virtual_card(), nullptr) << audio.silence_reason();
+  if (audio.virtual_card() == nullptr) return r;
   audio.set_events(hmp::audio::audio_events(song));
 
   hmp::player::PlayerOptions options;
@@ -75,47 +89,67 @@ TEST(PlaySpeed, AtTwiceTheSpeedSoundAndDeviceFollow) {
   hmp::player::Player player(link, audio, song, options);
   const auto t0 = std::chrono::steady_clock::now();
   EXPECT_EQ(player.run(), hmp::player::Outcome::finished);
-  const double took = seconds_between(std::chrono::steady_clock::now(), t0);
-  const double took_limit = 0.5 * static_cast<double>(song.duration_us) * 1e-6 + 1.5;
+  r.took = seconds_between(std::chrono::steady_clock::now(), t0);
+  r.took_limit = 0.5 * static_cast<double>(song.duration_us) * 1e-6 + 1.5;
 
   for (const auto& n : player.haptic_track().notes) EXPECT_NEAR(n.note.duration_ticks, kLengthUs / 1000 / 2, 1);
-  ASSERT_EQ(started.size(), static_cast<std::size_t>(kNotes));
+  EXPECT_EQ(started.size(), static_cast<std::size_t>(kNotes));
   std::sort(started.begin(), started.end(),
             [](const auto& a, const auto& b) { return a.origin.start_s < b.origin.start_s; });
 
   const hmp::audio::VirtualCard& card = *audio.virtual_card();
   const std::vector<float> level = card.recording();
   const int rate = ao.synth.sample_rate;
-  std::vector<double> skews_ms, gaps_ms;
   for (std::size_t i = 0; i < started.size(); ++i) {
     const auto haptic = sim.tick_due_at(started[i].actual_tick);
-    if (i > 0) gaps_ms.push_back(seconds_between(haptic, sim.tick_due_at(started[i - 1].actual_tick)) * 1e3);
+    if (i > 0) r.gaps_ms.push_back(seconds_between(haptic, sim.tick_due_at(started[i - 1].actual_tick)) * 1e3);
     const double frame_at_haptic = seconds_between(haptic, card.heard_at(0)) * rate;
     const std::int64_t onset = hmp::test::onset_frame(level, std::llround(frame_at_haptic), rate);
     if (onset < 0) continue;
-    skews_ms.push_back(seconds_between(haptic, card.heard_at(static_cast<double>(onset))) * 1e3);
+    r.skews_ms.push_back(seconds_between(haptic, card.heard_at(static_cast<double>(onset))) * 1e3);
   }
-  double worst = 0, worst_gap = 0;
-  for (const double s : skews_ms) worst = std::max(worst, std::fabs(s));
-  for (const double g : gaps_ms) worst_gap = std::max(worst_gap, std::fabs(g - kSpacingUs / 1000.0 / 2));
-  HMP_SKIP_IF_TOO_LOADED(
-      load,
-      took < took_limit && worst_gap <= 2.0 && worst <= 5.0 && skews_ms.size() >= static_cast<std::size_t>(kNotes - 1),
-      "took " << took << " s, note gaps off by up to " << worst_gap << " ms, skew up to " << worst << " ms, "
-              << skews_ms.size() << " onsets found");
-  EXPECT_LT(took, took_limit) << "not played at twice the speed";
-  for (std::size_t i = 0; i < gaps_ms.size(); ++i)
-    EXPECT_NEAR(gaps_ms[i], kSpacingUs / 1000.0 / 2, 2.0) << "note " << i + 1;
-  // What the card heard, for when the onsets are not found (a silent or late recording says why).
-  const float loudest = level.empty() ? 0.0f : *std::max_element(level.begin(), level.end());
-  const auto first_sound = std::find_if(level.begin(), level.end(), [&](float v) { return v > 1e-3f * loudest; });
-  ASSERT_GE(skews_ms.size(), static_cast<std::size_t>(kNotes - 1))
-      << "sound onsets not found: " << level.size() << " frames recorded, peak " << loudest << ", first sound at frame "
-      << (first_sound - level.begin()) << ", first note's haptic start at frame "
-      << seconds_between(sim.tick_due_at(started[0].actual_tick), card.heard_at(0)) * rate;
-  RecordProperty("worst_skew_ms", std::to_string(worst));
-  std::printf("speed 2: %zu notes, worst audio–haptic skew %.2f ms\n", skews_ms.size(), worst);
-  EXPECT_LE(worst, 5.0);
+  for (const double sk : r.skews_ms) r.worst = std::max(r.worst, std::fabs(sk));
+  for (const double g : r.gaps_ms) r.worst_gap = std::max(r.worst_gap, std::fabs(g - kSpacingUs / 1000.0 / 2));
+  if (r.skews_ms.size() < static_cast<std::size_t>(kNotes - 1) && !started.empty()) {
+    // What the card heard, for when the onsets are not found (a silent or late recording says why).
+    const float loudest = level.empty() ? 0.0f : *std::max_element(level.begin(), level.end());
+    const auto first_sound = std::find_if(level.begin(), level.end(), [&](float v) { return v > 1e-3f * loudest; });
+    std::ostringstream why;
+    why << "sound onsets not found: " << level.size() << " frames recorded, peak " << loudest
+        << ", first sound at frame " << (first_sound - level.begin()) << ", first note's haptic start at frame "
+        << seconds_between(sim.tick_due_at(started[0].actual_tick), card.heard_at(0)) * rate;
+    r.onsets_missing = why.str();
+  }
+  return r;
+}
+
+TEST(PlaySpeed, AtTwiceTheSpeedSoundAndDeviceFollow) {
+  ASSERT_TRUE(hmp::audio::find_soundfont().has_value()) << "no GM SoundFont (fluid-soundfont-gm)";
+  const hmp::midi::Song song = piano_song();
+  const hmp::test::LoadWatch load;
+  // A run that missed a bound while the whole machine stopped for longer than the tightest bound (2 ms)
+  // is played again, up to three runs; a miss without such a stall fails at once.
+  constexpr double kStallMs = 2.0;
+  SpeedRun r;
+  for (int run = 1; run <= 3; ++run) {
+    const hmp::test::StallWatch stall;
+    r = play_at_twice_the_speed(song);
+    if (r.held() || stall.worst_ms() < kStallMs) break;
+    std::printf(
+        "run %d missed (note gaps off by up to %.2f ms, skew up to %.2f ms, took %.2f s) while the machine "
+        "stalled %.1f ms: played again\n",
+        run, r.worst_gap, r.worst, r.took, stall.worst_ms());
+  }
+  HMP_SKIP_IF_TOO_LOADED(load, r.held(),
+                         "took " << r.took << " s, note gaps off by up to " << r.worst_gap << " ms, skew up to "
+                                 << r.worst << " ms, " << r.skews_ms.size() << " onsets found");
+  EXPECT_LT(r.took, r.took_limit) << "not played at twice the speed";
+  for (std::size_t i = 0; i < r.gaps_ms.size(); ++i)
+    EXPECT_NEAR(r.gaps_ms[i], kSpacingUs / 1000.0 / 2, 2.0) << "note " << i + 1;
+  ASSERT_GE(r.skews_ms.size(), static_cast<std::size_t>(kNotes - 1)) << r.onsets_missing;
+  RecordProperty("worst_skew_ms", std::to_string(r.worst));
+  std::printf("speed 2: %zu notes, worst audio–haptic skew %.2f ms\n", r.skews_ms.size(), r.worst);
+  EXPECT_LE(r.worst, 5.0);
 }
 
 TEST(PlaySpeed, ChangingSpeedKeepsThePositionAndChangesThePace) {

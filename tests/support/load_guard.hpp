@@ -11,6 +11,7 @@
 // missed on a quiet machine fails as usual, and a kernel without PSI never skips.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -18,6 +19,7 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <thread>
 
 namespace hmp::test {
 
@@ -70,6 +72,40 @@ class LoadWatch {
  private:
   std::chrono::steady_clock::time_point start_;
   std::optional<unsigned long long> stall_start_;
+};
+
+// Watches for the whole machine stopping for a moment: a thread that sleeps 1 ms at a time keeps the
+// longest it overslept. A virtual machine its host pauses (which no load figure inside it shows: this
+// kind reports no steal time) stops every thread at once, the watcher too; a program late on its own
+// account does not make the watcher oversleep. A timing test that missed its bound during such a stall
+// measures again (saying so) instead of failing on it.
+class StallWatch {
+ public:
+  StallWatch() : thread_([this] { watch(); }) {}
+  StallWatch(const StallWatch&) = delete;
+  StallWatch& operator=(const StallWatch&) = delete;
+  ~StallWatch() {
+    stop_ = true;
+    thread_.join();
+  }
+  // The longest the watcher overslept so far, ms.
+  double worst_ms() const { return static_cast<double>(worst_us_.load()) / 1000.0; }
+
+ private:
+  void watch() {
+    using namespace std::chrono;
+    auto last = steady_clock::now();
+    while (!stop_) {
+      std::this_thread::sleep_for(milliseconds(1));
+      const auto now = steady_clock::now();
+      const long over = static_cast<long>(duration_cast<microseconds>(now - last).count()) - 1000;
+      if (over > worst_us_.load()) worst_us_ = over;
+      last = now;
+    }
+  }
+  std::atomic<bool> stop_{false};
+  std::atomic<long> worst_us_{0};
+  std::thread thread_;  // last: starts once the members it reads exist
 };
 
 // Appends "Suite.Name: why" to $HMP_LOADED_SKIPS (scripts/test reads it); a no-op when unset.
