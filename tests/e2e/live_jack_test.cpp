@@ -302,37 +302,51 @@ void expect_vibrations_held_back(const JackServer& jack, std::vector<std::string
   std::string err;
   const auto play = [&] {
     std::filesystem::remove(log);
+    // 4 s: hmp's port may take a second or more to appear after the tests before, and the keys take
+    // 0.5 s; a note whose delay is not over when the run ends is never felt.
     std::vector<std::string> args = {"live", "--api",     "jack", "--no-view", "--device",
-                                     "sim",  "--seconds", "2",    "--log",     log};
+                                     "sim",  "--seconds", "4",    "--log",     log};
     args.insert(args.end(), extra.begin(), extra.end());
     return play_keys(args, kKeys, kKeys, 10ms, 15ms, &err);
   };
   const std::string all = "live: " + std::to_string(kKeys) + " notes on, " + std::to_string(kKeys) +
                           " off, 0 bends; the device started " + std::to_string(kKeys) + " ";
-  const std::string summary =
-      until_complete(jack, play, [&](const std::string& s) { return s.find(all) != std::string::npos; });
-  ASSERT_NE(summary.find(all), std::string::npos) << summary << err;
-  if (delay_ms == 0) {
-    std::smatch m;
-    ASSERT_TRUE(std::regex_search(err, m, std::regex(R"(output latency ([0-9.]+) ms \(the vibration waits)"))) << err;
-    delay_ms = std::stod(m[1]);
-    ASSERT_GT(delay_ms, 5.0) << err;
+  // A run whose latest start missed the bound while the whole machine stalled longer than 2 ms is played
+  // again (up to three runs); a miss without a stall fails at once.
+  std::string summary, text;
+  int notes = 0;
+  long latest_start_us = 0;
+  const double asked_ms = delay_ms;
+  for (int run = 1; run <= 3; ++run) {
+    const hmp::test::StallWatch stall;
+    summary = until_complete(jack, play, [&](const std::string& s) { return s.find(all) != std::string::npos; });
+    ASSERT_NE(summary.find(all), std::string::npos) << summary << err;
+    delay_ms = asked_ms;
+    if (delay_ms == 0) {
+      std::smatch m;
+      ASSERT_TRUE(std::regex_search(err, m, std::regex(R"(output latency ([0-9.]+) ms \(the vibration waits)"))) << err;
+      delay_ms = std::stod(m[1]);
+      ASSERT_GT(delay_ms, 5.0) << err;
+    }
+    text = read_file(log);
+    const std::regex note(R"re("received_us":(\d+),"sent_us":(\d+),"started_us":(\d+))re");
+    // The delay as hmp holds it: whole µs of the rounded figure it prints, less that rounding.
+    const long delay_us = std::lround(delay_ms * 1e3) - 50;
+    notes = 0;
+    latest_start_us = 0;
+    for (auto it = std::sregex_iterator(text.begin(), text.end(), note); it != std::sregex_iterator(); ++it) {
+      const long received = std::stol((*it)[1]), sent = std::stol((*it)[2]), started = std::stol((*it)[3]);
+      EXPECT_GE(sent - received, delay_us) << "note " << notes << " sent before its delay";
+      latest_start_us = std::max(latest_start_us, started - received - delay_us);
+      ++notes;
+    }
+    if (latest_start_us <= kStartSlackUs || stall.worst_ms() < 2.0) break;
+    std::printf("run %d: a note started %.2f ms after its delay while the machine stalled %.1f ms: played again\n", run,
+                static_cast<double>(latest_start_us) / 1e3, stall.worst_ms());
   }
   char said[64];
   std::snprintf(said, sizeof said, ", %.1f ms of it the vibration delay", delay_ms);
   EXPECT_NE(summary.find(said), std::string::npos) << summary;
-  const std::string text = read_file(log);
-  const std::regex note(R"re("received_us":(\d+),"sent_us":(\d+),"started_us":(\d+))re");
-  // The delay as hmp holds it: whole µs of the rounded figure it prints, less that rounding.
-  const long delay_us = std::lround(delay_ms * 1e3) - 50;
-  int notes = 0;
-  long latest_start_us = 0;
-  for (auto it = std::sregex_iterator(text.begin(), text.end(), note); it != std::sregex_iterator(); ++it) {
-    const long received = std::stol((*it)[1]), sent = std::stol((*it)[2]), started = std::stol((*it)[3]);
-    EXPECT_GE(sent - received, delay_us) << "note " << notes << " sent before its delay";
-    latest_start_us = std::max(latest_start_us, started - received - delay_us);
-    ++notes;
-  }
   EXPECT_EQ(notes, kKeys) << text;
   EXPECT_NE(text.find(R"("vibration_delay_ms":)"), std::string::npos) << text;
   std::printf("vibration delay %.1f ms: %d notes, each started at most %.2f ms after it\n", delay_ms, notes,
