@@ -163,7 +163,7 @@ std::string latency_text(const live::LiveProgress& p, double delay_ms) {
 
 // One JSON line per note-on (times in µs of CLOCK_MONOTONIC, which JACK's clock reads too; started_us
 // null when no Started report came), then a summary line. Checked before the run; written at its end.
-void write_log(const std::string& path, const live::LiveSession& session, double delay_ms) {
+void write_log(const std::string& path, const live::LiveSession& session) {
   output::FilePtr f = output::open_for_writing(path, true);
   for (const live::NoteRecord& n : session.notes()) {
     nlohmann::json line = {{"channel", n.channel + 1},
@@ -185,7 +185,7 @@ void write_log(const std::string& path, const live::LiveSession& session, double
                                     {"started", p.started},
                                     {"refused", p.refused},
                                     {"dropped", p.dropped},
-                                    {"vibration_delay_ms", delay_ms}}}};
+                                    {"vibration_delay_ms", session.vibration_delay_ms()}}}};
   std::fprintf(f.get(), "%s\n", summary.dump().c_str());
   output::close_output(f);
 }
@@ -264,11 +264,11 @@ int run_live(const LiveOptions& o) {
   }
   session.set_vibration_delay_us(std::llround(delay_ms * 1e3));
   if (sound.audible()) {
-    std::fprintf(stderr, "audio: %s, output latency %.1f ms%s\n", sound.driver_name().c_str(),
-                 sound.output_latency_s() * 1e3,
-                 o.sync_sound   ? " (the vibration waits as long: --sync-sound)"
-                 : delay_ms > 0 ? ""
-                                : " (the vibration comes that much before the sound; --sync-sound waits)");
+    std::fprintf(
+        stderr, "audio: %s, output latency %.1f ms%s\n", sound.driver_name().c_str(), sound.output_latency_s() * 1e3,
+        o.sync_sound                       ? " (the vibration waits as long: --sync-sound)"
+        : session.vibration_delay_ms() > 0 ? ""
+                                           : " (the vibration comes that much before the sound; --sync-sound waits)");
     sound.set_events({});
     sound.start(0);
     session.set_listener([&](const live::ChannelMessage& msg) {
@@ -335,14 +335,14 @@ int run_live(const LiveOptions& o) {
   fmt::print(
       "live: {} notes on, {} off, {} bends; the device started {} ({}); {} report(s) refused; at most {} "
       "events waited for the device\n",
-      p.counts.notes_on, p.counts.notes_off, p.counts.bends, p.started, latency_text(p, delay_ms), p.refused,
-      p.most_held);
+      p.counts.notes_on, p.counts.notes_off, p.counts.bends, p.started, latency_text(p, session.vibration_delay_ms()),
+      p.refused, p.most_held);
   if (!p.last_error.empty()) std::fprintf(stderr, "live: the device refused %s\n", p.last_error.c_str());
   if (p.dropped > 0) {
     std::fprintf(stderr, "live: %llu MIDI message(s) lost: hmp fell behind its input\n",
                  static_cast<unsigned long long>(p.dropped));
   }
-  if (o.log) write_log(*o.log, session, delay_ms);
+  if (o.log) write_log(*o.log, session);
   return code;
 }
 

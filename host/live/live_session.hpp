@@ -62,6 +62,7 @@ class LiveSession {
   // Each Live report waits this long (µs) after its message came: the sound's output latency, so that a
   // note is felt when it is heard rather than that much before. 0 (the default): sent at once.
   void set_vibration_delay_us(std::int64_t us) { delay_us_ = us < 0 ? 0 : us; }
+  double vibration_delay_ms() const { return static_cast<double>(delay_us_) / 1e3; }
   // Sends Settings and play, then runs until `stop()` says so, `seconds` (> 0) have passed, or `input` is
   // gone; `show` is called about five times a second. Throws player::LinkError when the device is lost.
   LiveEnd run(const MidiInput& input, double seconds, const std::function<bool()>& stop,

@@ -289,17 +289,27 @@ TEST(LiveJack, WithADisplayTheWindowOpensAndEveryNoteStillStarts) {
   EXPECT_EQ(err.find("warning"), std::string::npos) << err;
 }
 
-// A delay on the vibration (`extra`: --vibration-delay-ms, or --sync-sound with a sound device): each
-// note's Live report waits that long after its message and then goes at once. In the log every note was
-// sent at least the delay after it came (whatever the machine's load) and started within a few ms of
-// that; the summary line and the log's summary say the delay. `delay_ms` 0: the sound's output latency,
-// as hmp says it on stderr.
-void expect_vibrations_held_back(const JackServer& jack, std::vector<std::string> extra, double delay_ms) {
-  constexpr long kStartSlackUs = 15'000;
-  constexpr int kKeys = 20;
+// One run of hmp live with a vibration delay, as its summary, stderr and log show it.
+struct DelayRun {
+  static constexpr long kStartSlackUs = 15'000;
+  std::string summary, err, log, problem;  // problem: why nothing could be measured, else empty
+  double delay_ms = 0;                     // as asked, or the output latency hmp printed
+  int notes = 0, sent_early = 0;           // notes in the log; of them sent before their delay was over
+  long latest_start_us = 0;                // the latest Started report after a note's delay
+  bool start_missed() const { return problem.empty() && latest_start_us > kStartSlackUs; }
+  std::string describe() const {
+    char text[64];
+    std::snprintf(text, sizeof text, "a note started %.2f ms after its delay",
+                  static_cast<double>(latest_start_us) / 1e3);
+    return text;
+  }
+};
+
+// Plays kKeys notes into `hmp live` with `extra` (--vibration-delay-ms, or --sync-sound with a sound
+// device); `delay_ms` 0: the delay is the sound's output latency, as hmp says it on stderr.
+DelayRun play_with_delay(const JackServer& jack, const std::vector<std::string>& extra, double delay_ms, int keys) {
   const std::string log = temp_path("delay.jsonl");
-  const hmp::test::LoadWatch load;
-  std::string err;
+  DelayRun r;
   const auto play = [&] {
     std::filesystem::remove(log);
     // 4 s: hmp's port may take a second or more to appear after the tests before, and the keys take
@@ -307,53 +317,63 @@ void expect_vibrations_held_back(const JackServer& jack, std::vector<std::string
     std::vector<std::string> args = {"live", "--api",     "jack", "--no-view", "--device",
                                      "sim",  "--seconds", "4",    "--log",     log};
     args.insert(args.end(), extra.begin(), extra.end());
-    return play_keys(args, kKeys, kKeys, 10ms, 15ms, &err);
+    return play_keys(args, keys, keys, 10ms, 15ms, &r.err);
   };
-  const std::string all = "live: " + std::to_string(kKeys) + " notes on, " + std::to_string(kKeys) +
-                          " off, 0 bends; the device started " + std::to_string(kKeys) + " ";
-  // A run whose latest start missed the bound while the whole machine stalled longer than 2 ms is played
-  // again (up to three runs); a miss without a stall fails at once.
-  std::string summary, text;
-  int notes = 0;
-  long latest_start_us = 0;
-  const double asked_ms = delay_ms;
-  for (int run = 1; run <= 3; ++run) {
-    const hmp::test::StallWatch stall;
-    summary = until_complete(jack, play, [&](const std::string& s) { return s.find(all) != std::string::npos; });
-    ASSERT_NE(summary.find(all), std::string::npos) << summary << err;
-    delay_ms = asked_ms;
-    if (delay_ms == 0) {
-      std::smatch m;
-      ASSERT_TRUE(std::regex_search(err, m, std::regex(R"(output latency ([0-9.]+) ms \(the vibration waits)"))) << err;
-      delay_ms = std::stod(m[1]);
-      ASSERT_GT(delay_ms, 5.0) << err;
+  const std::string all = "live: " + std::to_string(keys) + " notes on, " + std::to_string(keys) +
+                          " off, 0 bends; the device started " + std::to_string(keys) + " ";
+  r.summary = until_complete(jack, play, [&](const std::string& s) { return s.find(all) != std::string::npos; });
+  if (r.summary.find(all) == std::string::npos) {
+    r.problem = "not every note started: " + r.summary + r.err;
+    return r;
+  }
+  r.delay_ms = delay_ms;
+  if (delay_ms == 0) {
+    std::smatch m;
+    if (!std::regex_search(r.err, m, std::regex(R"(output latency ([0-9.]+) ms \(the vibration waits)"))) {
+      r.problem = "no output latency said: " + r.err;
+      return r;
     }
-    text = read_file(log);
-    const std::regex note(R"re("received_us":(\d+),"sent_us":(\d+),"started_us":(\d+))re");
-    // The delay as hmp holds it: whole µs of the rounded figure it prints, less that rounding.
-    const long delay_us = std::lround(delay_ms * 1e3) - 50;
-    notes = 0;
-    latest_start_us = 0;
-    for (auto it = std::sregex_iterator(text.begin(), text.end(), note); it != std::sregex_iterator(); ++it) {
-      const long received = std::stol((*it)[1]), sent = std::stol((*it)[2]), started = std::stol((*it)[3]);
-      EXPECT_GE(sent - received, delay_us) << "note " << notes << " sent before its delay";
-      latest_start_us = std::max(latest_start_us, started - received - delay_us);
-      ++notes;
-    }
-    if (latest_start_us <= kStartSlackUs || stall.worst_ms() < 2.0) break;
-    std::printf("run %d: a note started %.2f ms after its delay while the machine stalled %.1f ms: played again\n", run,
-                static_cast<double>(latest_start_us) / 1e3, stall.worst_ms());
+    r.delay_ms = std::stod(m[1]);
+  }
+  r.log = read_file(log);
+  std::filesystem::remove(log);
+  const std::regex note(R"re("received_us":(\d+),"sent_us":(\d+),"started_us":(\d+))re");
+  // The delay as hmp holds it: whole µs of the rounded figure it prints, less that rounding.
+  const long delay_us = std::lround(r.delay_ms * 1e3) - 50;
+  for (auto it = std::sregex_iterator(r.log.begin(), r.log.end(), note); it != std::sregex_iterator(); ++it) {
+    const long received = std::stol((*it)[1]), sent = std::stol((*it)[2]), started = std::stol((*it)[3]);
+    if (sent - received < delay_us) ++r.sent_early;
+    r.latest_start_us = std::max(r.latest_start_us, started - received - delay_us);
+    ++r.notes;
+  }
+  return r;
+}
+
+// A delay on the vibration: each note's Live report waits that long after its message and then goes at
+// once. In the log every note was sent at least the delay after it came (whatever the machine's load)
+// and started within a few ms of that; the summary line and the log's summary say the delay. A run whose
+// latest start missed the bound while the whole machine stalled longer than 2 ms is played again; a miss
+// without a stall fails at once.
+void expect_vibrations_held_back(const JackServer& jack, const std::vector<std::string>& extra, double delay_ms) {
+  constexpr int kKeys = 20;
+  const hmp::test::LoadWatch load;
+  const DelayRun r = hmp::test::measure_unless_stalled(
+      2.0, [&] { return play_with_delay(jack, extra, delay_ms, kKeys); },
+      [](const DelayRun& run) { return run.start_missed(); }, [](const DelayRun& run) { return run.describe(); });
+  ASSERT_TRUE(r.problem.empty()) << r.problem;
+  if (delay_ms == 0) {
+    ASSERT_GT(r.delay_ms, 5.0) << r.err;
   }
   char said[64];
-  std::snprintf(said, sizeof said, ", %.1f ms of it the vibration delay", delay_ms);
-  EXPECT_NE(summary.find(said), std::string::npos) << summary;
-  EXPECT_EQ(notes, kKeys) << text;
-  EXPECT_NE(text.find(R"("vibration_delay_ms":)"), std::string::npos) << text;
-  std::printf("vibration delay %.1f ms: %d notes, each started at most %.2f ms after it\n", delay_ms, notes,
-              static_cast<double>(latest_start_us) / 1e3);
-  HMP_SKIP_IF_TOO_LOADED(load, latest_start_us <= kStartSlackUs, "a note started " << latest_start_us << " µs late");
-  EXPECT_LE(latest_start_us, kStartSlackUs) << "a note started that long after its delay";
-  std::filesystem::remove(log);
+  std::snprintf(said, sizeof said, ", %.1f ms of it the vibration delay", r.delay_ms);
+  EXPECT_NE(r.summary.find(said), std::string::npos) << r.summary;
+  EXPECT_EQ(r.notes, kKeys) << r.log;
+  EXPECT_EQ(r.sent_early, 0) << "notes sent before their delay was over\n" << r.log;
+  EXPECT_NE(r.log.find(R"("vibration_delay_ms":)"), std::string::npos) << r.log;
+  std::printf("vibration delay %.1f ms: %d notes, each started at most %.2f ms after it\n", r.delay_ms, r.notes,
+              static_cast<double>(r.latest_start_us) / 1e3);
+  HMP_SKIP_IF_TOO_LOADED(load, !r.start_missed(), r.describe());
+  EXPECT_LE(r.latest_start_us, DelayRun::kStartSlackUs) << "a note started that long after its delay";
 }
 
 TEST(LiveJack, AVibrationDelayHoldsEachNoteBackThatLong) {

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <vector>
 #include <string>
 #include <sstream>
@@ -63,6 +64,12 @@ struct SpeedRun {
   bool held() const {
     return took < took_limit && worst_gap <= 2.0 && worst <= 5.0 &&
            skews_ms.size() >= static_cast<std::size_t>(kNotes - 1);
+  }
+  std::string describe() const {
+    char text[128];
+    std::snprintf(text, sizeof text, "note gaps off by up to %.2f ms, skew up to %.2f ms, took %.2f s", worst_gap,
+                  worst, took);
+    return text;
   }
 };
 
@@ -128,21 +135,11 @@ TEST(PlaySpeed, AtTwiceTheSpeedSoundAndDeviceFollow) {
   const hmp::midi::Song song = piano_song();
   const hmp::test::LoadWatch load;
   // A run that missed a bound while the whole machine stopped for longer than the tightest bound (2 ms)
-  // is played again, up to three runs; a miss without such a stall fails at once.
-  constexpr double kStallMs = 2.0;
-  SpeedRun r;
-  for (int run = 1; run <= 3; ++run) {
-    const hmp::test::StallWatch stall;
-    r = play_at_twice_the_speed(song);
-    if (r.held() || stall.worst_ms() < kStallMs) break;
-    std::printf(
-        "run %d missed (note gaps off by up to %.2f ms, skew up to %.2f ms, took %.2f s) while the machine "
-        "stalled %.1f ms: played again\n",
-        run, r.worst_gap, r.worst, r.took, stall.worst_ms());
-  }
-  HMP_SKIP_IF_TOO_LOADED(load, r.held(),
-                         "took " << r.took << " s, note gaps off by up to " << r.worst_gap << " ms, skew up to "
-                                 << r.worst << " ms, " << r.skews_ms.size() << " onsets found");
+  // is played again; a miss without such a stall fails at once.
+  const SpeedRun r = hmp::test::measure_unless_stalled(
+      2.0, [&] { return play_at_twice_the_speed(song); }, [](const SpeedRun& run) { return !run.held(); },
+      [](const SpeedRun& run) { return run.describe(); });
+  HMP_SKIP_IF_TOO_LOADED(load, r.held(), r.describe() << ", " << r.skews_ms.size() << " onsets found");
   EXPECT_LT(r.took, r.took_limit) << "not played at twice the speed";
   for (std::size_t i = 0; i < r.gaps_ms.size(); ++i)
     EXPECT_NEAR(r.gaps_ms[i], kSpacingUs / 1000.0 / 2, 2.0) << "note " << i + 1;
