@@ -133,13 +133,13 @@ class Exponential final : public Integrator {
     const int n = lin.n;
     const double tau = std::ldexp(h, -level);
     for (int i = 0; i < n; ++i) a_[i] = y[i];
-    multiply_add(lin.chain.integral(level), f_.data(), 1.0, n, a_.data());
+    multiply_add_rows(lin.chain.integral(level), n, n, f_.data(), 1.0, a_.data());
     system.project(a_.data());
     system.derivative(a_.data(), f1_.data());
     ++evaluations_;
-    multiply_add(lin.chain.exponential(level), f_.data(), -1.0, n, f1_.data());
+    multiply_add_rows(lin.chain.exponential(level), n, n, f_.data(), -1.0, f1_.data());
     for (int i = 0; i < n; ++i) y[i] = a_[i];
-    multiply_add(lin.chain.ramp(level), f1_.data(), 1.0 / tau, n, y);
+    multiply_add_rows(lin.chain.ramp(level), n, n, f1_.data(), 1.0 / tau, y);
     system.project(y);
   }
 
@@ -161,21 +161,6 @@ class Exponential final : public Integrator {
     return largest;
   }
 
-  // out += s·(M·v), M n×n row-major.
-  static void multiply_add(const double* m, const double* v, double s, int n, double* out) {
-    for (int i = 0; i < n; ++i) {
-      const double* row = m + i * n;
-      double s0 = 0, s1 = 0;
-      int j = 0;
-      for (; j + 2 <= n; j += 2) {
-        s0 += row[j] * v[j];
-        s1 += row[j + 1] * v[j + 1];
-      }
-      if (j < n) s0 += row[j] * v[j];
-      out[i] += s * (s0 + s1);
-    }
-  }
-
   // Whether the piece changes at any checkpoint from `first` on, predicted from the state whose switch
   // functions are g0 and derivative f_.
   bool switch_within(const OdeSystem& system, const Linearisation& lin, const double* g0, std::uint32_t piece, int ng,
@@ -184,11 +169,8 @@ class Exponential final : public Integrator {
     double g[kMaxSwitches];
     for (int c = first; c <= last; ++c) {
       const double* rows = &lin.rows[static_cast<std::size_t>(c) * kMaxSwitches * kMaxState];
-      for (int k = 0; k < ng; ++k) {
-        double s = g0[k];
-        for (int j = 0; j < n; ++j) s += rows[k * n + j] * f_[j];
-        g[k] = s;
-      }
+      for (int k = 0; k < ng; ++k) g[k] = g0[k];
+      multiply_add_rows(rows, ng, n, f_.data(), 1.0, g);
       if (system.piece_of(g) != piece) return true;
     }
     return false;

@@ -165,7 +165,42 @@ void unbalance(const double* m, int stride, const double* scale, double* out, in
     for (int j = 0; j < n; ++j) out[i * n + j] = m[i * stride + j] * scale[i] * inverse[j];
 }
 
+// out_i += s·Σ_j m_ij·v_j for R rows of m (row stride n) from row `first`. Each row is summed in four
+// running sums (column j in sum j mod 4, the columns after the last whole four added to sums 0–2 by
+// hand) added up in one order. One running sum a row waits on each add before the next: at n = 37 the
+// sub-steps of frame_edge at 10⁴ N/m then spent a quarter of the run in these products. The fixed
+// order also sums a system with more states, all zero, bit for bit like the smaller one.
+template <int R>
+[[gnu::always_inline]] inline void multiply_add_some(const double* m, int first, int n, const double* v, double s,
+                                                     double* out) {
+  const int whole = n / 4 * 4, left = n - whole;
+  Vector4 sum[R] = {};
+  for (int j = 0; j < whole; j += 4) {
+    Vector4 x;
+    std::memcpy(&x, v + j, sizeof x);
+    for (int r = 0; r < R; ++r) {
+      Vector4 a;
+      std::memcpy(&a, m + (first + r) * n + j, sizeof a);
+      sum[r] += a * x;
+    }
+  }
+  for (int r = 0; r < R; ++r) {
+    const double* row = m + (first + r) * n + whole;
+    double l0 = sum[r][0], l1 = sum[r][1], l2 = sum[r][2];
+    if (left > 0) l0 += row[0] * v[whole];
+    if (left > 1) l1 += row[1] * v[whole + 1];
+    if (left > 2) l2 += row[2] * v[whole + 2];
+    out[first + r] += s * ((l0 + l1) + (l2 + sum[r][3]));
+  }
+}
+
 }  // namespace
+
+HMP_VECTOR_CLONES void multiply_add_rows(const double* m, int rows, int n, const double* v, double s, double* out) {
+  int i = 0;
+  for (; i + 4 <= rows; i += 4) multiply_add_some<4>(m, i, n, v, s, out);
+  for (; i < rows; ++i) multiply_add_some<1>(m, i, n, v, s, out);
+}
 
 PhiChain::PhiChain(int max_levels)
     : max_levels_(max_levels < 1 ? 1 : (max_levels > kMaxLevels ? kMaxLevels : max_levels)),

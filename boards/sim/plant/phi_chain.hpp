@@ -31,6 +31,10 @@ struct SparseRows {
   void gather(const double* a, int rows, int cols, int lda);
 };
 
+// out += s·(m·v) for `rows` rows of m, row-major with row stride n (a step by the chain's functions, the
+// switch functions' rows along one).
+void multiply_add_rows(const double* m, int rows, int n, const double* v, double s, double* out);
+
 class PhiChain {
  public:
   // Room for `max_levels` levels (at most kMaxLevels).

@@ -171,6 +171,48 @@ TEST(PhiChain, LeftMultiplyIsTheRowsTimesTheFunction) {
     }
 }
 
+// multiply_add_rows (a step's products by the functions, the switch rows along one) against the sum
+// taken here in long double, for every width from 1 to kMaxState (whole fours and every remainder) and
+// row counts that are and are not multiples of four, entries of very different sizes; and the same sums
+// over a matrix and vector padded with zero columns (a system with more states, all zero) bit for bit.
+TEST(PhiChain, MultiplyAddRowsIsTheProductAddedAndScaled) {
+  for (int n = 1; n <= kMaxState; ++n) {
+    for (int rows : {1, 3, 4, 7, n}) {
+      std::vector<double> m(static_cast<std::size_t>(rows * n)), v(static_cast<std::size_t>(n));
+      std::vector<double> out(static_cast<std::size_t>(rows)), start(static_cast<std::size_t>(rows));
+      for (int i = 0; i < rows; ++i)
+        for (int j = 0; j < n; ++j)
+          m[static_cast<std::size_t>(i * n + j)] = std::sin(1.0 + 7 * i + j) * std::pow(10.0, (i + 3 * j) % 9 - 4);
+      for (int j = 0; j < n; ++j) v[static_cast<std::size_t>(j)] = std::cos(0.5 + j) * std::pow(10.0, j % 5 - 2);
+      for (int i = 0; i < rows; ++i) start[static_cast<std::size_t>(i)] = out[static_cast<std::size_t>(i)] = i - 1.5;
+      const double s = -0.37;
+      multiply_add_rows(m.data(), rows, n, v.data(), s, out.data());
+      for (int i = 0; i < rows; ++i) {
+        Real sum = 0, size = 0;
+        for (int j = 0; j < n; ++j) {
+          const Real term = static_cast<Real>(m[static_cast<std::size_t>(i * n + j)]) * v[static_cast<std::size_t>(j)];
+          sum += term;
+          size += std::fabs(term);
+        }
+        const Real want = start[static_cast<std::size_t>(i)] + s * sum;
+        EXPECT_LE(static_cast<double>(std::fabs(out[static_cast<std::size_t>(i)] - want)),
+                  1e-15 * (std::fabs(static_cast<double>(want)) + std::fabs(s) * static_cast<double>(size)))
+            << "n " << n << ", rows " << rows << ", row " << i;
+      }
+      // Zero columns appended up to kMaxState: the same sums exactly.
+      const int wide = kMaxState;
+      std::vector<double> mw(static_cast<std::size_t>(rows * wide), 0.0), vw(static_cast<std::size_t>(wide), 0.0);
+      for (int i = 0; i < rows; ++i)
+        for (int j = 0; j < n; ++j) mw[static_cast<std::size_t>(i * wide + j)] = m[static_cast<std::size_t>(i * n + j)];
+      for (int j = 0; j < n; ++j) vw[static_cast<std::size_t>(j)] = v[static_cast<std::size_t>(j)];
+      std::vector<double> outw = start;
+      multiply_add_rows(mw.data(), rows, wide, vw.data(), s, outw.data());
+      for (int i = 0; i < rows; ++i)
+        EXPECT_EQ(outw[static_cast<std::size_t>(i)], out[static_cast<std::size_t>(i)]) << "n " << n << ", row " << i;
+    }
+  }
+}
+
 TEST(PhiChain, ZeroMatrixGivesTheIntegralsOfOneAndOfS) {
   const double a[9] = {};
   PhiChain chain(3);
