@@ -119,7 +119,7 @@ class Oracle {
   bool locked_ = false, decoded_ = false;
   bool slot_used_[envelope::kSlotCount] = {};
   std::deque<Judged> live_;  // Live reports judged, in the order sent, until their Error (if any) came
-  std::uint64_t live_count_[4] = {};
+  std::uint64_t live_count_[static_cast<int>(Verdict::malformed) + 1] = {};  // by verdict
   std::uint64_t valid_not_playing_ = 0;
 };
 
