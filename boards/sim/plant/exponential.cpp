@@ -43,7 +43,9 @@ struct Linearisation {
   std::array<double, kMaxDrift> mean_drift{};
   double settled_for = 0;  // s of whole steps in a row on it
   Vector origin{};
-  PhiChain chain{kLevels};
+  // The levels a step reads: h, its halves (a step taken again as two), its quarters (a split step's
+  // checkpoint sub-steps) and the fine sub-steps around a switch.
+  PhiChain chain{kLevels, 1u | 1u << 1 | 1u << kCheckpointLevel | 1u << kFineLevel};
   // rows[j]: the switch functions' gradient times P(t_j), t_j = (j + 1)·h / kCheckpoints: g(t_j) ≈ g(0) +
   // rows[j]·f(y(0)) along the piece's linear motion.
   std::vector<double> rows = std::vector<double>(static_cast<std::size_t>(kCheckpoints) * kMaxSwitches * kMaxState);
@@ -51,11 +53,7 @@ struct Linearisation {
 
 class Exponential final : public Integrator {
  public:
-  Exponential()
-      : cache_(kCacheSize),
-        jacobian_(kMaxState * kMaxState),
-        gradient_(kMaxSwitches * kMaxState),
-        tmp_(kMaxSwitches * kMaxState) {}
+  Exponential() : cache_(kCacheSize), jacobian_(kMaxState * kMaxState), gradient_(kMaxSwitches * kMaxState) {}
   Method method() const override { return Method::exponential; }
   void invalidate() override {
     for (Linearisation& l : cache_) l.valid = false;
@@ -308,28 +306,24 @@ class Exponential final : public Integrator {
       for (int k = 0; k < ng; ++k) gradient_[static_cast<std::size_t>(k * n + j)] = (g1[k] - g0[k]) / delta;
     }
     evaluations_ += static_cast<std::uint64_t>(n + 1);
-    l.chain.compute(jacobian_.data(), n, h, kCheckpointLevel + 1);
+    static_assert(kCheckpointLevel == 2, "the chain's quarter rows are the four checkpoints");
+    PhiChain::QuarterRows quarters;
+    if (ng > 0) {
+      quarters.g = gradient_.data();
+      quarters.m = ng;
+      for (int c = 0; c < kCheckpoints; ++c)
+        quarters.out[static_cast<std::size_t>(c)] = &l.rows[static_cast<std::size_t>(c) * kMaxSwitches * kMaxState];
+    }
+    // rows[c] = G·P(t_c), t_c = (c + 1)·h/4. G, the switch functions' gradient, is sparse.
+    l.chain.compute(jacobian_.data(), n, h, kCheckpointLevel + 1, ng > 0 ? &quarters : nullptr);
     ++factorisations_;
-    if (ng == 0) return;
-    // rows[c] = G·P(t_c), t_c = (c + 1)·h/4: levels 2, 1 and 0 for h/4, h/2 and h, and for 3h/4
-    // G·P(h/2 + h/4) = G·P(h/2) + (G·E(h/2))·P(h/4). G, the switch functions' gradient, is sparse.
-    static_assert(kCheckpointLevel == 2, "the rows below are written for four checkpoints");
-    const auto row = [&](int c) { return &l.rows[static_cast<std::size_t>(c) * kMaxSwitches * kMaxState]; };
-    l.chain.left_multiply(gradient_.data(), ng, n, l.chain.integral(2), row(0));
-    l.chain.left_multiply(gradient_.data(), ng, n, l.chain.integral(1), row(1));
-    l.chain.left_multiply(gradient_.data(), ng, n, l.chain.integral(0), row(3));
-    l.chain.left_multiply(gradient_.data(), ng, n, l.chain.exponential(1), tmp_.data());
-    l.chain.left_multiply(tmp_.data(), ng, n, l.chain.integral(2), row(2));
-    const double* half = row(1);
-    double* three_quarters = row(2);
-    for (int i = 0; i < ng * n; ++i) three_quarters[i] += half[i];
   }
 
   std::vector<Linearisation> cache_;
   std::uint64_t clock_ = 0;
   const Linearisation* stepping_ = nullptr;  // the one the last whole step started on
   bool carrying_ = false;                    // the last whole step went more than kFarStep (saved_ holds its start)
-  std::vector<double> jacobian_, gradient_, tmp_;
+  std::vector<double> jacobian_, gradient_;
   Vector f_{}, f1_{}, a_{}, f0_{}, col_{}, tmp_y_{}, saved_{}, f_saved_{}, mid_{};
 };
 

@@ -77,14 +77,8 @@ HMP_VECTOR_CLONES double norm1(const double* a, int ld, int n) {
   return best;
 }
 
-// The element-wise steps of the series and the doubling, over whole padded matrices of `size` doubles:
-// term = t·s, sum += term; y += t + s·x; and y += t.
-HMP_VECTOR_CLONES void scale_and_add(const double* t, double s, double* term, double* sum, int size) {
-  for (int i = 0; i < size; ++i) {
-    term[i] = t[i] * s;
-    sum[i] += term[i];
-  }
-}
+// The element-wise steps of the doubling, over whole padded matrices of `size` doubles: y += t + s·x;
+// and y += t.
 HMP_VECTOR_CLONES void add_scaled(const double* t, double s, const double* x, double* y, int size) {
   for (int i = 0; i < size; ++i) y[i] += t[i] + s * x[i];
 }
@@ -101,60 +95,106 @@ using Vector8 = double __attribute__((vector_size(64), aligned(8)));
 constexpr int kLanes = PhiChain::kLanes;
 static_assert(kMaxState <= 256, "SparseRows keeps column indices in a byte");
 
-template <class V, int NV>
-[[gnu::always_inline]] inline void row_sum(const double* b, int ld, const std::uint8_t* column, const double* value,
-                                           int count, double* c) {
+// Each row's sums of a·b, handed to `sink(i, sums)` (sums: NV vectors V, the row's ld doubles), b of row
+// stride ld = NV vectors V. The left factor a is a SparseRows (its nonzeros) or a DenseRows.
+template <class V, int NV, class Left, class Sink>
+[[gnu::always_inline]] inline void sparse_rows(const Left& a, const double* b, int ld, Sink& sink) {
   constexpr int kWidth = sizeof(V) / sizeof(double);
-  V sum[NV] = {};
-  for (int l = 0; l < count; ++l) {
-    const V v = V{} + value[l];
-    const double* bl = b + column[l] * ld;
-    for (int q = 0; q < NV; ++q) {
-      V x;
-      std::memcpy(&x, bl + kWidth * q, sizeof x);
-      sum[q] += v * x;
+  for (int i = 0; i < a.rows; ++i) {
+    V sum[NV] = {};
+    for (int l = a.first(i); l < a.last(i); ++l) {
+      const V v = V{} + a.value(i, l);
+      const double* bl = b + a.column(l) * ld;
+      for (int q = 0; q < NV; ++q) {
+        V x;
+        std::memcpy(&x, bl + kWidth * q, sizeof x);
+        sum[q] += v * x;
+      }
     }
+    sink(i, sum);
   }
-  for (int q = 0; q < NV; ++q) std::memcpy(c + kWidth * q, &sum[q], sizeof sum[q]);
 }
 
-// c = a·b, a given by its rows' nonzeros, b and c of row stride ld = NV vectors V; c must not alias b.
-template <class V, int NV>
-[[gnu::always_inline]] inline void sparse_rows(const SparseRows& a, const double* b, double* c, int ld) {
-  for (int i = 0; i < a.rows; ++i) {
-    const int first = a.start[i];
-    row_sum<V, NV>(b, ld, &a.column[first], &a.value[first], a.start[i + 1] - first, c + i * ld);
-  }
-}
+// A dense left factor, read in place: a product of two dense matrices (the doubling's E·E, E·P, E·Q)
+// has nothing to skip, and gathering the entries first cost more than the zeros saved.
+struct DenseRows {
+  const double* a;
+  int rows, cols, lda;
+  int first(int) const { return 0; }
+  int last(int) const { return cols; }
+  int column(int l) const { return l; }
+  double value(int i, int l) const { return a[i * lda + l]; }
+};
 
 // sparse_rows for the NV that ld needs, ld a multiple of kLanes up to kMaxState rounded up.
-template <class V, int... K>
-[[gnu::always_inline]] inline void sparse_rows_of(std::integer_sequence<int, K...>, const SparseRows& a,
-                                                  const double* b, double* c, int ld) {
+template <class V, class Left, class Sink, int... K>
+[[gnu::always_inline]] inline void sparse_rows_of(std::integer_sequence<int, K...>, const Left& a, const double* b,
+                                                  int ld, Sink& sink) {
   constexpr int kPerLane = kLanes / static_cast<int>(sizeof(V) / sizeof(double));
-  ((ld == kLanes * (K + 1) ? sparse_rows<V, kPerLane*(K + 1)>(a, b, c, ld) : void()), ...);
+  ((ld == kLanes * (K + 1) ? sparse_rows<V, kPerLane*(K + 1)>(a, b, ld, sink) : void()), ...);
 }
 using LaneGroups = std::make_integer_sequence<int, (kMaxState + kLanes - 1) / kLanes>;
 
-HMP_VECTOR_CLONES void sparse_product4(const SparseRows& a, const double* b, double* c, int ld) {
-  sparse_rows_of<Vector4>(LaneGroups{}, a, b, c, ld);
+// The rows stored: c = a·b.
+struct Store {
+  double* c;
+  int ld;
+  template <class V, int NV>
+  [[gnu::always_inline]] void operator()(int i, const V (&sum)[NV]) const {
+    for (int q = 0; q < NV; ++q)
+      std::memcpy(c + i * ld + q * static_cast<int>(sizeof(V) / sizeof(double)), &sum[q], sizeof(V));
+  }
+};
+
+// A term of the series from the one before, in the same pass: term = s·(a·b), total += term, and the
+// columns' sums of |term| (for its 1-norm) in column_sums.
+struct NextTerm {
+  double *term, *total, *column_sums;
+  double s;
+  int ld;
+  template <class V, int NV>
+  [[gnu::always_inline]] void operator()(int i, const V (&sum)[NV]) const {
+    constexpr int kWidth = sizeof(V) / sizeof(double);
+    for (int q = 0; q < NV; ++q) {
+      const V t = sum[q] * s;
+      V acc, column;
+      std::memcpy(term + i * ld + kWidth * q, &t, sizeof t);
+      std::memcpy(&acc, total + i * ld + kWidth * q, sizeof acc);
+      acc += t;
+      std::memcpy(total + i * ld + kWidth * q, &acc, sizeof acc);
+      std::memcpy(&column, column_sums + kWidth * q, sizeof column);
+      column += t < 0 ? -t : t;
+      std::memcpy(column_sums + kWidth * q, &column, sizeof column);
+    }
+  }
+};
+
+template <class Left, class Sink>
+HMP_VECTOR_CLONES void sparse_product4(const Left& a, const double* b, int ld, Sink sink) {
+  sparse_rows_of<Vector4>(LaneGroups{}, a, b, ld, sink);
 }
 
 #if defined(__x86_64__)
-__attribute__((target("arch=x86-64-v4"))) void sparse_product8(const SparseRows& a, const double* b, double* c,
-                                                               int ld) {
-  sparse_rows_of<Vector8>(LaneGroups{}, a, b, c, ld);
+template <class Left, class Sink>
+__attribute__((target("arch=x86-64-v4"))) void sparse_product8(const Left& a, const double* b, int ld, Sink sink) {
+  sparse_rows_of<Vector8>(LaneGroups{}, a, b, ld, sink);
 }
 #endif
 
-// c = a·b for b and c of row stride ld (a multiple of kLanes, columns n … ld − 1 zero), c with a's rows;
-// c must not alias b.
-void sparse_product(const SparseRows& a, const double* b, double* c, int ld) {
+// The rows of a·b for b of row stride ld (a multiple of kLanes, columns n … ld − 1 zero) to `sink`.
+template <class Left, class Sink>
+void sparse_product(const Left& a, const double* b, int ld, Sink sink) {
 #if defined(__x86_64__)
   static const bool wide = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq");
-  if (wide) return sparse_product8(a, b, c, ld);
+  if (wide) return sparse_product8(a, b, ld, sink);
 #endif
-  sparse_product4(a, b, c, ld);
+  sparse_product4(a, b, ld, sink);
+}
+
+// c = a·b, c with a's rows and b's stride ld; c must not alias b.
+template <class Left>
+void sparse_product(const Left& a, const double* b, double* c, int ld) {
+  sparse_product(a, b, ld, Store{c, ld});
 }
 
 // out = D·m·D⁻¹ (undoes the balancing); m has row stride `stride`, out n.
@@ -202,8 +242,9 @@ HMP_VECTOR_CLONES void multiply_add_rows(const double* m, int rows, int n, const
   for (; i < rows; ++i) multiply_add_some<1>(m, i, n, v, s, out);
 }
 
-PhiChain::PhiChain(int max_levels)
+PhiChain::PhiChain(int max_levels, std::uint32_t kept)
     : max_levels_(max_levels < 1 ? 1 : (max_levels > kMaxLevels ? kMaxLevels : max_levels)),
+      kept_(kept),
       e_(max_levels_ * kStride),
       p_(max_levels_ * kStride),
       q_(max_levels_ * kStride),
@@ -216,7 +257,7 @@ PhiChain::PhiChain(int max_levels)
       wq_(kPadded),
       scale_(kMaxState, 1.0) {}
 
-void PhiChain::compute(const double* a, int n, double h, int levels) {
+void PhiChain::compute(const double* a, int n, double h, int levels, const QuarterRows* quarters) {
   n_ = n;
   ld_ = (n + kLanes - 1) / kLanes * kLanes;
   h_ = h;
@@ -228,21 +269,34 @@ void PhiChain::compute(const double* a, int n, double h, int levels) {
   const double norm = h * norm_;
   int s = norm > kTaylorNorm ? static_cast<int>(std::ceil(std::log2(norm / kTaylorNorm))) : 0;
   if (s < levels - 1) s = levels - 1;
+  if (quarters != nullptr) {
+    if (s < 2) s = 2;
+    double* scaled = tmp_.data();
+    for (int i = 0; i < quarters->m; ++i)
+      for (int j = 0; j < n; ++j) scaled[i * n + j] = quarters->g[i * n + j] * scale_[static_cast<std::size_t>(j)];
+    quarter_g_.gather(scaled, quarters->m, n, n);
+  }
+  start_ = s;
   series(s);
-  // Level s is τ; double up to level 0 (= h), keeping every level there is room for:
-  //   E(2τ) = E², P(2τ) = P + E·P, Q(2τ) = Q + E·Q + τ·P.
-  const int size = n * ld_;
+  double_up(s, 0, quarters);
+}
+
+// The work matrices hold level `from`; double them up to level `to`, keeping the kept levels passed:
+//   E(2τ) = E², P(2τ) = P + E·P, Q(2τ) = Q + E·Q + τ·P.
+void PhiChain::double_up(int from, int to, const QuarterRows* quarters) {
+  const int n = n_, size = n * ld_;
   double *e = we_.data(), *p = wp_.data(), *q = wq_.data(), *t = tmp_.data(), *u = x_.data();
-  for (int level = s;; --level) {
-    if (level < max_levels_) keep(level);
-    if (level == 0) break;
-    const double step = std::ldexp(h, -level);
-    rows_.gather(e, n, n, ld_);
-    sparse_product(rows_, q, t, ld_);
+  for (int level = from;; --level) {
+    if (level < max_levels_ && ((kept_ >> level & 1u) != 0 || level == to)) keep(level);
+    if (quarters != nullptr && level <= 2) quarter_rows(level, *quarters);
+    if (level == to) break;
+    const double step = std::ldexp(h_, -level);
+    const DenseRows left{e, n, n, ld_};
+    sparse_product(left, q, t, ld_);
     add_scaled(t, step, p, q, size);
-    sparse_product(rows_, p, t, ld_);
+    sparse_product(left, p, t, ld_);
     add(t, p, size);
-    sparse_product(rows_, e, u, ld_);
+    sparse_product(left, e, u, ld_);
     std::memcpy(e, u, sizeof(double) * static_cast<std::size_t>(size));
   }
 }
@@ -257,17 +311,20 @@ void PhiChain::series(int level) {
   // ‖term_k‖₁·Σ_j (‖X‖₁/(k + 3))^j; the terms of the plant's X shrink far faster than ‖X‖₁^k/(k + 2)!
   // (its norm is inflated by couplings between states of different speeds), so the sum stops at the
   // terms actually needed, not at that bound.
-  double* term = phi_.data();
+  double *term = phi_.data(), *next = t;
   double* sum = wq_.data();
   for (int i = 0; i < size; ++i) term[i] = 0;
   for (int i = 0; i < n; ++i) term[i * ld + i] = 0.5;
   for (int i = 0; i < size; ++i) sum[i] = term[i];
   const double norm = tau * norm_;
   for (int k = 1; k <= kMaxTaylorTerms; ++k) {
-    sparse_product(rows_, term, t, ld);
-    scale_and_add(t, 1.0 / (k + 2), term, sum, size);
+    double column_sums[kMaxState + kLanes] = {};
+    sparse_product(rows_, term, ld, NextTerm{next, sum, column_sums, 1.0 / (k + 2), ld});
+    std::swap(term, next);
+    double term_norm = 0;
+    for (int j = 0; j < n; ++j) term_norm = std::fmax(term_norm, column_sums[j]);
     const double ratio = norm / (k + 3);
-    if (ratio < 1 && norm1(term, ld, n) < kTaylorTail * (1 - ratio)) break;
+    if (ratio < 1 && term_norm < kTaylorTail * (1 - ratio)) break;
   }
   double *e = we_.data(), *p = wp_.data(), *q = wq_.data();
   sparse_product(rows_, q, p, ld);
@@ -286,25 +343,40 @@ void SparseRows::gather(const double* a, int rows_in, int cols, int lda) {
   for (int i = 0; i < rows; ++i) {
     start[static_cast<std::size_t>(i)] = count;
     for (int j = 0; j < cols; ++j) {
+      // Written whether zero or not, kept by moving on only past a nonzero: no branch to mispredict on a
+      // sparse row's pattern.
       const double v = a[i * lda + j];
-      if (v == 0) continue;
-      column[static_cast<std::size_t>(count)] = static_cast<std::uint8_t>(j);
-      value[static_cast<std::size_t>(count)] = v;
-      ++count;
+      column_of[static_cast<std::size_t>(count)] = static_cast<std::uint8_t>(j);
+      value_of[static_cast<std::size_t>(count)] = v;
+      count += v != 0 ? 1 : 0;
     }
   }
   start[static_cast<std::size_t>(rows)] = count;
 }
 
-void PhiChain::left_multiply(const double* a, int m, int lda, const double* b, double* c) {
-  const int n = n_, ld = ld_;
-  double *padded = tmp_.data(), *product = x_.data();
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < ld; ++j) padded[i * ld + j] = j < n ? b[i * n + j] : 0.0;
-  rows_.gather(a, m, n, lda);
-  sparse_product(rows_, padded, product, ld);
+void PhiChain::unbalance_columns(const double* product, int m, double* out) const {
   for (int i = 0; i < m; ++i)
-    for (int j = 0; j < n; ++j) c[i * n + j] = product[i * ld + j];
+    for (int j = 0; j < n_; ++j) out[i * n_ + j] = product[i * ld_ + j] / scale_[static_cast<std::size_t>(j)];
+}
+
+// G·P = (G·D)·B_P·D⁻¹ for P(h/4), P(h/2) and P(h) from their levels; P(3h/4) = P(h/2) + E(h/2)·P(h/4),
+// so level 2's P is kept (balanced, in phi_: the series is done with it) until level 1's E.
+void PhiChain::quarter_rows(int level, const QuarterRows& quarters) {
+  const int m = quarters.m;
+  double* product = tmp_.data();
+  sparse_product(quarter_g_, wp_.data(), product, ld_);
+  unbalance_columns(product, m, quarters.out[level == 2 ? 0 : level == 1 ? 1 : 3]);
+  if (level == 2) {
+    std::memcpy(phi_.data(), wp_.data(), sizeof(double) * static_cast<std::size_t>(n_ * ld_));
+  } else if (level == 1) {
+    sparse_product(quarter_g_, we_.data(), product, ld_);  // G·D·B_E(h/2)
+    rows_.gather(product, m, n_, ld_);
+    sparse_product(rows_, phi_.data(), x_.data(), ld_);
+    double* three_quarters = quarters.out[2];
+    unbalance_columns(x_.data(), m, three_quarters);
+    const double* half = quarters.out[1];
+    for (int i = 0; i < m * n_; ++i) three_quarters[i] += half[i];
+  }
 }
 
 void PhiChain::keep(int level) {
@@ -316,8 +388,10 @@ void PhiChain::keep(int level) {
 }
 
 void PhiChain::sum_level(int level) {
-  series(level);
-  keep(level);
+  // A level the doubling passed without keeping it is doubled up to again from where it started.
+  const int from = level > start_ ? level : start_;
+  series(from);
+  double_up(from, level, nullptr);
 }
 
 }  // namespace hmp::sim::plant

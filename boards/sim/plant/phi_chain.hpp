@@ -20,13 +20,18 @@
 
 namespace hmp::sim::plant {
 
-// A matrix by its rows' nonzeros, gathered once and multiplied many times: row i < rows is value[k] at
-// column[k] for k = start[i] … start[i + 1] − 1.
+// A matrix by its rows' nonzeros, gathered once and multiplied many times: row i < rows is value_of[k]
+// at column_of[k] for k = start[i] … start[i + 1] − 1.
 struct SparseRows {
+  int first(int i) const { return start[static_cast<std::size_t>(i)]; }
+  int last(int i) const { return start[static_cast<std::size_t>(i) + 1]; }
+  int column(int l) const { return column_of[static_cast<std::size_t>(l)]; }
+  double value(int, int l) const { return value_of[static_cast<std::size_t>(l)]; }
+
   int rows = 0;
   std::array<int, kMaxState + 1> start{};
-  std::array<std::uint8_t, static_cast<std::size_t>(kMaxState) * kMaxState> column{};
-  std::array<double, static_cast<std::size_t>(kMaxState) * kMaxState> value{};
+  std::array<std::uint8_t, static_cast<std::size_t>(kMaxState) * kMaxState> column_of{};
+  std::array<double, static_cast<std::size_t>(kMaxState) * kMaxState> value_of{};
   // The first `cols` columns of `rows` rows of a, row stride lda (rows, cols ≤ kMaxState).
   void gather(const double* a, int rows, int cols, int lda);
 };
@@ -37,20 +42,28 @@ void multiply_add_rows(const double* m, int rows, int n, const double* v, double
 
 class PhiChain {
  public:
-  // Room for `max_levels` levels (at most kMaxLevels).
-  explicit PhiChain(int max_levels = kMaxLevels);
-  // A is n×n, row-major with row stride n. Computes the levels ℓ = 0 … levels − 1 (τ = h / 2^ℓ) now
-  // (levels ≤ max_levels), finer ones up to max_levels − 1 when first asked for.
-  void compute(const double* a, int n, double h, int levels);
+  // The integral at the quarter steps t_c = (c + 1)·h/4, c = 0 … 3, projected on m rows G (an m×n
+  // matrix of row stride n, m ≤ kMaxState): out[c] = G·P(t_c), m×n, stride n. Taken while the doubling
+  // passes the levels h/4, h/2 and h, from its balanced matrices (the same numbers as from the plain
+  // ones: the balancing's powers of two scale exactly).
+  struct QuarterRows {
+    const double* g = nullptr;
+    int m = 0;
+    std::array<double*, 4> out{};
+  };
+
+  // Room for `max_levels` levels (at most kMaxLevels), of which those in `kept` (bit ℓ for level ℓ) are
+  // kept as the doubling passes them; any other level is summed on its own when first read.
+  explicit PhiChain(int max_levels = kMaxLevels, std::uint32_t kept = ~0u);
+  // A is n×n, row-major with row stride n. Computes the kept levels of ℓ = 0 … levels − 1 (τ = h / 2^ℓ)
+  // now (levels ≤ max_levels), any other up to max_levels − 1 when first asked for; and `quarters`, if
+  // given.
+  void compute(const double* a, int n, double h, int levels, const QuarterRows* quarters = nullptr);
   // n×n, row-major, stride n; level < max_levels.
   const double* exponential(int level) { return at(e_, level); }
   const double* integral(int level) { return at(p_, level); }
   // Q(τ): the response to an input growing linearly from 0.
   const double* ramp(int level) { return at(q_, level); }
-  // c = a·b for an m×n a of row stride lda and b one of the functions above (n×n, stride n), in the
-  // chain's vector products (a's zeros skipped); c is m×n, stride n, and must not alias a or b. Uses the
-  // chain's work matrices: b must have been read before the call (as an argument is).
-  void left_multiply(const double* a, int m, int lda, const double* b, double* c);
 
   static constexpr int kMaxLevels = 12;
   // The work matrices' rows are padded to a multiple of this many doubles: whole vectors of 8 or 4.
@@ -68,17 +81,27 @@ class PhiChain {
   void series(int level);
   // The work matrices, undone from the balancing, as level `level`.
   void keep(int level);
-  // A level finer than the doubling's start, by its own series.
+  // out = m·D⁻¹ for m rows of the product (row stride ld_), out of stride n_.
+  void unbalance_columns(const double* product, int m, double* out) const;
+  // The quarter rows' share of the level the work matrices hold.
+  void quarter_rows(int level, const QuarterRows& quarters);
+  // The work matrices hold level `from`: doubled up to level `to` (≤ from), keeping the kept levels
+  // passed and `to`, and taking the quarter rows' share of the levels 2, 1 and 0 if given.
+  void double_up(int from, int to, const QuarterRows* quarters);
+  // A level not kept: by its own series if finer than the doubling's start, else doubled up to again.
   void sum_level(int level);
 
   int max_levels_, n_ = 0, ld_ = 0;  // ld_: the work matrices' row stride
-  double h_ = 0, norm_ = 0;          // the step and ‖B‖₁ of the balanced matrix
+  std::uint32_t kept_;
+  int start_ = 0;            // the level the doubling started from
+  double h_ = 0, norm_ = 0;  // the step and ‖B‖₁ of the balanced matrix
   std::array<bool, kMaxLevels> ready_{};
   std::vector<double> e_, p_, q_;          // max_levels × kStride each
   std::vector<double> b_, x_, phi_, tmp_;  // B = D⁻¹·A·D, τ·B, φ₂ and a product: kPadded each
   std::vector<double> we_, wp_, wq_;       // E, P, Q of B at the level being worked on: kPadded each
   std::vector<double> scale_;              // balancing: A = D·B·D⁻¹, D = diag(scale_)
   SparseRows rows_;                        // the left factor of the products being taken
+  SparseRows quarter_g_;                   // G·D, the quarter rows' left factor
 };
 
 }  // namespace hmp::sim::plant

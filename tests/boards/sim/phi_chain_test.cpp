@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 #include "boards/sim/plant/phi_chain.hpp"
@@ -136,39 +137,52 @@ TEST(PhiChain, BalancingFromAnotherMatrixScaleKeepsTheClosedForms) {
   for (int eager : {6, 1}) check(set, 1e-3, 1e-10, eager, other);
 }
 
-// left_multiply (the integrator's switch rows G·P) against the product summed here in long double: a
-// G of 5 rows with every third entry zero and rows of very different sizes, over a 13-state matrix (not a
-// multiple of the chain's vector width), by each function of two levels.
-TEST(PhiChain, LeftMultiplyIsTheRowsTimesTheFunction) {
+// The quarter rows (the integrator's switch rows G·P(t_c), t_c = (c + 1)·h/4) against the products summed
+// here in long double: a G of 5 rows with every third entry zero and rows of very different sizes, over a
+// 13-state matrix (not a multiple of the chain's vector width), by P(h/4), P(h/2) and P(h) read from the
+// chain, and by P(3h/4) from a second chain computed with that step. With some levels not kept, and with
+// the doubling starting further down (a stiffer matrix), the rows are the same.
+TEST(PhiChain, QuarterRowsAreTheRowsTimesTheIntegral) {
   const int n = 13, m = 5;
-  std::vector<double> a(static_cast<std::size_t>(n * n)), g(static_cast<std::size_t>(m * n));
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j)
-      a[static_cast<std::size_t>(i * n + j)] = (i + 2 * j) % 5 == 0 ? 0.0 : std::sin(1.0 + i * n + j) * 300.0;
-  for (int k = 0; k < m; ++k)
-    for (int j = 0; j < n; ++j)
-      g[static_cast<std::size_t>(k * n + j)] =
-          (k + j) % 3 == 0 ? 0.0 : std::cos(2.0 + k * n + j) * std::pow(10.0, k - 2);
-  PhiChain chain(3);
-  chain.compute(a.data(), n, 1e-3, 3);
-  std::vector<double> got(static_cast<std::size_t>(m * n));
-  for (int level : {0, 2})
-    for (int f = 0; f < 3; ++f) {
-      const double* b = f == 0 ? chain.exponential(level) : f == 1 ? chain.integral(level) : chain.ramp(level);
-      chain.left_multiply(g.data(), m, n, b, got.data());
-      for (int k = 0; k < m; ++k)
-        for (int j = 0; j < n; ++j) {
-          Real want = 0, size = 0;
-          for (int l = 0; l < n; ++l) {
-            const Real term = static_cast<Real>(g[static_cast<std::size_t>(k * n + l)]) * b[l * n + j];
-            want += term;
-            size += std::fabs(term);
+  for (double stiffness : {1.0, 1e3}) {
+    std::vector<double> a(static_cast<std::size_t>(n * n)), g(static_cast<std::size_t>(m * n));
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j)
+        a[static_cast<std::size_t>(i * n + j)] = i == j                 ? -300.0 * stiffness * (1.5 + std::sin(1.0 + i))
+                                                 : (i + 2 * j) % 5 == 0 ? 0.0
+                                                                        : std::sin(1.0 + i * n + j) * 300.0;
+    for (int k = 0; k < m; ++k)
+      for (int j = 0; j < n; ++j)
+        g[static_cast<std::size_t>(k * n + j)] =
+            (k + j) % 3 == 0 ? 0.0 : std::cos(2.0 + k * n + j) * std::pow(10.0, k - 2);
+    const double h = 1e-3;
+    for (std::uint32_t kept : {~0u, 1u}) {
+      std::vector<double> out(static_cast<std::size_t>(4 * m * n), -1.0);
+      PhiChain::QuarterRows quarters;
+      quarters.g = g.data();
+      quarters.m = m;
+      for (int c = 0; c < 4; ++c) quarters.out[static_cast<std::size_t>(c)] = &out[static_cast<std::size_t>(c * m * n)];
+      PhiChain chain(3, kept), three_quarters(1);
+      chain.compute(a.data(), n, h, 3, &quarters);
+      three_quarters.compute(a.data(), n, 0.75 * h, 1);
+      const double* p[4] = {chain.integral(2), chain.integral(1), three_quarters.integral(0), chain.integral(0)};
+      for (int c = 0; c < 4; ++c)
+        for (int k = 0; k < m; ++k)
+          for (int j = 0; j < n; ++j) {
+            Real want = 0, size = 0;
+            for (int l = 0; l < n; ++l) {
+              const Real term = static_cast<Real>(g[static_cast<std::size_t>(k * n + l)]) * p[c][l * n + j];
+              want += term;
+              size += std::fabs(term);
+            }
+            const Real err = std::fabs(static_cast<Real>(out[static_cast<std::size_t>((c * m + k) * n + j)]) - want);
+            // P(3h/4) of the second chain agrees with the first's to ~1e-13, the others are the same numbers.
+            EXPECT_LE(static_cast<double>(err), (c == 2 ? 1e-12 : 1e-14) * static_cast<double>(size) + 1e-300)
+                << "stiffness " << stiffness << ", kept " << kept << ", quarter " << c << ", row " << k << ", column "
+                << j;
           }
-          const Real err = std::fabs(static_cast<Real>(got[static_cast<std::size_t>(k * n + j)]) - want);
-          EXPECT_LE(static_cast<double>(err), 1e-14 * static_cast<double>(size) + 1e-300)
-              << "function " << f << ", level " << level << ", row " << k << ", column " << j;
-        }
     }
+  }
 }
 
 // multiply_add_rows (a step's products by the functions, the switch rows along one) against the sum
