@@ -7,8 +7,9 @@
 // Method: balancing (a diagonal similarity by powers of two, so rows and columns of states in different
 // units, radians, amperes and metres, have comparable norms), then a Taylor series of φ₂ at ‖τA‖₁ ≤ 8
 // (as many terms as that norm needs) at the finest level the norm requires, and the doubling formulas
-// E(2τ) = E(τ)², P(2τ) = P(τ) + E(τ)·P(τ), Q(2τ) = Q(τ) + E(τ)·Q(τ) + τ·P(τ) up to h. Levels finer
-// than the doubling starts from are summed on their own, the first time they are asked for: most
+// E(2τ) = E(τ)², P(2τ) = P(τ) + E(τ)·P(τ), Q(2τ) = Q(τ) + E(τ)·Q(τ) + τ·P(τ) up to h. The levels the
+// doubling passes are undone from the balancing only if the caller keeps them; a level finer than the
+// doubling's start (or one passed and not kept) is computed the first time it is asked for: most
 // linearisations never use them. Dense, double precision, n ≤ kMaxState; memory allocated at
 // construction.
 #include <array>
