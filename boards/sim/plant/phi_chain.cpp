@@ -281,13 +281,15 @@ void PhiChain::compute(const double* a, int n, double h, int levels, const Quart
   double_up(s, 0, quarters);
 }
 
-// The work matrices hold level `from`; double them up to level `to`, keeping the kept levels passed:
+// The work matrices hold level `from`; double them up to level `to`, keeping the kept levels passed
+// (those kept already, when a level not kept is doubled up to again, are left as they are):
 //   E(2τ) = E², P(2τ) = P + E·P, Q(2τ) = Q + E·Q + τ·P.
 void PhiChain::double_up(int from, int to, const QuarterRows* quarters) {
   const int n = n_, size = n * ld_;
   double *e = we_.data(), *p = wp_.data(), *q = wq_.data(), *t = tmp_.data(), *u = x_.data();
   for (int level = from;; --level) {
-    if (level < max_levels_ && ((kept_ >> level & 1u) != 0 || level == to)) keep(level);
+    const bool wanted = (kept_ >> level & 1u) != 0 || level == to;
+    if (level < max_levels_ && wanted && !ready_[static_cast<std::size_t>(level)]) keep(level);
     if (quarters != nullptr && level <= 2) quarter_rows(level, *quarters);
     if (level == to) break;
     const double step = std::ldexp(h_, -level);
