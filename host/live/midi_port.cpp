@@ -6,6 +6,15 @@ namespace hmp::live {
 
 const char* name(MidiApi api) { return api == MidiApi::jack ? "jack" : "alsa"; }
 
+std::string no_port_named(MidiApi api, bool input, const std::string& port) {
+  return "no " + std::string(name(api)) + " MIDI " + (input ? "input" : "output") + " port named like '" + port +
+         "' (hmp live --list shows them)";
+}
+
+std::string own_port_description(MidiApi api) {
+  return "hmp (" + std::string(name(api)) + ", for other programs to connect to)";
+}
+
 MidiApi default_api(const MidiPortBackend& b) {
   std::string error;
   b.inputs(MidiApi::jack, error);

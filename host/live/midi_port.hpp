@@ -14,6 +14,12 @@ namespace hmp::live {
 enum class MidiApi { alsa, jack };
 const char* name(MidiApi api);
 
+// "no jack MIDI output port named like 'fluid' (hmp live --list shows them)": what a back-end says when
+// no port of that direction (`input` true: an input) has `port` in its name.
+std::string no_port_named(MidiApi api, bool input, const std::string& port);
+// What a port of our own that other programs connect to is called on the status line.
+std::string own_port_description(MidiApi api);
+
 struct MidiPortInfo {
   MidiApi api = MidiApi::alsa;
   std::string name;  // as the system names it, e.g. "Midi Through:Midi Through Port-0 14:0"

@@ -1,5 +1,6 @@
 // The midiport module's entry (hmp-midiport.so): MIDI in and out through RtMidi (Debian's librtmidi), which
-// speaks both the ALSA sequencer and JACK. RtMidi reports errors by throwing RtMidiError; they stop here.
+// speaks both the ALSA sequencer and JACK, except output to JACK (jack_output.hpp says why). RtMidi
+// reports errors by throwing RtMidiError; they stop here.
 #include <RtMidi.h>
 #include <alsa/asoundlib.h>
 #include <jack/jack.h>
@@ -9,6 +10,7 @@
 #include <vector>
 
 #include "host/live/midi_port.hpp"
+#include "host/live/rtmidi/jack_output.hpp"
 #include "host/modules/module_loader.hpp"
 
 namespace hmp::live {
@@ -68,14 +70,13 @@ struct Errors {
 // Opens `rt` (an RtMidiIn or RtMidiOut) on the first port whose name contains `port`, or with `port`
 // empty on a port of our own named "hmp"; the port's name for the user, or "" and `errors` says why.
 template <class RtPort>
-std::string open_port(RtPort& rt, MidiApi api, const std::string& port, const char* direction, const char* listing,
-                      Errors& errors) {
+std::string open_port(RtPort& rt, MidiApi api, const std::string& port, const char* direction, Errors& errors) {
   // Connects to the system first: with no JACK server RtMidi would go on to register a port on no client.
   const unsigned count = rt.getPortCount();
   if (!errors.first.empty()) return "";
   if (port.empty()) {
     rt.openVirtualPort("hmp");
-    return "hmp (" + std::string(live::name(api)) + ", for other programs to connect to)";
+    return own_port_description(api);
   }
   for (unsigned i = 0; i < count; ++i) {
     const std::string candidate = rt.getPortName(i);
@@ -83,11 +84,7 @@ std::string open_port(RtPort& rt, MidiApi api, const std::string& port, const ch
     rt.openPort(i, std::string("hmp-") + direction);
     return candidate;
   }
-  if (errors.first.empty()) {
-    errors.first = "no " + std::string(live::name(api)) + " MIDI " +
-                   (direction == std::string("in") ? "input" : "output") + " port named like '" + port + "' (" +
-                   listing + " shows them)";
-  }
+  if (errors.first.empty()) errors.first = no_port_named(api, direction == std::string("in"), port);
   return "";
 }
 
@@ -127,7 +124,7 @@ class RtInput final : public MidiInput {
   // Opens the first port whose name contains `port`; false (and `error`) if none does or it fails.
   bool open(const std::string& port, std::string& error) {
     in_.setCallback(&RtInput::on_message, this);
-    name_ = open_port(in_, api_, port, "in", "hmp live --list", errors_);
+    name_ = open_port(in_, api_, port, "in", errors_);
     virtual_ = port.empty();
     error = errors_.first;
     return error.empty();
@@ -170,7 +167,7 @@ class RtOutput final : public MidiOutput {
   }
   // As RtInput::open, for the other direction.
   bool open(const std::string& port, std::string& error) {
-    name_ = open_port(out_, api_, port, "out", "hmp live --list", errors_);
+    name_ = open_port(out_, api_, port, "out", errors_);
     error = errors_.first;
     return error.empty();
   }
@@ -202,6 +199,7 @@ class RtMidiBackend final : public MidiPortBackend {
   }
   std::unique_ptr<MidiOutput> open_output(MidiApi api, const std::string& port, std::string& error) const override {
     if (error = unavailable(api); !error.empty()) return nullptr;
+    if (api == MidiApi::jack) return open_jack_output(port, error);
     try {
       auto out = std::make_unique<RtOutput>(api);
       if (out->open(port, error)) return out;

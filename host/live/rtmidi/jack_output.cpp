@@ -1,0 +1,158 @@
+#include "host/live/rtmidi/jack_output.hpp"
+
+#include <jack/jack.h>
+#include <jack/midiport.h>
+#include <jack/ringbuffer.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <thread>
+
+namespace hmp::live {
+namespace {
+
+// Messages wait here for the next process cycle, each as its size then its bytes: room for thousands of
+// short messages, far more than a song sends in one JACK period.
+constexpr std::size_t kRingBytes = 16384;
+using Size = std::uint16_t;
+// How long send() waits for the process callback to make room, and the destructor for it to take what
+// was sent last: a cycle is a few ms, so this long means the server is not running our client.
+constexpr int kWaitMs = 200;
+
+class JackOutput final : public MidiOutput {
+ public:
+  JackOutput() = default;
+  JackOutput(const JackOutput&) = delete;
+  JackOutput& operator=(const JackOutput&) = delete;
+  ~JackOutput() override {
+    if (client_ != nullptr) {
+      if (sent_any_) drain();
+      // Closing the client stops its process thread; only after that is the buffer it reads freed.
+      jack_client_close(client_);
+    }
+    if (ring_ != nullptr) jack_ringbuffer_free(ring_);
+  }
+
+  bool open(const std::string& port, std::string& error) {
+    client_ = jack_client_open("hmp", JackNoStartServer, nullptr);
+    if (client_ == nullptr) {
+      error = "no JACK server running";
+      return false;
+    }
+    ring_ = jack_ringbuffer_create(kRingBytes);
+    if (ring_ == nullptr) {
+      error = "no memory for a JACK MIDI buffer";
+      return false;
+    }
+    std::string target;
+    if (!port.empty()) {
+      target = first_input_named_like(port);
+      if (target.empty()) {
+        error = no_port_named(MidiApi::jack, false, port);
+        return false;
+      }
+    }
+    port_ = jack_port_register(client_, port.empty() ? "hmp" : "hmp-out", JACK_DEFAULT_MIDI_TYPE, JackPortIsOutput, 0);
+    if (port_ == nullptr) {
+      error = "the JACK server refused a MIDI output port";
+      return false;
+    }
+    jack_set_process_callback(client_, &JackOutput::process, this);
+    jack_on_shutdown(client_, &JackOutput::on_shutdown, this);
+    if (jack_activate(client_) != 0) {
+      error = "the JACK server did not start our client";
+      return false;
+    }
+    if (!target.empty() && jack_connect(client_, jack_port_name(port_), target.c_str()) != 0) {
+      error = "the JACK server did not connect us to " + target;
+      return false;
+    }
+    name_ = target.empty() ? own_port_description(MidiApi::jack) : target;
+    return true;
+  }
+
+  std::string name() const override { return name_; }
+
+  bool send(const std::uint8_t* bytes, std::size_t size, std::string& error) override {
+    if (size == 0) return true;
+    if (size > kRingBytes / 2) {
+      error = "a MIDI message of " + std::to_string(size) + " bytes is more than JACK's buffer here takes";
+      return false;
+    }
+    for (int waited = 0; jack_ringbuffer_write_space(ring_) < sizeof(Size) + size; ++waited) {
+      if (gone_) break;
+      if (waited == kWaitMs) {
+        error = "the JACK server took no MIDI for 0.2 s";
+        return false;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    if (gone_) {
+      error = "the JACK server stopped";
+      return false;
+    }
+    const auto header = static_cast<Size>(size);
+    jack_ringbuffer_write(ring_, reinterpret_cast<const char*>(&header), sizeof header);
+    jack_ringbuffer_write(ring_, reinterpret_cast<const char*>(bytes), size);
+    sent_any_ = true;
+    return true;
+  }
+
+ private:
+  std::string first_input_named_like(const std::string& port) const {
+    std::string found;
+    const char** ports = jack_get_ports(client_, nullptr, JACK_DEFAULT_MIDI_TYPE, JackPortIsInput);
+    for (const char** p = ports; p != nullptr && *p != nullptr && found.empty(); ++p) {
+      if (std::string(*p).find(port) != std::string::npos) found = *p;
+    }
+    jack_free(static_cast<void*>(ports));
+    return found;
+  }
+
+  // What was sent last (a song's closing all-notes-off) reaches the ports connected before the client
+  // closes: the process callback takes it within a cycle, and that cycle ends within another.
+  void drain() const {
+    for (int i = 0; i < kWaitMs && !gone_ && jack_ringbuffer_read_space(ring_) > 0; ++i)
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    const double period_s =
+        static_cast<double>(jack_get_buffer_size(client_)) / static_cast<double>(jack_get_sample_rate(client_));
+    std::this_thread::sleep_for(std::chrono::duration<double>(2.0 * period_s));
+  }
+
+  // On JACK's process thread: every whole message waiting goes out at the cycle's first frame, in order;
+  // those the port's buffer has no room for this cycle wait for the next.
+  static int process(jack_nframes_t frames, void* self) {
+    auto* me = static_cast<JackOutput*>(self);
+    void* buffer = jack_port_get_buffer(me->port_, frames);
+    jack_midi_clear_buffer(buffer);
+    Size size = 0;
+    while (jack_ringbuffer_peek(me->ring_, reinterpret_cast<char*>(&size), sizeof size) == sizeof size &&
+           jack_ringbuffer_read_space(me->ring_) >= sizeof size + size) {
+      jack_midi_data_t* data = jack_midi_event_reserve(buffer, 0, size);
+      if (data == nullptr) break;
+      jack_ringbuffer_read_advance(me->ring_, sizeof size);
+      jack_ringbuffer_read(me->ring_, reinterpret_cast<char*>(data), size);
+    }
+    return 0;
+  }
+
+  static void on_shutdown(void* self) { static_cast<JackOutput*>(self)->gone_ = true; }
+
+  jack_client_t* client_ = nullptr;
+  jack_port_t* port_ = nullptr;  // registered before the client is activated: the callback never sees null
+  jack_ringbuffer_t* ring_ = nullptr;
+  std::atomic<bool> gone_{false};
+  bool sent_any_ = false;
+  std::string name_;
+};
+
+}  // namespace
+
+std::unique_ptr<MidiOutput> open_jack_output(const std::string& port, std::string& error) {
+  auto out = std::make_unique<JackOutput>();
+  if (!out->open(port, error)) return nullptr;
+  return out;
+}
+
+}  // namespace hmp::live
