@@ -101,7 +101,7 @@ void LiveView::run(std::string* open_error, std::atomic<int>* opened) {
       window_->size(width_px_, height_px_, scale_);
       fill_frame(frame, state, start);
     }
-    frame.song_us = hooks_.song_time(start + present_delay_);
+    frame.song_us = hooks_.song_time(start + present_delay_.get());
     frame.played.clear();
     if (hooks_.played) {
       const RollLayout layout = make_layout();
@@ -114,8 +114,7 @@ void LiveView::run(std::string* open_error, std::atomic<int>* opened) {
     const Clock::time_point presented = Clock::now();
     frames_.fetch_add(1);
     if (hooks_.on_frame) hooks_.on_frame({frame.song_us, hooks_.song_time(presented), start, presented, state.paused});
-    // The delay from a frame's start to its swap, averaged (an eighth of each new one).
-    present_delay_ += (presented - start - present_delay_) / 8;
+    present_delay_.add(presented - start);
     handle_all(events, state);
     // Until the next frame (none when the swap waited for the display): events as they come, so that a
     // touch does not wait for a frame. Without vsync this also keeps the frame rate at 60 Hz.

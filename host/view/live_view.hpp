@@ -23,6 +23,7 @@
 
 #include "host/midi/song.hpp"
 #include "host/view/note_index.hpp"
+#include "host/view/present_delay.hpp"
 #include "host/view/roll_layout.hpp"
 #include "host/view/view_backend.hpp"
 
@@ -135,7 +136,7 @@ class LiveView {
   std::optional<Clock::time_point> push_start_;
   bool push_done_ = false;
   std::vector<Bar> visible_;
-  Clock::duration present_delay_{std::chrono::milliseconds(8)};
+  PresentDelay present_delay_;
 };
 
 // Where the grip's position (m, device frame: x right, y up, z towards the user) puts the cursor:
