@@ -233,6 +233,18 @@ class SoakEvalTest(unittest.TestCase):
         rss, fds = flat_samples(2)
         self.assertFalse(soak.evaluate(soak.read_log(path), rss, fds, cpu_s=1.0, hmp_ok=False)["pass"])
 
+    def test_a_load_that_ignores_sigterm_is_killed_and_remarked_not_failed(self):
+        """A stand-in hmp that ends with 130 on SIGINT and a stand-in load that ignores SIGTERM: the load is
+        killed after the grace, which is a remark, and hmp's run has no problem."""
+        hmp = ["sh", "-c", "trap 'exit 130' INT; while :; do sleep 0.05; done"]
+        load = ["sh", "-c", "trap '' TERM; while :; do sleep 0.05; done"]
+        grace, soak.LOAD_GRACE_S = soak.LOAD_GRACE_S, 1
+        self.addCleanup(setattr, soak, "LOAD_GRACE_S", grace)
+        log, err = os.path.join(self.dir.name, "log.jsonl"), os.path.join(self.dir.name, "err.txt")
+        code, _, _, _, problems, remarks = soak.run(hmp, load, 1.5, log, err)
+        self.assertEqual((code, problems), (130, []))
+        self.assertEqual(remarks, ["the load did not end within 1 s of SIGTERM: killed"])
+
     def test_missing_keys_do_not_crash(self):
         records = [{"track": 1, "key": 60, "start_s": 0.5, "scheduled_tick": 10, "actual_tick": 11},  # no "song"
                    {"track": 1, "key": 61},  # no ticks at all
