@@ -28,7 +28,7 @@ LiveView::LiveView(const midi::Song& song, LiveViewOptions options, LiveViewHook
     : options_(std::move(options)), hooks_(std::move(hooks)), index_(song) {
   seconds_across_ = std::clamp(options_.seconds_across, kMinAcross, kMaxAcross);
   hidden_.assign(index_.tracks(), false);
-  keys_ = options_.setup.keys ? *options_.setup.keys : key_range(song);
+  keys_ = key_range(song, options_.setup.keys);
   for (std::size_t t = 0; t < options_.track_labels.size() && t < index_.tracks(); ++t) {
     if (!options_.track_labels[t].empty()) legend_tracks_.push_back(static_cast<std::uint32_t>(t));
   }

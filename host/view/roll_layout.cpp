@@ -135,7 +135,8 @@ std::int64_t progress_time(const Chrome& c, float x, std::int64_t begin_us, std:
   return begin_us + std::llround(f * static_cast<double>(end_us - begin_us));
 }
 
-std::pair<int, int> key_range(const midi::Song& song) {
+std::pair<int, int> key_range(const midi::Song& song, std::optional<std::pair<int, int>> chosen) {
+  if (chosen) return *chosen;
   int lo = 127, hi = 0;
   for (const midi::Track& t : song.tracks) {
     if (t.note_count == 0) continue;

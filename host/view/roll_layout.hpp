@@ -99,7 +99,8 @@ Chrome chrome_layout(const LayoutParams& p, float scale = 1.0f);
 // The song time at x on the progress bar for a song (or passage) [begin_us, end_us).
 std::int64_t progress_time(const Chrome& c, float x, std::int64_t begin_us, std::int64_t end_us);
 
-// The keys to show for a song: its lowest to highest key with a little room, at least two octaves.
-std::pair<int, int> key_range(const midi::Song& song);
+// The keys to show for a song: `chosen` where the user chose them, else the song's lowest to highest key
+// with a little room, at least two octaves.
+std::pair<int, int> key_range(const midi::Song& song, std::optional<std::pair<int, int>> chosen = std::nullopt);
 
 }  // namespace hmp::view

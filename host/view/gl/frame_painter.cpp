@@ -12,7 +12,7 @@
 namespace hmp::view::gl {
 FramePainter::FramePainter(const midi::Song& song, bool draw_everything, std::optional<std::pair<int, int>> keys)
     : draw_everything_(draw_everything), index_(song) {
-  const auto [lo, hi] = keys ? *keys : key_range(song);
+  const auto [lo, hi] = key_range(song, keys);
   layout_params_.key_low = lo;
   layout_params_.key_high = hi;
   renderer_ = std::make_unique<RollRenderer>();

@@ -139,6 +139,8 @@ TEST(ViewRollLayout, KeyRangeCoversTheSongWithRoom) {
   hmp::midi::Song none;
   const auto [a, b] = key_range(none);
   EXPECT_LT(a, b);
+  // Keys the user chose stand as they are, narrower than two octaves and beyond the song's.
+  EXPECT_EQ(key_range(song, std::pair{70, 75}), std::pair(70, 75));
 }
 
 }  // namespace
