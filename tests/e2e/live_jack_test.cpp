@@ -123,12 +123,16 @@ struct HmpRun {
 };
 
 // hmp's own JACK MIDI output (the one `hmp play --midi-out` writes through) connected to the first input
-// port whose name contains `name`, waiting up to 5 s for it to appear; null if it never did.
+// port whose name contains `name`, waiting up to 5 s for it to appear; null if it never did. Opened only
+// once the port is listed: our output's client is named "hmp" too, and opened while hmp starts it would
+// take that name and leave hmp's port under another.
 std::unique_ptr<hmp::live::MidiOutput> connect(const std::string& name) {
   const hmp::live::MidiPortBackend* b = hmp::live::midi_port_backend();
   for (int i = 0; i < 100 && b != nullptr; ++i) {
     std::string error;
-    if (auto out = b->open_output(hmp::live::MidiApi::jack, name, error)) return out;
+    const auto ports = b->outputs(hmp::live::MidiApi::jack, error);
+    if (std::any_of(ports.begin(), ports.end(), [&](const auto& p) { return p.name.find(name) != std::string::npos; }))
+      return b->open_output(hmp::live::MidiApi::jack, name, error);
     std::this_thread::sleep_for(50ms);
   }
   return nullptr;
