@@ -1,7 +1,7 @@
 #pragma once
 // How long a frame takes from its start to its swap, which the live view draws ahead by, so that the song
 // time a frame shows is the clock's when the frame reaches the screen. The median of the last kFrames
-// delays: a single slow frame (the first, which compiles the shaders and takes 50–80 ms; a stall) does not
+// delays: a single slow frame (the first, which compiles the shaders and takes 50–100 ms; a stall) does not
 // move it, where an average would carry it into the frames after; a lasting change is followed within
 // half the window.
 #include <algorithm>

@@ -80,8 +80,7 @@ class JackOutput final : public MidiOutput {
       error = "a MIDI message of " + std::to_string(size) + " bytes is more than JACK's buffer here takes";
       return false;
     }
-    for (int waited = 0; jack_ringbuffer_write_space(ring_) < sizeof(Size) + size; ++waited) {
-      if (gone_) break;
+    for (int waited = 0; !gone_ && jack_ringbuffer_write_space(ring_) < sizeof(Size) + size; ++waited) {
       if (waited == kWaitMs) {
         error = "the JACK server took no MIDI for 0.2 s";
         return false;

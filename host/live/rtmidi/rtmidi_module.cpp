@@ -198,8 +198,11 @@ class RtMidiBackend final : public MidiPortBackend {
     return list_ports<RtMidiOut>(api, error);
   }
   std::unique_ptr<MidiOutput> open_output(MidiApi api, const std::string& port, std::string& error) const override {
+    if (api == MidiApi::jack) {  // its own client says whether a server runs: no second one to ask
+      quiet_libraries();
+      return open_jack_output(port, error);
+    }
     if (error = unavailable(api); !error.empty()) return nullptr;
-    if (api == MidiApi::jack) return open_jack_output(port, error);
     try {
       auto out = std::make_unique<RtOutput>(api);
       if (out->open(port, error)) return out;
