@@ -198,11 +198,16 @@ void sparse_product(const Left& a, const double* b, double* c, int ld) {
 }
 
 // out = D·m·D⁻¹ (undoes the balancing); m has row stride `stride`, out n.
-void unbalance(const double* m, int stride, const double* scale, double* out, int n) {
+HMP_VECTOR_CLONES void unbalance(const double* __restrict m, int stride, const double* scale, double* __restrict out,
+                                 int n) {
   double inverse[kMaxState];
   for (int j = 0; j < n; ++j) inverse[j] = 1 / scale[j];  // powers of two: exact
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) out[i * n + j] = m[i * stride + j] * scale[i] * inverse[j];
+  for (int i = 0; i < n; ++i) {
+    const double* row = m + i * stride;
+    double* to = out + i * n;
+    const double s = scale[i];
+    for (int j = 0; j < n; ++j) to[j] = row[j] * s * inverse[j];
+  }
 }
 
 // out_i += s·Σ_j m_ij·v_j for R rows of m (row stride n) from row `first`. Each row is summed in four
@@ -320,7 +325,7 @@ void PhiChain::series(int level) {
   for (int i = 0; i < size; ++i) sum[i] = term[i];
   const double norm = tau * norm_;
   for (int k = 1; k <= kMaxTaylorTerms; ++k) {
-    double column_sums[kMaxState + kLanes] = {};
+    alignas(64) double column_sums[kMaxState + kLanes] = {};
     sparse_product(rows_, term, ld, NextTerm{next, sum, column_sums, 1.0 / (k + 2), ld});
     std::swap(term, next);
     double term_norm = 0;

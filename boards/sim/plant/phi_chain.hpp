@@ -15,6 +15,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <new>
 #include <vector>
 
 #include "boards/sim/plant/integrators.hpp"
@@ -40,6 +41,25 @@ struct SparseRows {
 // out += s·(m·v) for `rows` rows of m, row-major with row stride n (a step by the chain's functions, the
 // switch functions' rows along one).
 void multiply_add_rows(const double* m, int rows, int n, const double* v, double s, double* out);
+
+// Storage that starts on a cache line (64 bytes). The chain's padded rows are whole lines, so a row's
+// vectors never straddle two lines; on malloc's 16-byte alignment they may, and whether they did depended
+// on where earlier allocations had left the heap.
+template <class T>
+struct LineAligned {
+  using value_type = T;
+  static constexpr std::align_val_t kLine{64};
+  LineAligned() = default;
+  template <class U>
+  LineAligned(const LineAligned<U>&) {}
+  T* allocate(std::size_t n) { return static_cast<T*>(::operator new(n * sizeof(T), kLine)); }
+  void deallocate(T* p, std::size_t) { ::operator delete(p, kLine); }
+  template <class U>
+  bool operator==(const LineAligned<U>&) const {
+    return true;
+  }
+};
+using LineAlignedDoubles = std::vector<double, LineAligned<double>>;
 
 class PhiChain {
  public:
@@ -97,12 +117,12 @@ class PhiChain {
   int start_ = 0;            // the level the doubling started from
   double h_ = 0, norm_ = 0;  // the step and ‖B‖₁ of the balanced matrix
   std::array<bool, kMaxLevels> ready_{};
-  std::vector<double> e_, p_, q_;          // max_levels × kStride each
-  std::vector<double> b_, x_, phi_, tmp_;  // B = D⁻¹·A·D, τ·B, φ₂ and a product: kPadded each
-  std::vector<double> we_, wp_, wq_;       // E, P, Q of B at the level being worked on: kPadded each
-  std::vector<double> scale_;              // balancing: A = D·B·D⁻¹, D = diag(scale_)
-  SparseRows rows_;                        // the left factor of the products being taken
-  SparseRows quarter_g_;                   // G·D, the quarter rows' left factor
+  std::vector<double> e_, p_, q_;         // max_levels × kStride each
+  LineAlignedDoubles b_, x_, phi_, tmp_;  // B = D⁻¹·A·D, τ·B, φ₂ and a product: kPadded each
+  LineAlignedDoubles we_, wp_, wq_;       // E, P, Q of B at the level being worked on: kPadded each
+  std::vector<double> scale_;             // balancing: A = D·B·D⁻¹, D = diag(scale_)
+  SparseRows rows_;                       // the left factor of the products being taken
+  SparseRows quarter_g_;                  // G·D, the quarter rows' left factor
 };
 
 }  // namespace hmp::sim::plant
