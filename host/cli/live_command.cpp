@@ -236,7 +236,7 @@ int run_live(const LiveOptions& o) {
     const std::vector<live::MidiPortInfo> ports = b.inputs(api, error);
     if (!error.empty()) throw BadInput(fmt::format("{} MIDI input: {}", live::name(api), error));
     const bool named = o.input.empty() || std::any_of(ports.begin(), ports.end(), [&](const live::MidiPortInfo& p) {
-                         return p.name.find(o.input) != std::string::npos;
+                         return live::named_like(p.name, o.input);
                        });
     if (!named) {
       throw BadInput(

@@ -6,6 +6,10 @@ namespace hmp::live {
 
 const char* name(MidiApi api) { return api == MidiApi::jack ? "jack" : "alsa"; }
 
+bool named_like(const std::string& port_name, const std::string& asked) {
+  return port_name.find(asked) != std::string::npos;
+}
+
 std::string no_port_named(MidiApi api, bool input, const std::string& port) {
   return "no " + std::string(name(api)) + " MIDI " + (input ? "input" : "output") + " port named like '" + port +
          "' (hmp live --list shows them)";

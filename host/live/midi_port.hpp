@@ -14,8 +14,11 @@ namespace hmp::live {
 enum class MidiApi { alsa, jack };
 const char* name(MidiApi api);
 
+// Whether the system's port `port_name` is one the user named with `asked`: it has `asked` in its name (the
+// first such port is the one opened).
+bool named_like(const std::string& port_name, const std::string& asked);
 // "no jack MIDI output port named like 'fluid' (hmp live --list shows them)": what a back-end says when
-// no port of that direction (`input` true: an input) has `port` in its name.
+// no port of that direction (`input` true: an input) is named_like() `port`.
 std::string no_port_named(MidiApi api, bool input, const std::string& port);
 // What a port of our own that other programs connect to is called on the status line.
 std::string own_port_description(MidiApi api);

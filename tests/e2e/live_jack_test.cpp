@@ -131,7 +131,7 @@ std::unique_ptr<hmp::live::MidiOutput> connect(const std::string& name) {
   for (int i = 0; i < 100 && b != nullptr; ++i) {
     std::string error;
     const auto ports = b->outputs(hmp::live::MidiApi::jack, error);
-    if (std::any_of(ports.begin(), ports.end(), [&](const auto& p) { return p.name.find(name) != std::string::npos; }))
+    if (std::any_of(ports.begin(), ports.end(), [&](const auto& p) { return hmp::live::named_like(p.name, name); }))
       return b->open_output(hmp::live::MidiApi::jack, name, error);
     std::this_thread::sleep_for(50ms);
   }

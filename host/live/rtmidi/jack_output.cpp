@@ -103,7 +103,7 @@ class JackOutput final : public MidiOutput {
     std::string found;
     const char** ports = jack_get_ports(client_, nullptr, JACK_DEFAULT_MIDI_TYPE, JackPortIsInput);
     for (const char** p = ports; p != nullptr && *p != nullptr && found.empty(); ++p) {
-      if (std::string(*p).find(port) != std::string::npos) found = *p;
+      if (named_like(*p, port)) found = *p;
     }
     jack_free(static_cast<void*>(ports));
     return found;

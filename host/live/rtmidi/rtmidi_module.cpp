@@ -80,7 +80,7 @@ std::string open_port(RtPort& rt, MidiApi api, const std::string& port, const ch
   }
   for (unsigned i = 0; i < count; ++i) {
     const std::string candidate = rt.getPortName(i);
-    if (candidate.find(port) == std::string::npos) continue;
+    if (!named_like(candidate, port)) continue;
     rt.openPort(i, std::string("hmp-") + direction);
     return candidate;
   }
