@@ -34,6 +34,8 @@ constexpr double kCorrectionLimit = 0.01;
 
 // The matrix functions of one piece, linearised at `origin`.
 struct Linearisation {
+  explicit Linearisation(PhiChain::Workspace& work)
+      : chain(kLevels, 1u | 1u << 1 | 1u << kCheckpointLevel | 1u << kFineLevel, &work) {}
   bool valid = false;
   std::uint32_t piece = 0;
   double h = 0;
@@ -45,7 +47,7 @@ struct Linearisation {
   Vector origin{};
   // The levels a step reads: h, its halves (a step taken again as two), its quarters (a split step's
   // checkpoint sub-steps) and the fine sub-steps around a switch.
-  PhiChain chain{kLevels, 1u | 1u << 1 | 1u << kCheckpointLevel | 1u << kFineLevel};
+  PhiChain chain;
   // rows[j]: the switch functions' gradient times P(t_j), t_j = (j + 1)·h / kCheckpoints: g(t_j) ≈ g(0) +
   // rows[j]·f(y(0)) along the piece's linear motion.
   std::vector<double> rows = std::vector<double>(static_cast<std::size_t>(kCheckpoints) * kMaxSwitches * kMaxState);
@@ -53,7 +55,10 @@ struct Linearisation {
 
 class Exponential final : public Integrator {
  public:
-  Exponential() : cache_(kCacheSize), jacobian_(kMaxState * kMaxState), gradient_(kMaxSwitches * kMaxState) {}
+  Exponential() : jacobian_(kMaxState * kMaxState), gradient_(kMaxSwitches * kMaxState) {
+    cache_.reserve(kCacheSize);
+    for (int i = 0; i < kCacheSize; ++i) cache_.emplace_back(work_);
+  }
   Method method() const override { return Method::exponential; }
   void invalidate() override {
     for (Linearisation& l : cache_) l.valid = false;
@@ -264,24 +269,29 @@ class Exponential final : public Integrator {
     return d2;
   }
 
-  // The cached linearisation of `piece` nearest y within its reach, else a new one taken at y.
+  // The cached linearisation of `piece` nearest y within its reach, else a new one taken at y, for a
+  // carried step: its finer levels are left until a step asks for them (a grip carried on rarely comes
+  // back to the same pose).
   Linearisation& find_or_new(OdeSystem& system, const double* y, std::uint32_t piece, double h) {
     std::array<double, kMaxDrift> drift{};
     Linearisation* lin = find(system, y, piece, h, drift);
-    return lin != nullptr ? *lin : new_linearisation(system, y, piece, h);
+    return lin != nullptr ? *lin : new_linearisation(system, y, piece, h, 1u);
   }
 
-  // A linearisation taken at y, in place of the least recently used one.
-  Linearisation& new_linearisation(OdeSystem& system, const double* y, std::uint32_t piece, double h) {
+  // A linearisation taken at y, in place of the least recently used one; the levels in `keep_now` are
+  // written now, the others when first read.
+  Linearisation& new_linearisation(OdeSystem& system, const double* y, std::uint32_t piece, double h,
+                                   std::uint32_t keep_now = ~0u) {
     Linearisation* lin = &cache_[0];
     for (Linearisation& l : cache_)
       if (!l.valid || (lin->valid && l.last_use < lin->last_use)) lin = &l;
-    recompute(system, y, piece, h, *lin);
+    recompute(system, y, piece, h, *lin, keep_now);
     lin->last_use = ++clock_;
     return *lin;
   }
 
-  void recompute(OdeSystem& system, const double* y, std::uint32_t piece, double h, Linearisation& l) {
+  void recompute(OdeSystem& system, const double* y, std::uint32_t piece, double h, Linearisation& l,
+                 std::uint32_t keep_now = ~0u) {
     const int n = system.size();
     l.valid = true;
     l.mean_drift.fill(0);
@@ -315,10 +325,11 @@ class Exponential final : public Integrator {
         quarters.out[static_cast<std::size_t>(c)] = &l.rows[static_cast<std::size_t>(c) * kMaxSwitches * kMaxState];
     }
     // rows[c] = G·P(t_c), t_c = (c + 1)·h/4. G, the switch functions' gradient, is sparse.
-    l.chain.compute(jacobian_.data(), n, h, kCheckpointLevel + 1, ng > 0 ? &quarters : nullptr);
+    l.chain.compute(jacobian_.data(), n, h, kCheckpointLevel + 1, ng > 0 ? &quarters : nullptr, keep_now);
     ++factorisations_;
   }
 
+  PhiChain::Workspace work_;  // every cached chain computes in it, one at a time
   std::vector<Linearisation> cache_;
   std::uint64_t clock_ = 0;
   const Linearisation* stepping_ = nullptr;  // the one the last whole step started on

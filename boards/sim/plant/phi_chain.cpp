@@ -247,23 +247,23 @@ HMP_VECTOR_CLONES void multiply_add_rows(const double* m, int rows, int n, const
   for (; i < rows; ++i) multiply_add_some<1>(m, i, n, v, s, out);
 }
 
-PhiChain::PhiChain(int max_levels, std::uint32_t kept)
+PhiChain::Workspace::Workspace() : x(kPadded), phi(kPadded), tmp(kPadded), e(kPadded), p(kPadded), q(kPadded) {}
+
+PhiChain::PhiChain(int max_levels, std::uint32_t kept, Workspace* shared)
     : max_levels_(max_levels < 1 ? 1 : (max_levels > kMaxLevels ? kMaxLevels : max_levels)),
       kept_(kept),
       e_(max_levels_ * kStride),
       p_(max_levels_ * kStride),
       q_(max_levels_ * kStride),
       b_(kPadded),
-      x_(kPadded),
-      phi_(kPadded),
-      tmp_(kPadded),
-      we_(kPadded),
-      wp_(kPadded),
-      wq_(kPadded),
-      scale_(kMaxState, 1.0) {}
+      scale_(kMaxState, 1.0),
+      own_(shared == nullptr ? std::make_unique<Workspace>() : nullptr),
+      work_(shared == nullptr ? own_.get() : shared) {}
 
-void PhiChain::compute(const double* a, int n, double h, int levels, const QuarterRows* quarters) {
+void PhiChain::compute(const double* a, int n, double h, int levels, const QuarterRows* quarters,
+                       std::uint32_t keep_now) {
   n_ = n;
+  keeping_ = kept_ & keep_now;
   ld_ = (n + kLanes - 1) / kLanes * kLanes;
   h_ = h;
   ready_.fill(false);
@@ -276,10 +276,10 @@ void PhiChain::compute(const double* a, int n, double h, int levels, const Quart
   if (s < levels - 1) s = levels - 1;
   if (quarters != nullptr) {
     if (s < 2) s = 2;
-    double* scaled = tmp_.data();
+    double* scaled = work_->tmp.data();
     for (int i = 0; i < quarters->m; ++i)
       for (int j = 0; j < n; ++j) scaled[i * n + j] = quarters->g[i * n + j] * scale_[static_cast<std::size_t>(j)];
-    quarter_g_.gather(scaled, quarters->m, n, n);
+    work_->quarter_g.gather(scaled, quarters->m, n, n);
   }
   start_ = s;
   series(s);
@@ -291,9 +291,9 @@ void PhiChain::compute(const double* a, int n, double h, int levels, const Quart
 //   E(2τ) = E², P(2τ) = P + E·P, Q(2τ) = Q + E·Q + τ·P.
 void PhiChain::double_up(int from, int to, const QuarterRows* quarters) {
   const int n = n_, size = n * ld_;
-  double *e = we_.data(), *p = wp_.data(), *q = wq_.data(), *t = tmp_.data(), *u = x_.data();
+  double *e = work_->e.data(), *p = work_->p.data(), *q = work_->q.data(), *t = work_->tmp.data(), *u = work_->x.data();
   for (int level = from;; --level) {
-    const bool wanted = (kept_ >> level & 1u) != 0 || level == to;
+    const bool wanted = (keeping_ >> level & 1u) != 0 || level == to;
     if (level < max_levels_ && wanted && !ready_[static_cast<std::size_t>(level)]) keep(level);
     if (quarters != nullptr && level <= 2) quarter_rows(level, *quarters);
     if (level == to) break;
@@ -311,32 +311,32 @@ void PhiChain::double_up(int from, int to, const QuarterRows* quarters) {
 void PhiChain::series(int level) {
   const int n = n_, ld = ld_, size = n * ld;
   const double tau = std::ldexp(h_, -level);
-  double *x = x_.data(), *t = tmp_.data();
+  double *x = work_->x.data(), *t = work_->tmp.data();
   for (int i = 0; i < size; ++i) x[i] = tau * b_[static_cast<std::size_t>(i)];
-  rows_.gather(x, n, n, ld);
+  work_->rows.gather(x, n, n, ld);
   // φ₂(X) = Σ_k X^k/(k + 2)!: term_k = X·term_{k−1}/(k + 2). After term_k the rest is at most
   // ‖term_k‖₁·Σ_j (‖X‖₁/(k + 3))^j; the terms of the plant's X shrink far faster than ‖X‖₁^k/(k + 2)!
   // (its norm is inflated by couplings between states of different speeds), so the sum stops at the
   // terms actually needed, not at that bound.
-  double *term = phi_.data(), *next = t;
-  double* sum = wq_.data();
+  double *term = work_->phi.data(), *next = t;
+  double* sum = work_->q.data();
   for (int i = 0; i < size; ++i) term[i] = 0;
   for (int i = 0; i < n; ++i) term[i * ld + i] = 0.5;
   for (int i = 0; i < size; ++i) sum[i] = term[i];
   const double norm = tau * norm_;
   for (int k = 1; k <= kMaxTaylorTerms; ++k) {
     alignas(64) double column_sums[kMaxState + kLanes] = {};
-    sparse_product(rows_, term, ld, NextTerm{next, sum, column_sums, 1.0 / (k + 2), ld});
+    sparse_product(work_->rows, term, ld, NextTerm{next, sum, column_sums, 1.0 / (k + 2), ld});
     std::swap(term, next);
     double term_norm = 0;
     for (int j = 0; j < n; ++j) term_norm = std::fmax(term_norm, column_sums[j]);
     const double ratio = norm / (k + 3);
     if (ratio < 1 && term_norm < kTaylorTail * (1 - ratio)) break;
   }
-  double *e = we_.data(), *p = wp_.data(), *q = wq_.data();
-  sparse_product(rows_, q, p, ld);
+  double *e = work_->e.data(), *p = work_->p.data(), *q = work_->q.data();
+  sparse_product(work_->rows, q, p, ld);
   for (int i = 0; i < n; ++i) p[i * ld + i] += 1;  // φ₁(X) = I + X·φ₂(X)
-  sparse_product(rows_, p, e, ld);
+  sparse_product(work_->rows, p, e, ld);
   for (int i = 0; i < n; ++i) e[i * ld + i] += 1;  // E = e^X = I + X·φ₁(X)
   for (int i = 0; i < size; ++i) {
     q[i] *= tau * tau;  // Q = τ²·φ₂(X)
@@ -367,20 +367,20 @@ void PhiChain::unbalance_columns(const double* product, int m, double* out) cons
 }
 
 // G·P = (G·D)·B_P·D⁻¹ for P(h/4), P(h/2) and P(h) from their levels; P(3h/4) = P(h/2) + E(h/2)·P(h/4),
-// so level 2's P is kept (balanced, in phi_: the series is done with it) until level 1's E.
+// so level 2's P is kept (balanced, in the workspace's φ₂: the series is done with it) until level 1's E.
 void PhiChain::quarter_rows(int level, const QuarterRows& quarters) {
   const int m = quarters.m;
-  double* product = tmp_.data();
-  sparse_product(quarter_g_, wp_.data(), product, ld_);
+  double* product = work_->tmp.data();
+  sparse_product(work_->quarter_g, work_->p.data(), product, ld_);
   unbalance_columns(product, m, quarters.out[level == 2 ? 0 : level == 1 ? 1 : 3]);
   if (level == 2) {
-    std::memcpy(phi_.data(), wp_.data(), sizeof(double) * static_cast<std::size_t>(n_ * ld_));
+    std::memcpy(work_->phi.data(), work_->p.data(), sizeof(double) * static_cast<std::size_t>(n_ * ld_));
   } else if (level == 1) {
-    sparse_product(quarter_g_, we_.data(), product, ld_);  // G·D·B_E(h/2)
-    rows_.gather(product, m, n_, ld_);
-    sparse_product(rows_, phi_.data(), x_.data(), ld_);
+    sparse_product(work_->quarter_g, work_->e.data(), product, ld_);  // G·D·B_E(h/2)
+    work_->rows.gather(product, m, n_, ld_);
+    sparse_product(work_->rows, work_->phi.data(), work_->x.data(), ld_);
     double* three_quarters = quarters.out[2];
-    unbalance_columns(x_.data(), m, three_quarters);
+    unbalance_columns(work_->x.data(), m, three_quarters);
     const double* half = quarters.out[1];
     for (int i = 0; i < m * n_; ++i) three_quarters[i] += half[i];
   }
@@ -388,15 +388,16 @@ void PhiChain::quarter_rows(int level, const QuarterRows& quarters) {
 
 void PhiChain::keep(int level) {
   const std::size_t at = static_cast<std::size_t>(level) * kStride;
-  unbalance(we_.data(), ld_, scale_.data(), &e_[at], n_);
-  unbalance(wp_.data(), ld_, scale_.data(), &p_[at], n_);
-  unbalance(wq_.data(), ld_, scale_.data(), &q_[at], n_);
+  unbalance(work_->e.data(), ld_, scale_.data(), &e_[at], n_);
+  unbalance(work_->p.data(), ld_, scale_.data(), &p_[at], n_);
+  unbalance(work_->q.data(), ld_, scale_.data(), &q_[at], n_);
   ready_[static_cast<std::size_t>(level)] = true;
 }
 
 void PhiChain::sum_level(int level) {
   // A level the doubling passed without keeping it is doubled up to again from where it started.
   const int from = level > start_ ? level : start_;
+  keeping_ = kept_;
   series(from);
   double_up(from, level, nullptr);
 }

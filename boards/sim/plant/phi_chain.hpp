@@ -15,6 +15,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <new>
 #include <vector>
 
@@ -63,6 +64,17 @@ using LineAlignedDoubles = std::vector<double, LineAligned<double>>;
 
 class PhiChain {
  public:
+  // The matrices a computation works in and leaves nothing in: several chains computed one after the
+  // other (an integrator's cache of linearisations) share one, which then stays in the processor's caches
+  // instead of each chain's cold copy being written over (71 kB of the 200 kB a chain holds).
+  struct Workspace {
+    LineAlignedDoubles x, phi, tmp;  // τ·B, φ₂ and a product: kPadded each
+    LineAlignedDoubles e, p, q;      // E, P, Q of B at the level being worked on: kPadded each
+    SparseRows rows;                 // the left factor of the products being taken
+    SparseRows quarter_g;            // G·D, the quarter rows' left factor
+    Workspace();
+  };
+
   // The integral at the quarter steps t_c = (c + 1)·h/4, c = 0 … 3, projected on m rows G (an m×n
   // matrix of row stride n, m ≤ kMaxState): out[c] = G·P(t_c), m×n, stride n. Taken while the doubling
   // passes the levels h/4, h/2 and h, from its balanced matrices (the same numbers as from the plain
@@ -75,11 +87,14 @@ class PhiChain {
 
   // Room for `max_levels` levels (at most kMaxLevels), of which those in `kept` (bit ℓ for level ℓ) are
   // kept as the doubling passes them; any other level is summed on its own when first read.
-  explicit PhiChain(int max_levels = kMaxLevels, std::uint32_t kept = ~0u);
+  // `shared`: the workspace to compute in (it must outlive the chain), else the chain has its own.
+  explicit PhiChain(int max_levels = kMaxLevels, std::uint32_t kept = ~0u, Workspace* shared = nullptr);
   // A is n×n, row-major with row stride n. Computes the kept levels of ℓ = 0 … levels − 1 (τ = h / 2^ℓ)
   // now (levels ≤ max_levels), any other up to max_levels − 1 when first asked for; and `quarters`, if
-  // given.
-  void compute(const double* a, int n, double h, int levels, const QuarterRows* quarters = nullptr);
+  // given. Of the kept levels only those in `keep_now` are kept now, the others when first asked for
+  // (a chain most likely read at h only need not write its other levels).
+  void compute(const double* a, int n, double h, int levels, const QuarterRows* quarters = nullptr,
+               std::uint32_t keep_now = ~0u);
   // n×n, row-major, stride n; level < max_levels.
   const double* exponential(int level) { return at(e_, level); }
   const double* integral(int level) { return at(p_, level); }
@@ -112,17 +127,16 @@ class PhiChain {
   // A level not kept: by its own series if finer than the doubling's start, else doubled up to again.
   void sum_level(int level);
 
-  int max_levels_, n_ = 0, ld_ = 0;  // ld_: the work matrices' row stride
-  std::uint32_t kept_;
-  int start_ = 0;            // the level the doubling started from
-  double h_ = 0, norm_ = 0;  // the step and ‖B‖₁ of the balanced matrix
+  int max_levels_, n_ = 0, ld_ = 0;   // ld_: the work matrices' row stride
+  std::uint32_t kept_, keeping_ = 0;  // the levels kept, and those being kept by the doubling now
+  int start_ = 0;                     // the level the doubling started from
+  double h_ = 0, norm_ = 0;           // the step and ‖B‖₁ of the balanced matrix
   std::array<bool, kMaxLevels> ready_{};
-  std::vector<double> e_, p_, q_;         // max_levels × kStride each
-  LineAlignedDoubles b_, x_, phi_, tmp_;  // B = D⁻¹·A·D, τ·B, φ₂ and a product: kPadded each
-  LineAlignedDoubles we_, wp_, wq_;       // E, P, Q of B at the level being worked on: kPadded each
-  std::vector<double> scale_;             // balancing: A = D·B·D⁻¹, D = diag(scale_)
-  SparseRows rows_;                       // the left factor of the products being taken
-  SparseRows quarter_g_;                  // G·D, the quarter rows' left factor
+  std::vector<double> e_, p_, q_;   // max_levels × kStride each
+  LineAlignedDoubles b_;            // B = D⁻¹·A·D, kPadded: a level asked for later starts from it
+  std::vector<double> scale_;       // balancing: A = D·B·D⁻¹, D = diag(scale_)
+  std::unique_ptr<Workspace> own_;  // when no workspace is shared
+  Workspace* work_;
 };
 
 }  // namespace hmp::sim::plant

@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "boards/sim/plant/phi_chain.hpp"
@@ -237,6 +238,40 @@ TEST(PhiChain, ZeroMatrixGivesTheIntegralsOfOneAndOfS) {
       EXPECT_EQ(chain.exponential(level)[i * 3 + i], 1.0);
       EXPECT_DOUBLE_EQ(chain.integral(level)[i * 3 + i], t);
       EXPECT_DOUBLE_EQ(chain.ramp(level)[i * 3 + i], t * t / 2);
+    }
+  }
+}
+
+// Chains sharing one workspace, computed one after the other and read in any order, and a chain whose
+// finer levels are left until first read, give every level the same bit for bit as chains of their own
+// computed at once: the workspace carries nothing from one computation to the next.
+TEST(PhiChain, SharedWorkspaceAndLevelsLeftForLaterChangeNoBit) {
+  const auto oscillators = [](double omega, double zeta, double coupling) {
+    std::vector<double> a(36, 0.0);
+    for (int b = 0; b < 6; b += 2) {
+      const double w = omega * (1 + b);
+      a[static_cast<std::size_t>(b * 6 + b + 1)] = 1e3;  // a position in mm, its rate in m/s
+      a[static_cast<std::size_t>((b + 1) * 6 + b)] = -w * w * 1e-3;
+      a[static_cast<std::size_t>((b + 1) * 6 + b + 1)] = -2 * zeta * w;
+    }
+    a[1 * 6 + 2] = a[3 * 6 + 4] = coupling;
+    return a;
+  };
+  const std::vector<double> slow = oscillators(60.0, 0.05, 10.0), fast = oscillators(4.4e4, 0.001, -3e3);
+  const double h = 1e-3;
+  PhiChain::Workspace work;
+  PhiChain shared_slow(6, ~0u, &work), shared_fast(6, ~0u, &work), own_slow(6), own_fast(6);
+  shared_slow.compute(slow.data(), 6, h, 3, nullptr, 1u);  // level 0 only now
+  shared_fast.compute(fast.data(), 6, h, 3);
+  own_slow.compute(slow.data(), 6, h, 3);
+  own_fast.compute(fast.data(), 6, h, 3);
+  for (int level : {5, 1, 0, 4, 2, 3}) {
+    const std::pair<PhiChain*, PhiChain*> pairs[2] = {{&shared_slow, &own_slow}, {&shared_fast, &own_fast}};
+    for (const auto& [got, want] : pairs) {
+      const double* g[3] = {got->exponential(level), got->integral(level), got->ramp(level)};
+      const double* w[3] = {want->exponential(level), want->integral(level), want->ramp(level)};
+      for (int f = 0; f < 3; ++f)
+        for (int i = 0; i < 36; ++i) ASSERT_EQ(g[f][i], w[f][i]) << "function " << f << ", level " << level;
     }
   }
 }
