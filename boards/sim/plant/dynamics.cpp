@@ -56,10 +56,22 @@ void PlantDynamics::compute(const double* y, PlantForces& out, TensionRule rule,
   const bool full = !params_.scene.translation_only;
   const Vec3d x = load3(y + state::position);
   const Vec3d v = load3(y + state::velocity);
-  const spidar::Quat<double> q = full ? unit_quaternion(y + state::orientation) : spidar::Quat<double>{};
   const Vec3d w = full ? load3(y + state::angular_velocity) : Vec3d{};
-  spidar::StringGeometry<double> g;
-  spidar::compute_strings(params_.frame, x, spidar::to_matrix(q), g);
+  // The strings' geometry depends on the pose only: a Jacobian's columns for the motors and the
+  // velocities (30 of 37) and a state differentiated twice find it as it was.
+  // The pose, position and orientation (not adjacent in the state), compared bit for bit.
+  constexpr std::size_t kPositionBytes = sizeof(double) * 3, kOrientationBytes = sizeof(double) * 4;
+  const bool same_pose = geometry_valid_ && std::memcmp(geometry_pose_, y + state::position, kPositionBytes) == 0 &&
+                         (!full || std::memcmp(geometry_pose_ + 3, y + state::orientation, kOrientationBytes) == 0);
+  if (!same_pose) {
+    std::memcpy(geometry_pose_, y + state::position, kPositionBytes);
+    if (full) std::memcpy(geometry_pose_ + 3, y + state::orientation, kOrientationBytes);
+    geometry_orientation_ = full ? unit_quaternion(y + state::orientation) : spidar::Quat<double>{};
+    spidar::compute_strings(params_.frame, x, spidar::to_matrix(geometry_orientation_), geometry_);
+    geometry_valid_ = true;
+  }
+  const spidar::Quat<double> q = geometry_orientation_;
+  const spidar::StringGeometry<double>& g = geometry_;
 
   const double r = params_.motor.drive.pulley_radius;
   const double k = params_.string.stiffness, c = params_.string.damping;

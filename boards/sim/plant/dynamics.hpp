@@ -145,6 +145,11 @@ class PlantDynamics final : public OdeSystem {
   mutable double switches_state_[kMaxState]{};
   mutable double switches_[2 * spidar::kStrings]{};
   mutable bool switches_valid_ = false;
+  // The strings' geometry at the pose (position, then orientation if any) compute() last saw.
+  mutable double geometry_pose_[7]{};
+  mutable spidar::Quat<double> geometry_orientation_{};
+  mutable spidar::StringGeometry<double> geometry_;
+  mutable bool geometry_valid_ = false;
   // Constants of the motor equations, divided once.
   double inv_inductance_, inv_inertia_, inv_mass_, inv_grip_inertia_;
   double drift_scale_;  // the reach's scale for the strings' stiffness (1 between soft and stiff)

@@ -212,6 +212,41 @@ TEST(PlantSwitchFunctions, AreThoseOfTheStateAskedFor) {
   EXPECT_DOUBLE_EQ(longer[0], at2[0] + 0.01);
 }
 
+// The strings' geometry is kept from the last pose the dynamics computed: a derivative after one at
+// another state (the pose moved in position only, in orientation only, or not at all) is, to the bit, the
+// one a newly made copy of the dynamics computes.
+TEST(PlantDynamicsGeometry, IsThatOfThePoseAsked) {
+  PlantParams p;
+  Plant plant(p);
+  plant.reset(0.3);
+  const double duty[8] = {0.2, 0.1, 0.1, 0.1, 0.1, 0.1, 0.1, 0.3};
+  run(plant, duty, 0.05);
+  PlantDynamics d = plant.dynamics();
+  for (int i = 0; i < 8; ++i) d.set_voltage(i, 0.0);  // as in a copy made anew
+  const int n = d.size();
+  const std::vector<double> at(plant.state(), plant.state() + n);
+  std::vector<double> moved = at, turned = at, faster = at;
+  moved[state::position + 1] += 1e-4;
+  turned[state::orientation + 2] += 1e-3;  // not unit any more: normalised by the dynamics
+  faster[state::velocity] += 1e-3;
+  auto made_anew = [&](const std::vector<double>& y) {
+    PlantDynamics fresh(d.params());
+    for (int i = 0; i < 8; ++i) fresh.set_free_length(i, d.free_length(i));
+    std::vector<double> rates(static_cast<std::size_t>(n));
+    fresh.derivative(y.data(), rates.data());
+    return rates;
+  };
+  auto rates_of = [&](const std::vector<double>& y) {
+    std::vector<double> rates(static_cast<std::size_t>(n));
+    d.derivative(y.data(), rates.data());
+    return rates;
+  };
+  ASSERT_NE(made_anew(moved), made_anew(at));
+  ASSERT_NE(made_anew(turned), made_anew(at));
+  const std::vector<double>* order[] = {&at, &moved, &at, &turned, &moved, &faster, &at, &turned, &turned};
+  for (const std::vector<double>* y : order) EXPECT_EQ(rates_of(*y), made_anew(*y));
+}
+
 TEST(PlantStatics, SlackStringsCarryNoForce) {
   PlantParams p;
   p.scene.translation_only = true;
