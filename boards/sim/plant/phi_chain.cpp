@@ -362,8 +362,10 @@ void SparseRows::gather(const double* a, int rows_in, int cols, int lda) {
 }
 
 void PhiChain::unbalance_columns(const double* product, int m, double* out) const {
+  double inverse[kMaxState];
+  for (int j = 0; j < n_; ++j) inverse[j] = 1 / scale_[static_cast<std::size_t>(j)];  // powers of two: exact
   for (int i = 0; i < m; ++i)
-    for (int j = 0; j < n_; ++j) out[i * n_ + j] = product[i * ld_ + j] / scale_[static_cast<std::size_t>(j)];
+    for (int j = 0; j < n_; ++j) out[i * n_ + j] = product[i * ld_ + j] * inverse[j];
 }
 
 // G·P = (G·D)·B_P·D⁻¹ for P(h/4), P(h/2) and P(h) from their levels; P(3h/4) = P(h/2) + E(h/2)·P(h/4),
