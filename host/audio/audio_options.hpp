@@ -22,10 +22,11 @@ struct AudioOptions {
   // period_frames × periods / sample_rate (5.3 ms × 4 = 21 ms at 48 kHz by default).
   int period_frames = 256;
   int periods = 4;
-  // The "virtual" driver (virtual_card.hpp, for measurements): its crystal error and how many frames
-  // of its output it keeps.
+  // The "virtual" driver (virtual_card.hpp, for measurements): its crystal error, how many frames of its
+  // output it keeps, and the period it chooses itself as JACK and PipeWire do (0: the one asked for).
   double virtual_ppm = 0.0;
   std::size_t virtual_record_frames = 0;
+  int virtual_period_frames = 0;
 };
 
 }  // namespace hmp::audio

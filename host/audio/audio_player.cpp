@@ -1,5 +1,7 @@
 #include "host/audio/audio_player.hpp"
 
+#include <thread>
+
 #include <algorithm>
 #include <cmath>
 
@@ -72,8 +74,9 @@ bool AudioPlayer::open_driver() {
   std::string tried;
   for (const std::string& name : options_.drivers) {
     if (name == "virtual") {
-      VirtualCard::Settings card{options_.synth.sample_rate, options_.period_frames, options_.periods,
-                                 options_.virtual_ppm, options_.virtual_record_frames};
+      const int period = options_.virtual_period_frames > 0 ? options_.virtual_period_frames : options_.period_frames;
+      VirtualCard::Settings card{options_.synth.sample_rate, period, options_.periods, options_.virtual_ppm,
+                                 options_.virtual_record_frames};
       card_ = std::make_unique<VirtualCard>(card, [this](float* left, float* right, int frames) {
         float* out[2] = {left, right};
         render(frames, 2, out);
@@ -105,6 +108,16 @@ double AudioPlayer::output_latency_s() const {
   const int seen = period_seen_.load();
   const int period = seen > 0 ? seen : options_.period_frames;
   return static_cast<double>(period) * options_.periods / options_.synth.sample_rate;
+}
+
+bool AudioPlayer::wait_for_first_callback(std::chrono::milliseconds timeout) const {
+  if (!audible()) return false;
+  const TimePoint until = now() + timeout;
+  while (period_seen_.load() == 0) {
+    if (now() >= until) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  return true;
 }
 
 double AudioPlayer::clock_speed() const {

@@ -66,6 +66,9 @@ class AudioPlayer {
   // Output latency estimate: period × periods / sample rate, the period being what the driver's
   // callbacks actually ask for (the requested one until the first callback). 0 when silent.
   double output_latency_s() const;
+  // Waits, at most `timeout`, for the driver's first callback after start(), from which on
+  // output_latency_s() is the period the driver uses. False if none came (or silent).
+  bool wait_for_first_callback(std::chrono::milliseconds timeout) const;
   // Song µs per host µs the clock has learnt (1 + the card's crystal error, seen from the host).
   double clock_speed() const;
   std::uint64_t clock_restarts() const;  // times the clock's line started again (PlaybackClock::restarts)

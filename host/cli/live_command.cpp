@@ -238,10 +238,7 @@ int run_live(const LiveOptions& o) {
     const bool named = o.input.empty() || std::any_of(ports.begin(), ports.end(), [&](const live::MidiPortInfo& p) {
                          return live::named_like(p.name, o.input);
                        });
-    if (!named) {
-      throw BadInput(
-          fmt::format("{} MIDI input: no port named like '{}' (hmp live --list shows them)", live::name(api), o.input));
-    }
+    if (!named) throw BadInput(live::no_port_named(api, true, o.input));
   }
 
   transport::OpenedDevice opened = transport::open_device(transport::parse_device_spec(o.device));
@@ -255,6 +252,15 @@ int run_live(const LiveOptions& o) {
   live::LiveSession session(link, mo, o.log.has_value());
   audio::AudioPlayer sound(audio_opts);
   live::LiveSound heard(mo.channel, program);
+  if (sound.audible()) {
+    sound.set_events({});
+    sound.start(0);
+    // The latency is the driver's period, which it may choose unlike the one asked for: known from its
+    // first callback.
+    if (!sound.wait_for_first_callback(std::chrono::milliseconds(500)))
+      std::fprintf(stderr, "warning: audio: the %s driver has not called back in 0.5 s; its latency is a guess\n",
+                   sound.driver_name().c_str());
+  }
   double delay_ms = o.vibration_delay_ms.value_or(0.0);
   if (o.sync_sound) {
     if (sound.audible())
@@ -269,8 +275,6 @@ int run_live(const LiveOptions& o) {
         o.sync_sound                       ? " (the vibration waits as long: --sync-sound)"
         : session.vibration_delay_ms() > 0 ? ""
                                            : " (the vibration comes that much before the sound; --sync-sound waits)");
-    sound.set_events({});
-    sound.start(0);
     session.set_listener([&](const live::ChannelMessage& msg) {
       if (const std::optional<audio::AudioEvent> e = heard.on_message(msg)) sound.play_now(*e);
     });

@@ -565,7 +565,7 @@ TEST(LiveJack, NoServerOrNoSuchPortIsBadInput) {
   HmpRun hmp({"live", "--api", "jack", "--no-audio", "--no-view", "--device", "sim", "--input", "no-such-keyboard"});
   EXPECT_EQ(hmp.wait(), 2);
   EXPECT_EQ(read_file(hmp.err),
-            "error: jack MIDI input: no port named like 'no-such-keyboard' (hmp live --list shows them)\n");
+            "error: no jack MIDI input port named like 'no-such-keyboard' (hmp live --list shows them)\n");
 }
 
 }  // namespace

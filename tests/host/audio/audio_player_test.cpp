@@ -43,6 +43,28 @@ TEST(AudioPlayer, NoAudioNeverTouchesAnAudioDevice) {
   EXPECT_EQ(player.driver_name(), "none");
   EXPECT_EQ(player.output_latency_s(), 0.0);
   EXPECT_EQ(player.callbacks(), 0u);
+  EXPECT_FALSE(player.wait_for_first_callback(1ms));
+}
+
+// A driver may choose its own period (JACK's, PipeWire's quantum): once it has called back, the latency
+// estimate is the chosen period's, not the one asked for (`hmp live --sync-sound` waits for that callback
+// before it sets the vibration's delay).
+TEST(AudioPlayer, LatencyIsThePeriodTheDriverChoseFromItsFirstCallback) {
+  ASSERT_TRUE(hmp::audio::find_soundfont().has_value()) << "no GM SoundFont (fluid-soundfont-gm)";
+  AudioOptions options;
+  options.drivers = {"virtual"};
+  options.period_frames = 256;
+  options.virtual_period_frames = 1024;
+  AudioPlayer player(options);
+  ASSERT_NE(player.virtual_card(), nullptr) << player.silence_reason();
+  player.set_events({});
+  player.start(0);
+  ASSERT_TRUE(player.wait_for_first_callback(2s)) << "the virtual card never asked for a period";
+  EXPECT_GT(player.callbacks(), 0u);
+  const double rate = options.synth.sample_rate;
+  EXPECT_DOUBLE_EQ(player.output_latency_s(), 1024.0 * options.periods / rate);
+  EXPECT_DOUBLE_EQ(player.output_latency_s(), player.virtual_card()->latency_s());
+  player.stop();
 }
 
 TEST(AudioPlayer, WithoutASoundDeviceFallsBackToSilenceWithOneWarning) {
