@@ -145,10 +145,15 @@ std::uint32_t PlantDynamics::piece_of(const double* g) const {
   return piece;
 }
 
-int PlantDynamics::linearisation_drift(const double* origin, const double* y, double* drift) const {
+int PlantDynamics::linearisation_drift(const double* origin, const double* y, double* drift, double beyond) const {
   const double reach = kLinearDrift.distance / drift_scale_;
-  for (int i = 0; i < 3; ++i) drift[i] = (y[state::position + i] - origin[state::position + i]) / reach;
+  double d2 = 0;
+  for (int i = 0; i < 3; ++i) {
+    drift[i] = (y[state::position + i] - origin[state::position + i]) / reach;
+    d2 += drift[i] * drift[i];
+  }
   if (params_.scene.translation_only) return 3;
+  if (d2 > beyond) return -1;  // the rotation cannot bring it nearer
   // The rotation from origin to y, 2·vec(conj(q_o) ⊗ q) (small angles; the sign chosen so that the scalar
   // part is positive: q and −q are one orientation).
   const spidar::Quat<double> a = unit_quaternion(origin + state::orientation);

@@ -123,8 +123,10 @@ class PlantDynamics final : public OdeSystem {
   void piece_derivative(const double* y, std::uint32_t piece, double* dydt) override;
   // The equations are nonlinear in the grip's pose only (string directions and lever arms): the drift
   // is the grip's displacement over kLinearDrift.distance and its rotation vector over kLinearDrift.angle
-  // (both shrunk for stiff strings), 3 or 6 components.
-  int linearisation_drift(const double* origin, const double* y, double* drift) const override;
+  // (both shrunk for stiff strings), 3 or 6 components; −1 without the rotation when the displacement
+  // alone is beyond `beyond`.
+  int linearisation_drift(const double* origin, const double* y, double* drift,
+                          double beyond = kNoBound) const override;
 
  private:
   // How each string's tension follows from its spring force k·s + c·ṡ.

@@ -220,7 +220,7 @@ class Exponential final : public Integrator {
     std::array<double, kMaxDrift> d{};
     for (Linearisation& l : cache_) {
       if (!l.valid || l.piece != piece || l.h != h || l.n != system.size()) continue;
-      const double d2 = drift_squared(system, l.origin.data(), y, d);
+      const double d2 = drift_squared(system, l.origin.data(), y, d, best);
       if (d2 <= best) {
         best = d2;
         nearest = &l;
@@ -260,10 +260,12 @@ class Exponential final : public Integrator {
     return *lin;
   }
 
-  // y's drift from `origin` (into `drift`) and its squared length.
+  // y's drift from `origin` (into `drift`) and its squared length; infinite once known to be beyond
+  // `beyond` (the drift then incomplete).
   static double drift_squared(const OdeSystem& system, const double* origin, const double* y,
-                              std::array<double, kMaxDrift>& drift) {
-    const int m = system.linearisation_drift(origin, y, drift.data());
+                              std::array<double, kMaxDrift>& drift, double beyond = OdeSystem::kNoBound) {
+    const int m = system.linearisation_drift(origin, y, drift.data(), beyond);
+    if (m < 0) return HUGE_VAL;
     double d2 = 0;
     for (int i = 0; i < m; ++i) d2 += drift[i] * drift[i];
     return d2;

@@ -92,11 +92,14 @@ class OdeSystem {
   virtual int coupled_size() const { return size(); }
   // How far state y has moved from `origin` as the model's nonlinearity sees it: up to kMaxDrift
   // components (returned: how many) in units where a vector of length 1 is as far as a linearisation taken
-  // at `origin` may be used. 0 components: the model is linear on each piece.
-  virtual int linearisation_drift(const double* origin, const double* y, double* drift) const {
-    (void)origin, (void)y, (void)drift;
+  // at `origin` may be used. 0 components: the model is linear on each piece. A model may stop early and
+  // return −1 once the squared length of the components so far exceeds `beyond` (y is farther than that).
+  virtual int linearisation_drift(const double* origin, const double* y, double* drift,
+                                  double beyond = kNoBound) const {
+    (void)origin, (void)y, (void)drift, (void)beyond;
     return 0;
   }
+  static constexpr double kNoBound = 1e300;
 };
 
 class Integrator {

@@ -247,6 +247,28 @@ TEST(PlantDynamicsGeometry, IsThatOfThePoseAsked) {
   for (const std::vector<double>* y : order) EXPECT_EQ(rates_of(*y), made_anew(*y));
 }
 
+// The drift from a linearisation's origin: the displacement over the reach, then the rotation; asked
+// with a bound, a displacement alone beyond it is answered −1 (the rotation can only add), and one within
+// it gives all six components as without a bound.
+TEST(PlantDynamicsDrift, StopsOnceTheDisplacementIsBeyondTheBound) {
+  PlantParams p;
+  Plant plant(p);
+  plant.reset(0.3);
+  const PlantDynamics& d = plant.dynamics();
+  const std::vector<double> origin(plant.state(), plant.state() + d.size());
+  std::vector<double> y = origin;
+  const double reach = kLinearDrift.distance;  // 10⁴–10⁵ N/m: not scaled
+  y[state::position] += 0.6 * reach;
+  y[state::orientation + 1] += 0.5 * kLinearDrift.angle / 2;  // a rotation vector of ~0.5 of the reach
+  double all[kMaxDrift], bounded[kMaxDrift];
+  ASSERT_EQ(d.linearisation_drift(origin.data(), y.data(), all), 6);
+  EXPECT_NEAR(all[0], 0.6, 1e-9);
+  EXPECT_NEAR(all[3], 0.5, 0.01);
+  EXPECT_EQ(d.linearisation_drift(origin.data(), y.data(), bounded, 0.35), -1);  // 0.36 beyond 0.35
+  ASSERT_EQ(d.linearisation_drift(origin.data(), y.data(), bounded, 0.37), 6);   // 0.36 + 0.25 is not asked
+  for (int i = 0; i < 6; ++i) EXPECT_EQ(bounded[i], all[i]) << i;
+}
+
 TEST(PlantStatics, SlackStringsCarryNoForce) {
   PlantParams p;
   p.scene.translation_only = true;
