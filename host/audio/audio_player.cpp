@@ -1,9 +1,8 @@
 #include "host/audio/audio_player.hpp"
 
-#include <thread>
-
 #include <algorithm>
 #include <cmath>
+#include <thread>
 
 #include "host/audio/soundfont.hpp"
 

@@ -265,7 +265,7 @@ class Exponential final : public Integrator {
   static double drift_squared(const OdeSystem& system, const double* origin, const double* y,
                               std::array<double, kMaxDrift>& drift, double beyond = OdeSystem::kNoBound) {
     const int m = system.linearisation_drift(origin, y, drift.data(), beyond);
-    if (m < 0) return HUGE_VAL;
+    if (m < 0) return OdeSystem::kNoBound;
     double d2 = 0;
     for (int i = 0; i < m; ++i) d2 += drift[i] * drift[i];
     return d2;

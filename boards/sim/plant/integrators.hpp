@@ -17,6 +17,7 @@
 // Memory is allocated once, at construction; step() does not allocate or throw.
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <string_view>
 
@@ -99,7 +100,7 @@ class OdeSystem {
     (void)origin, (void)y, (void)drift, (void)beyond;
     return 0;
   }
-  static constexpr double kNoBound = 1e300;
+  static constexpr double kNoBound = std::numeric_limits<double>::infinity();
 };
 
 class Integrator {

@@ -263,7 +263,6 @@ PhiChain::PhiChain(int max_levels, std::uint32_t kept, Workspace* shared)
 void PhiChain::compute(const double* a, int n, double h, int levels, const QuarterRows* quarters,
                        std::uint32_t keep_now) {
   n_ = n;
-  keeping_ = kept_ & keep_now;
   ld_ = (n + kLanes - 1) / kLanes * kLanes;
   h_ = h;
   ready_.fill(false);
@@ -283,17 +282,17 @@ void PhiChain::compute(const double* a, int n, double h, int levels, const Quart
   }
   start_ = s;
   series(s);
-  double_up(s, 0, quarters);
+  double_up(s, 0, kept_ & keep_now, quarters);
 }
 
 // The work matrices hold level `from`; double them up to level `to`, keeping the kept levels passed
 // (those kept already, when a level not kept is doubled up to again, are left as they are):
 //   E(2τ) = E², P(2τ) = P + E·P, Q(2τ) = Q + E·Q + τ·P.
-void PhiChain::double_up(int from, int to, const QuarterRows* quarters) {
+void PhiChain::double_up(int from, int to, std::uint32_t keeping, const QuarterRows* quarters) {
   const int n = n_, size = n * ld_;
   double *e = work_->e.data(), *p = work_->p.data(), *q = work_->q.data(), *t = work_->tmp.data(), *u = work_->x.data();
   for (int level = from;; --level) {
-    const bool wanted = (keeping_ >> level & 1u) != 0 || level == to;
+    const bool wanted = (keeping >> level & 1u) != 0 || level == to;
     if (level < max_levels_ && wanted && !ready_[static_cast<std::size_t>(level)]) keep(level);
     if (quarters != nullptr && level <= 2) quarter_rows(level, *quarters);
     if (level == to) break;
@@ -399,9 +398,8 @@ void PhiChain::keep(int level) {
 void PhiChain::sum_level(int level) {
   // A level the doubling passed without keeping it is doubled up to again from where it started.
   const int from = level > start_ ? level : start_;
-  keeping_ = kept_;
   series(from);
-  double_up(from, level, nullptr);
+  double_up(from, level, kept_, nullptr);
 }
 
 }  // namespace hmp::sim::plant

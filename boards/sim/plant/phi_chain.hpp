@@ -121,16 +121,16 @@ class PhiChain {
   void unbalance_columns(const double* product, int m, double* out) const;
   // The quarter rows' share of the level the work matrices hold.
   void quarter_rows(int level, const QuarterRows& quarters);
-  // The work matrices hold level `from`: doubled up to level `to` (≤ from), keeping the kept levels
+  // The work matrices hold level `from`: doubled up to level `to` (≤ from), keeping the levels in `keeping`
   // passed and `to`, and taking the quarter rows' share of the levels 2, 1 and 0 if given.
-  void double_up(int from, int to, const QuarterRows* quarters);
+  void double_up(int from, int to, std::uint32_t keeping, const QuarterRows* quarters);
   // A level not kept: by its own series if finer than the doubling's start, else doubled up to again.
   void sum_level(int level);
 
-  int max_levels_, n_ = 0, ld_ = 0;   // ld_: the work matrices' row stride
-  std::uint32_t kept_, keeping_ = 0;  // the levels kept, and those being kept by the doubling now
-  int start_ = 0;                     // the level the doubling started from
-  double h_ = 0, norm_ = 0;           // the step and ‖B‖₁ of the balanced matrix
+  int max_levels_, n_ = 0, ld_ = 0;  // ld_: the work matrices' row stride
+  std::uint32_t kept_;
+  int start_ = 0;            // the level the doubling started from
+  double h_ = 0, norm_ = 0;  // the step and ‖B‖₁ of the balanced matrix
   std::array<bool, kMaxLevels> ready_{};
   std::vector<double> e_, p_, q_;   // max_levels × kStride each
   LineAlignedDoubles b_;            // B = D⁻¹·A·D, kPadded: a level asked for later starts from it
