@@ -33,6 +33,15 @@ void quaternion_rate(const double* q, const double* w, double* dq) {
   dq[3] = 0.5 * (w[0] * q[2] - w[1] * q[1] + w[2] * q[0]);
 }
 
+// String i's stretch s_i = ℓ_i − (free length − r·θ_i) and its rate ṡ_i = r·ω_i − u_i·v − m_i·w.
+double stretch_of(const spidar::StringGeometry<double>& g, int i, double free_length, double r, const double* y) {
+  return g.length[i] - (free_length - r * y[state::angle + i]);
+}
+double stretch_rate_of(const spidar::StringGeometry<double>& g, int i, double r, const double* y, const Vec3d& v,
+                       const Vec3d& w) {
+  return r * y[state::speed + i] - dot(g.u[i], v) - dot(g.m[i], w);
+}
+
 }  // namespace
 
 PlantDynamics::PlantDynamics(const PlantParams& params)
@@ -57,21 +66,8 @@ void PlantDynamics::compute(const double* y, PlantForces& out, TensionRule rule,
   const Vec3d x = load3(y + state::position);
   const Vec3d v = load3(y + state::velocity);
   const Vec3d w = full ? load3(y + state::angular_velocity) : Vec3d{};
-  // The strings' geometry depends on the pose only: a Jacobian's columns for the motors and the
-  // velocities (30 of 37) and a state differentiated twice find it as it was.
-  // The pose, position and orientation (not adjacent in the state), compared bit for bit.
-  constexpr std::size_t kPositionBytes = sizeof(double) * 3, kOrientationBytes = sizeof(double) * 4;
-  const bool same_pose = geometry_valid_ && std::memcmp(geometry_pose_, y + state::position, kPositionBytes) == 0 &&
-                         (!full || std::memcmp(geometry_pose_ + 3, y + state::orientation, kOrientationBytes) == 0);
-  if (!same_pose) {
-    std::memcpy(geometry_pose_, y + state::position, kPositionBytes);
-    if (full) std::memcpy(geometry_pose_ + 3, y + state::orientation, kOrientationBytes);
-    geometry_orientation_ = full ? unit_quaternion(y + state::orientation) : spidar::Quat<double>{};
-    spidar::compute_strings(params_.frame, x, spidar::to_matrix(geometry_orientation_), geometry_);
-    geometry_valid_ = true;
-  }
+  const spidar::StringGeometry<double>& g = strings_at(y);
   const spidar::Quat<double> q = geometry_orientation_;
-  const spidar::StringGeometry<double>& g = geometry_;
 
   const double r = params_.motor.drive.pulley_radius;
   const double k = params_.string.stiffness, c = params_.string.damping;
@@ -80,10 +76,10 @@ void PlantDynamics::compute(const double* y, PlantForces& out, TensionRule rule,
   out.taut = 0;
   out.near_taut = 0;
   for (int i = 0; i < kStrings; ++i) {
-    const double s = g.length[i] - (free_length_[i] - r * y[state::angle + i]);
+    const double s = stretch_of(g, i, free_length_[i], r, y);
     out.stretch[i] = s;
     const bool near = s > -kJacobianSlackMargin;
-    const double rate = r * y[state::speed + i] - dot(g.u[i], v) - dot(g.m[i], w);
+    const double rate = stretch_rate_of(g, i, r, y, v, w);
     const double spring = k * s + c * rate;
     out.spring[i] = spring;
     double t = 0;
@@ -115,6 +111,56 @@ void PlantDynamics::compute(const double* y, PlantForces& out, TensionRule rule,
     out.finger_force = {};
     out.finger_torque = {};
   }
+}
+
+const spidar::StringGeometry<double>& PlantDynamics::strings_at(const double* y) const {
+  const bool full = !params_.scene.translation_only;
+  // The strings' geometry depends on the pose only: a Jacobian's columns for the motors and the
+  // velocities (30 of 37) and a state differentiated twice find it as it was.
+  // The pose, position and orientation (not adjacent in the state), compared bit for bit.
+  constexpr std::size_t kPositionBytes = sizeof(double) * 3, kOrientationBytes = sizeof(double) * 4;
+  const bool same_pose = geometry_valid_ && std::memcmp(geometry_pose_, y + state::position, kPositionBytes) == 0 &&
+                         (!full || std::memcmp(geometry_pose_ + 3, y + state::orientation, kOrientationBytes) == 0);
+  if (!same_pose) {
+    std::memcpy(geometry_pose_, y + state::position, kPositionBytes);
+    if (full) std::memcpy(geometry_pose_ + 3, y + state::orientation, kOrientationBytes);
+    geometry_orientation_ = full ? unit_quaternion(y + state::orientation) : spidar::Quat<double>{};
+    const spidar::Mat3<double> rotation = spidar::to_matrix(geometry_orientation_);
+    spidar::compute_strings(params_.frame, load3(y + state::position), rotation, geometry_);
+    for (int i = 0; i < kStrings; ++i) geometry_arm_[i] = rotation * params_.frame.attachment[i];
+    geometry_valid_ = true;
+  }
+  return geometry_;
+}
+
+void PlantDynamics::to_linear(const double* y, double* z) const {
+  std::memcpy(z, y, sizeof(double) * static_cast<std::size_t>(size_));
+  const spidar::StringGeometry<double>& g = strings_at(y);
+  const double r = params_.motor.drive.pulley_radius;
+  for (int i = 0; i < kStrings; ++i) z[state::angle + i] = stretch_of(g, i, free_length_[i], r, y);
+}
+
+void PlantDynamics::from_linear(const double* z, double* y) const {
+  std::memcpy(y, z, sizeof(double) * static_cast<std::size_t>(size_));
+  const spidar::StringGeometry<double>& g = strings_at(z);
+  const double inv_r = 1.0 / params_.motor.drive.pulley_radius;
+  for (int i = 0; i < kStrings; ++i)
+    y[state::angle + i] = (z[state::angle + i] - g.length[i] + free_length_[i]) * inv_r;
+}
+
+// The stretches' rates are those the tensions' damping reads; every other state's rate is its own.
+void PlantDynamics::linear_rates(const double* y, const double* dydt, double* dzdt) const {
+  std::memcpy(dzdt, dydt, sizeof(double) * static_cast<std::size_t>(size_));
+  const spidar::StringGeometry<double>& g = strings_at(y);
+  const Vec3d v = load3(y + state::velocity);
+  const Vec3d w = params_.scene.translation_only ? Vec3d{} : load3(y + state::angular_velocity);
+  const double r = params_.motor.drive.pulley_radius;
+  for (int i = 0; i < kStrings; ++i) dzdt[state::angle + i] = stretch_rate_of(g, i, r, y, v, w);
+}
+
+double PlantDynamics::linear_scale(int index) const {
+  if (index < state::speed) return params_.motor.drive.pulley_radius * scale(index);  // m
+  return scale(index);
 }
 
 void PlantDynamics::derivative(const double* y, double* dydt) {

@@ -62,6 +62,14 @@ struct LinearDrift {
 };
 inline constexpr LinearDrift kLinearDrift{};
 
+// Strings at least this stiff are integrated by the exponential method in stretch coordinates
+// (PlantDynamics::to_linear). Chosen by the sim-work-precision benchmark (docs/performance.md): at 10⁶ and
+// 10⁷ N/m the errors fall (a carried grip's string force at 10⁷ N/m 9.6% → 0.18%, the 50 Hz vibration's
+// 0.55% → 0.03%); at 10⁵ N/m, where a tick's path curvature costs the tension little, they do not (the
+// carried grip's string force 0.99% → 1.05%, finger 0.15% → 0.23%), and there the motors' own coordinates
+// stay.
+inline constexpr double kStretchCoordinatesFrom = 1e6;  // N/m
+
 // Everything the equations compute on the way to the derivative: what the board and the tests read.
 struct PlantForces {
   double tension[spidar::kStrings]{};  // N
@@ -128,10 +136,22 @@ class PlantDynamics final : public OdeSystem {
   int linearisation_drift(const double* origin, const double* y, double* drift,
                           double beyond = kNoBound) const override;
 
+  // Stretch coordinates: each motor's angle θ_i replaced by its string's stretch s_i = ℓ_i(pose) − (free
+  // length − r·θ_i), the speeds kept (s_i' = r·ω_i − u_i·v − m_i·w). A taut string's tension k·s + c·ṡ is
+  // then linear in the state; through the angle it follows the string's geometric length, whose curvature
+  // along a carried grip's path a step's linearisation misses by ~k·(v·h)²/(8ℓ): 0.4 N at 10⁷ N/m, 0.3 m/s.
+  bool has_linear_coordinates() const override { return params_.string.stiffness >= kStretchCoordinatesFrom; }
+  void to_linear(const double* y, double* z) const override;
+  void from_linear(const double* z, double* y) const override;
+  void linear_rates(const double* y, const double* dydt, double* dzdt) const override;
+  double linear_scale(int index) const override;
+
  private:
   // How each string's tension follows from its spring force k·s + c·ṡ.
   enum class TensionRule : std::uint8_t { unilateral, near_bilateral, piece };
   void compute(const double* y, PlantForces& out, TensionRule rule, std::uint32_t piece) const;
+  // The strings' geometry at y's pose (kept while the pose stays the same bit for bit).
+  const spidar::StringGeometry<double>& strings_at(const double* y) const;
   void rates(const double* y, double* dydt, TensionRule rule, std::uint32_t piece, std::uint32_t* near_taut) const;
 
   PlantParams params_;
@@ -152,6 +172,7 @@ class PlantDynamics final : public OdeSystem {
   mutable spidar::Quat<double> geometry_orientation_{};
   mutable spidar::StringGeometry<double> geometry_;
   mutable bool geometry_valid_ = false;
+  mutable Vec3d geometry_arm_[spidar::kStrings]{};  // R·b_i: attachment about the grip centre, device frame
   // Constants of the motor equations, divided once.
   double inv_inductance_, inv_inertia_, inv_mass_, inv_grip_inertia_;
   double drift_scale_;  // the reach's scale for the strings' stiffness (1 between soft and stiff)

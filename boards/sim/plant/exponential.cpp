@@ -53,6 +53,46 @@ struct Linearisation {
   std::vector<double> rows = std::vector<double>(static_cast<std::size_t>(kCheckpoints) * kMaxSwitches * kMaxState);
 };
 
+// A system seen in its linear coordinates (OdeSystem::to_linear): what the steps work on when it has them.
+class InLinearCoordinates final : public OdeSystem {
+ public:
+  void bind(OdeSystem& system) { s_ = &system; }
+  int size() const override { return s_->size(); }
+  int coupled_size() const override { return s_->coupled_size(); }
+  void derivative(const double* z, double* dzdt) override {
+    s_->from_linear(z, y_.data());
+    s_->derivative(y_.data(), f_.data());
+    s_->linear_rates(y_.data(), f_.data(), dzdt);
+  }
+  void piece_derivative(const double* z, std::uint32_t piece, double* dzdt) override {
+    s_->from_linear(z, y_.data());
+    s_->piece_derivative(y_.data(), piece, f_.data());
+    s_->linear_rates(y_.data(), f_.data(), dzdt);
+  }
+  void position_rates(const double* z, double* dzdt) const override {
+    s_->from_linear(z, y_.data());
+    s_->derivative(y_.data(), f_.data());
+    s_->linear_rates(y_.data(), f_.data(), rates_.data());
+    for (int i = 0; i < size(); ++i)
+      if (is_position(i)) dzdt[i] = rates_[static_cast<std::size_t>(i)];
+  }
+  bool is_position(int index) const override { return s_->is_position(index); }
+  double scale(int index) const override { return s_->linear_scale(index); }
+  void project(double* z) const override { s_->project(z); }
+  int switch_functions(const double* z, double* g) const override {
+    s_->from_linear(z, y_.data());
+    return s_->switch_functions(y_.data(), g);
+  }
+  std::uint32_t piece_of(const double* g) const override { return s_->piece_of(g); }
+  int linearisation_drift(const double* origin, const double* z, double* drift, double beyond) const override {
+    return s_->linearisation_drift(origin, z, drift, beyond);
+  }
+
+ private:
+  OdeSystem* s_ = nullptr;
+  mutable std::array<double, kMaxState> y_{}, f_{}, rates_{};
+};
+
 class Exponential final : public Integrator {
  public:
   Exponential() : jacobian_(kMaxState * kMaxState), gradient_(kMaxSwitches * kMaxState) {
@@ -67,6 +107,18 @@ class Exponential final : public Integrator {
   }
 
   void step(OdeSystem& system, double* y, double h) override {
+    if (!system.has_linear_coordinates()) {
+      advance(system, y, h);
+      return;
+    }
+    linear_.bind(system);
+    system.to_linear(y, z_.data());
+    advance(linear_, z_.data(), h);
+    system.from_linear(z_.data(), y);
+  }
+
+ private:
+  void advance(OdeSystem& system, double* y, double h) {
     // The derivative first: the switch functions at the same state then come with it (PlantDynamics).
     system.derivative(y, f_.data());
     ++evaluations_;
@@ -128,7 +180,6 @@ class Exponential final : public Integrator {
     }
   }
 
- private:
   // One ETD2 step of level `level` (length h / 2^level) from y, with f_ = f(y) on entry (Cox and
   // Matthews' ETDRK2): a = y + P·f(y); y ← a + (Q/τ)·(f(a) − E·f(y)). The second stage takes the
   // change of the nonlinear remainder f − A·y over the step as linear in time.
@@ -331,6 +382,8 @@ class Exponential final : public Integrator {
     ++factorisations_;
   }
 
+  InLinearCoordinates linear_;
+  Vector z_{};
   PhiChain::Workspace work_;  // every cached chain computes in it, one at a time
   std::vector<Linearisation> cache_;
   std::uint64_t clock_ = 0;

@@ -101,6 +101,21 @@ class OdeSystem {
     return 0;
   }
   static constexpr double kNoBound = std::numeric_limits<double>::infinity();
+
+  // ---- coordinates in which the model is nearly linear (the exponential integrator) ----
+  // A model whose stiff part is linear in other coordinates z = Φ(y) than its own (a string's stretch in
+  // place of its motor's angle: the stretch's tension is linear in it, where the angle's goes through the
+  // string's curved geometric length) maps states both ways and derivatives forward, dz/dt = DΦ(y)·dy/dt.
+  // Φ must keep the pose-like states that linearisation_drift() and project() read. The default is none.
+  virtual bool has_linear_coordinates() const { return false; }
+  virtual void to_linear(const double* y, double* z) const { (void)y, (void)z; }
+  virtual void from_linear(const double* z, double* y) const { (void)z, (void)y; }
+  // dzdt = DΦ(y)·dydt.
+  virtual void linear_rates(const double* y, const double* dydt, double* dzdt) const {
+    (void)y, (void)dydt, (void)dzdt;
+  }
+  // scale() of z's states.
+  virtual double linear_scale(int index) const { return scale(index); }
 };
 
 class Integrator {

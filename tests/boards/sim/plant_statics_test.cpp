@@ -247,6 +247,62 @@ TEST(PlantDynamicsGeometry, IsThatOfThePoseAsked) {
   for (const std::vector<double>* y : order) EXPECT_EQ(rates_of(*y), made_anew(*y));
 }
 
+// Stretch coordinates (PlantDynamics::to_linear), with the grip moved, moving and turning: they map back to
+// the state they came from; the stretch is the one the forces are computed from; and their rates are the
+// time derivative of the map along the motion, checked by a central difference of to_linear() over ±1 µs
+// of the state's own derivative.
+TEST(PlantStretchCoordinates, MapBackAndTheirRatesAreTheStretchesDerivative) {
+  PlantParams p;
+  p.string.stiffness = 1e7;
+  Plant plant(p);
+  plant.reset(0.5);
+  PlantDynamics d = plant.dynamics();
+  ASSERT_TRUE(d.has_linear_coordinates());
+  const int n = d.size();
+  std::vector<double> z(static_cast<std::size_t>(n)), y(plant.state(), plant.state() + n);
+  d.to_linear(y.data(), z.data());
+  const double v[3] = {0.3, -0.2, 0.1}, w[3] = {2.0, -1.0, 3.0};  // m/s, rad/s
+  for (int a = 0; a < 3; ++a) {
+    z[static_cast<std::size_t>(state::velocity + a)] = v[a];
+    z[static_cast<std::size_t>(state::angular_velocity + a)] = w[a];
+  }
+  z[state::position] += 0.02;
+  z[state::orientation + 1] += 0.1;  // not unit: the dynamics normalise it
+  d.from_linear(z.data(), y.data());
+
+  std::vector<double> back(static_cast<std::size_t>(n));
+  d.to_linear(y.data(), back.data());
+  PlantForces forces;
+  d.evaluate(y.data(), forces);
+  for (int i = 0; i < n; ++i) EXPECT_NEAR(back[i], z[i], 1e-15 * (1 + std::fabs(z[i]))) << "state " << i;
+  for (int i = 0; i < 8; ++i) EXPECT_EQ(back[state::angle + i], forces.stretch[i]) << "string " << i;
+  for (int i = 0; i < 8; ++i) EXPECT_NE(y[state::angle + i], plant.state()[state::angle + i]) << "string " << i;
+
+  std::vector<double> f(static_cast<std::size_t>(n)), rates(static_cast<std::size_t>(n));
+  d.derivative(y.data(), f.data());
+  d.linear_rates(y.data(), f.data(), rates.data());
+  const double eps = 1e-6;  // s
+  std::vector<double> ahead(y), behind(y), z_ahead(static_cast<std::size_t>(n)), z_behind(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    ahead[i] += eps * f[i];
+    behind[i] -= eps * f[i];
+  }
+  d.to_linear(ahead.data(), z_ahead.data());
+  d.to_linear(behind.data(), z_behind.data());
+  double worst = 0, fastest = 0;
+  for (int i = 0; i < n; ++i) {
+    const double difference = (z_ahead[i] - z_behind[i]) / (2 * eps);
+    if (i < state::speed) fastest = std::fmax(fastest, std::fabs(rates[i]));
+    worst = std::fmax(worst, std::fabs(rates[i] - difference) / (1 + std::fabs(difference)));
+    EXPECT_NEAR(rates[i], difference, 1e-7 * (1 + std::fabs(difference))) << "state " << i;
+  }
+  std::printf("  stretch rates up to %.3f m/s; worst mismatch %.1e of the rate\n", fastest, worst);
+  // Below the threshold the exponential integrator keeps the plant's own coordinates.
+  PlantParams soft;
+  soft.string.stiffness = 1e5;
+  EXPECT_FALSE(PlantDynamics(soft).has_linear_coordinates());
+}
+
 // The drift from a linearisation's origin: the displacement over the reach, then the rotation; asked
 // with a bound, a displacement alone beyond it is answered −1 (the rotation can only add), and one within
 // it gives all six components as without a bound.
