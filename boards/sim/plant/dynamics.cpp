@@ -55,7 +55,9 @@ PlantDynamics::PlantDynamics(const PlantParams& params)
       inv_mass_(1.0 / params.grip.mass),
       inv_grip_inertia_(1.0 / params.grip.inertia()),
       drift_scale_(std::sqrt(std::fmin(1.0, params.string.stiffness / kLinearDrift.soft) *
-                             std::fmax(1.0, params.string.stiffness / kLinearDrift.stiff))) {}
+                             (params.string.stiffness >= kStretchCoordinatesFrom
+                                  ? 1.0
+                                  : std::fmax(1.0, params.string.stiffness / kLinearDrift.stiff)))) {}
 
 void PlantDynamics::evaluate(const double* y, PlantForces& out, bool bilateral) const {
   compute(y, out, bilateral ? TensionRule::near_bilateral : TensionRule::unilateral, 0);

@@ -46,10 +46,21 @@ inline constexpr double kBandOmega = 2 * 3.14159265358979323846 * kBandHz;  // r
 // would cost accuracy (measured: a free-running motor 0.014% slow at 125 µs steps).
 inline constexpr double kJacobianSlackMargin = 5e-3;
 
+// Strings at least this stiff are integrated by the exponential method in stretch coordinates
+// (PlantDynamics::to_linear). Chosen by the sim-work-precision benchmark (docs/performance.md): at 10⁶
+// and 10⁷ N/m the errors fall (on the same reach, a carried grip's string force at 10⁷ N/m 9.6% → 0.18%,
+// the 50 Hz vibration's 0.55% → 0.03%); at 10⁵ N/m, where a tick's path curvature costs the tension
+// little, they do not (the carried grip's string force 0.99% → 1.05%, finger 0.15% → 0.23%), and there
+// the motors' own coordinates stay.
+inline constexpr double kStretchCoordinatesFrom = 1e6;  // N/m
+
 // How far the grip may move from where the exponential integrator linearised the equations before it
 // linearises again (see PlantDynamics::linearisation_drift). The strings' ringing is lightly damped and
 // fast, and its coupling to the grip turns with the strings' directions, so stiffer strings need a
-// closer linearisation: the reach shrinks as √(stiff / k) above `stiff`, and softer ones allow a longer
+// closer linearisation: the reach shrinks as √(stiff / k) above `stiff` (in the motors' coordinates; in
+// stretch coordinates, kStretchCoordinatesFrom and above, the tensions are linear and it stays 0.5 mm:
+// a grip carried 0.3 mm a tick then reuses linearisations, 2.2× the speed of one per tick at 10⁷ N/m for
+// 0.40% / 0.18% string / finger force instead of 0.18% / 0.05%), and softer ones allow a longer
 // one, growing as √(soft / k) below `soft` (a grip carried across the frame then needs a tenth of the
 // linearisations at 10³ N/m). Between the two it stays put: there the strings' slack/taut switching under
 // saturated drive is what needs it (at 10⁴ N/m a reach 1.8× longer costs 1.3% of finger force instead of
@@ -61,14 +72,6 @@ struct LinearDrift {
   double soft = 1e4;         // N/m
 };
 inline constexpr LinearDrift kLinearDrift{};
-
-// Strings at least this stiff are integrated by the exponential method in stretch coordinates
-// (PlantDynamics::to_linear). Chosen by the sim-work-precision benchmark (docs/performance.md): at 10⁶ and
-// 10⁷ N/m the errors fall (a carried grip's string force at 10⁷ N/m 9.6% → 0.18%, the 50 Hz vibration's
-// 0.55% → 0.03%); at 10⁵ N/m, where a tick's path curvature costs the tension little, they do not (the
-// carried grip's string force 0.99% → 1.05%, finger 0.15% → 0.23%), and there the motors' own coordinates
-// stay.
-inline constexpr double kStretchCoordinatesFrom = 1e6;  // N/m
 
 // Everything the equations compute on the way to the derivative: what the board and the tests read.
 struct PlantForces {

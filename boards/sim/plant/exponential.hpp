@@ -18,6 +18,9 @@
 // Switches inside a step are located: the piece's switch functions are predicted along the step at
 // kCheckpoints points from their linearisation; a step over which the piece changes is taken instead as
 // kCheckpoints sub-steps, those in which a switch falls as finer ones, each on the piece its start is on.
+//
+// A system that has coordinates in which it is nearer linear (OdeSystem::to_linear: the plant's string
+// stretches) is stepped in them, every cached linearisation and kept start with it.
 #include <memory>
 
 #include "boards/sim/plant/integrators.hpp"
