@@ -54,10 +54,10 @@ PlantDynamics::PlantDynamics(const PlantParams& params)
       inv_inertia_(1.0 / params.motor.inertia),
       inv_mass_(1.0 / params.grip.mass),
       inv_grip_inertia_(1.0 / params.grip.inertia()),
-      drift_scale_(std::sqrt(std::fmin(1.0, params.string.stiffness / kLinearDrift.soft) *
-                             (params.string.stiffness >= kStretchCoordinatesFrom
-                                  ? 1.0
-                                  : std::fmax(1.0, params.string.stiffness / kLinearDrift.stiff)))) {}
+      stretch_coordinates_(params.string.stiffness >= kStretchCoordinatesFrom),
+      drift_scale_(
+          std::sqrt(std::fmin(1.0, params.string.stiffness / kLinearDrift.soft) *
+                    (stretch_coordinates_ ? 1.0 : std::fmax(1.0, params.string.stiffness / kLinearDrift.stiff)))) {}
 
 void PlantDynamics::evaluate(const double* y, PlantForces& out, bool bilateral) const {
   compute(y, out, bilateral ? TensionRule::near_bilateral : TensionRule::unilateral, 0);
@@ -129,7 +129,6 @@ const spidar::StringGeometry<double>& PlantDynamics::strings_at(const double* y)
     geometry_orientation_ = full ? unit_quaternion(y + state::orientation) : spidar::Quat<double>{};
     const spidar::Mat3<double> rotation = spidar::to_matrix(geometry_orientation_);
     spidar::compute_strings(params_.frame, load3(y + state::position), rotation, geometry_);
-    for (int i = 0; i < kStrings; ++i) geometry_arm_[i] = rotation * params_.frame.attachment[i];
     geometry_valid_ = true;
   }
   return geometry_;
@@ -152,7 +151,7 @@ void PlantDynamics::from_linear(const double* z, double* y) const {
 
 // The stretches' rates are those the tensions' damping reads; every other state's rate is its own.
 void PlantDynamics::linear_rates(const double* y, const double* dydt, double* dzdt) const {
-  std::memcpy(dzdt, dydt, sizeof(double) * static_cast<std::size_t>(size_));
+  if (dzdt != dydt) std::memcpy(dzdt, dydt, sizeof(double) * static_cast<std::size_t>(size_));
   const spidar::StringGeometry<double>& g = strings_at(y);
   const Vec3d v = load3(y + state::velocity);
   const Vec3d w = params_.scene.translation_only ? Vec3d{} : load3(y + state::angular_velocity);

@@ -143,7 +143,7 @@ class PlantDynamics final : public OdeSystem {
   // length − r·θ_i), the speeds kept (s_i' = r·ω_i − u_i·v − m_i·w). A taut string's tension k·s + c·ṡ is
   // then linear in the state; through the angle it follows the string's geometric length, whose curvature
   // along a carried grip's path a step's linearisation misses by ~k·(v·h)²/(8ℓ): 0.4 N at 10⁷ N/m, 0.3 m/s.
-  bool has_linear_coordinates() const override { return params_.string.stiffness >= kStretchCoordinatesFrom; }
+  bool has_linear_coordinates() const override { return stretch_coordinates_; }
   void to_linear(const double* y, double* z) const override;
   void from_linear(const double* z, double* y) const override;
   void linear_rates(const double* y, const double* dydt, double* dzdt) const override;
@@ -175,10 +175,10 @@ class PlantDynamics final : public OdeSystem {
   mutable spidar::Quat<double> geometry_orientation_{};
   mutable spidar::StringGeometry<double> geometry_;
   mutable bool geometry_valid_ = false;
-  mutable Vec3d geometry_arm_[spidar::kStrings]{};  // R·b_i: attachment about the grip centre, device frame
   // Constants of the motor equations, divided once.
   double inv_inductance_, inv_inertia_, inv_mass_, inv_grip_inertia_;
-  double drift_scale_;  // the reach's scale for the strings' stiffness (1 between soft and stiff)
+  bool stretch_coordinates_;  // stiff enough to be stepped in stretch coordinates
+  double drift_scale_;        // the reach's scale for the strings' stiffness (1 between soft and stiff)
 };
 
 }  // namespace hmp::sim::plant

@@ -59,22 +59,23 @@ class InLinearCoordinates final : public OdeSystem {
   void bind(OdeSystem& system) { s_ = &system; }
   int size() const override { return s_->size(); }
   int coupled_size() const override { return s_->coupled_size(); }
+  // The system's rates are computed in dzdt and turned into the coordinates' rates in place.
   void derivative(const double* z, double* dzdt) override {
     s_->from_linear(z, y_.data());
-    s_->derivative(y_.data(), f_.data());
-    s_->linear_rates(y_.data(), f_.data(), dzdt);
+    s_->derivative(y_.data(), dzdt);
+    s_->linear_rates(y_.data(), dzdt, dzdt);
   }
   void piece_derivative(const double* z, std::uint32_t piece, double* dzdt) override {
     s_->from_linear(z, y_.data());
-    s_->piece_derivative(y_.data(), piece, f_.data());
-    s_->linear_rates(y_.data(), f_.data(), dzdt);
+    s_->piece_derivative(y_.data(), piece, dzdt);
+    s_->linear_rates(y_.data(), dzdt, dzdt);
   }
   void position_rates(const double* z, double* dzdt) const override {
     s_->from_linear(z, y_.data());
     s_->derivative(y_.data(), f_.data());
-    s_->linear_rates(y_.data(), f_.data(), rates_.data());
+    s_->linear_rates(y_.data(), f_.data(), f_.data());
     for (int i = 0; i < size(); ++i)
-      if (is_position(i)) dzdt[i] = rates_[static_cast<std::size_t>(i)];
+      if (is_position(i)) dzdt[i] = f_[static_cast<std::size_t>(i)];
   }
   bool is_position(int index) const override { return s_->is_position(index); }
   double scale(int index) const override { return s_->linear_scale(index); }
@@ -90,7 +91,7 @@ class InLinearCoordinates final : public OdeSystem {
 
  private:
   OdeSystem* s_ = nullptr;
-  mutable std::array<double, kMaxState> y_{}, f_{}, rates_{};
+  mutable std::array<double, kMaxState> y_{}, f_{};
 };
 
 class Exponential final : public Integrator {

@@ -110,7 +110,7 @@ class OdeSystem {
   virtual bool has_linear_coordinates() const { return false; }
   virtual void to_linear(const double* y, double* z) const { (void)y, (void)z; }
   virtual void from_linear(const double* z, double* y) const { (void)z, (void)y; }
-  // dzdt = DΦ(y)·dydt.
+  // dzdt = DΦ(y)·dydt; dzdt may be dydt itself.
   virtual void linear_rates(const double* y, const double* dydt, double* dzdt) const {
     (void)y, (void)dydt, (void)dzdt;
   }
