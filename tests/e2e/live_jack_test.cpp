@@ -2,7 +2,8 @@
 // stopped here under a name of its own: hmp's own JACK MIDI output, opened by this test, plays into the
 // port of `hmp live`, and the simulated device must start every note exactly once; a port that disappears ends the run
 // with one line and exit 1; no JACK server and a port that is not there are one line and exit 2. And the other way,
-// `hmp play --midi-out`: a JACK MIDI input of this test (RtMidi) receives the song on the device's clock.
+// `hmp play --midi-out`: a JACK MIDI input of this test (RtMidi) receives the song on the device's clock. hmp's
+// JACK input, opened and closed while a keyboard (RtMidi) keeps playing, takes the notes whole and nothing else.
 //
 // JACK drops the MIDI events of a cycle whose client did not finish in time (an xrun, which jackd logs as
 // "JackEngine::XRun"); a busy machine can cause one however hmp behaves. A run that lost notes and saw an
@@ -13,6 +14,7 @@
 #include <RtMidi.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <mutex>
@@ -522,6 +524,79 @@ TEST(LiveJack, MidiOutputClosedRightAfterSendingLosesNothing) {
   ASSERT_EQ(got.messages.size(), static_cast<std::size_t>(kRounds * kPerRound));
   for (int i = 0; i < kRounds * kPerRound; ++i)
     ASSERT_EQ(got.messages[i].second, message(i / kPerRound, i % kPerRound)) << "message " << i;
+}
+
+// hmp's JACK MIDI input (what `hmp live` reads), opened on a keyboard that never stops sending and closed
+// again 40 times: each one receives the notes whole and in order, none of the system exclusive, clock, time
+// code and active sensing messages sent between them, and nothing once it is closed. RtMidi 5's JACK
+// input, used before, unregistered its port while a cycle could still be reading it.
+struct Keys {
+  std::mutex mutex;
+  std::vector<std::vector<unsigned char>> messages;
+  static void take(void* self, const std::uint8_t* bytes, std::size_t size) {
+    auto* me = static_cast<Keys*>(self);
+    const std::lock_guard<std::mutex> lock(me->mutex);
+    me->messages.emplace_back(bytes, bytes + size);
+  }
+  std::size_t count() {
+    const std::lock_guard<std::mutex> lock(mutex);
+    return messages.size();
+  }
+};
+
+TEST(LiveJack, MidiInputClosedWhileAKeyboardPlaysTakesOnlyWholeNotes) {
+  JackServer jack;
+  if (!jack.up()) GTEST_FAIL() << jack.why();
+  RtMidiOut keyboard(RtMidi::UNIX_JACK, "hmp-test-keys");
+  keyboard.openVirtualPort("out");
+  std::atomic<bool> stop{false};
+  std::thread player([&] {
+    const std::vector<std::vector<unsigned char>> unfelt = {
+        {0xF8}, {0xFE}, {0xF1, 0x21}, {0xF0, 0x7E, 0x7F, 0x09, 0x01, 0xF7}};
+    for (unsigned k = 0; !stop; ++k) {
+      const auto key = static_cast<unsigned char>(36 + k % 48);
+      std::vector<unsigned char> on{0x90, key, 100}, off{0x80, key, 0};
+      keyboard.sendMessage(&on);
+      for (auto m : unfelt) keyboard.sendMessage(&m);
+      keyboard.sendMessage(&off);
+      std::this_thread::sleep_for(300us);
+    }
+  });
+  for (int round = 0; round < 40; ++round) {
+    const int xruns_before = jack.xruns();
+    Keys keys;
+    std::string error;
+    auto in =
+        hmp::live::midi_port_backend()->open(hmp::live::MidiApi::jack, "hmp-test-keys", &Keys::take, &keys, error);
+    ASSERT_NE(in, nullptr) << error;
+    EXPECT_EQ(in->name(), "hmp-test-keys:out");
+    EXPECT_TRUE(in->present());
+    // A few of JACK's 2.7 ms cycles, a different number each round.
+    std::this_thread::sleep_for(std::chrono::milliseconds(15 + round % 7 * 4));
+    in.reset();
+    const std::size_t at_close = keys.count();
+    std::this_thread::sleep_for(10ms);
+    EXPECT_EQ(keys.count(), at_close) << "round " << round << ": messages after the input was closed";
+    EXPECT_GT(at_close, 0u) << "round " << round;
+    for (std::size_t i = 0; i < keys.messages.size(); ++i) {
+      const std::vector<unsigned char>& m = keys.messages[i];
+      ASSERT_EQ(m.size(), 3u) << "round " << round << ", message " << i;
+      ASSERT_TRUE(m[0] == 0x90 || m[0] == 0x80) << "round " << round << ", message " << i << ": " << int(m[0]);
+      // A note's on, then its off; the next note one key up (wrapping after 48). Unless JACK dropped a cycle's
+      // events because the machine was busy (an xrun).
+      if (i > 0 && jack.xruns() == xruns_before) {
+        const std::vector<unsigned char>& before = keys.messages[i - 1];
+        if (m[0] == 0x80) {
+          EXPECT_TRUE(before[0] == 0x90 && before[1] == m[1]) << "round " << round << ", message " << i;
+        } else {
+          EXPECT_TRUE(before[0] == 0x80 && m[1] == 36 + (before[1] - 36 + 1) % 48)
+              << "round " << round << ", message " << i;
+        }
+      }
+    }
+  }
+  stop = true;
+  player.join();
 }
 
 TEST(LiveJack, PlayMidiOutToAPortThatIsNotThereIsBadInput) {

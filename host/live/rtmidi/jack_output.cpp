@@ -9,6 +9,8 @@
 #include <cstdint>
 #include <thread>
 
+#include "host/live/rtmidi/jack_ports.hpp"
+
 namespace hmp::live {
 namespace {
 
@@ -47,7 +49,7 @@ class JackOutput final : public MidiOutput {
     }
     std::string target;
     if (!port.empty()) {
-      target = first_input_named_like(port);
+      target = first_jack_port_named_like(client_, port, JackPortIsInput);
       if (target.empty()) {
         error = no_port_named(MidiApi::jack, false, port);
         return false;
@@ -99,16 +101,6 @@ class JackOutput final : public MidiOutput {
   }
 
  private:
-  std::string first_input_named_like(const std::string& port) const {
-    std::string found;
-    const char** ports = jack_get_ports(client_, nullptr, JACK_DEFAULT_MIDI_TYPE, JackPortIsInput);
-    for (const char** p = ports; p != nullptr && *p != nullptr && found.empty(); ++p) {
-      if (named_like(*p, port)) found = *p;
-    }
-    jack_free(static_cast<void*>(ports));
-    return found;
-  }
-
   // What was sent last (a song's closing all-notes-off) reaches the ports connected before the client
   // closes: the process callback takes it within a cycle, and that cycle ends within another.
   void drain() const {

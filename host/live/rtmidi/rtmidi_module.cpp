@@ -1,6 +1,6 @@
-// The midiport module's entry (hmp-midiport.so): MIDI in and out through RtMidi (Debian's librtmidi), which
-// speaks both the ALSA sequencer and JACK, except output to JACK (jack_output.hpp says why). RtMidi
-// reports errors by throwing RtMidiError; they stop here.
+// The midiport module's entry (hmp-midiport.so): MIDI in and out of the ALSA sequencer through RtMidi
+// (Debian's librtmidi); JACK's through our own clients on libjack (jack_input.hpp and jack_output.hpp say
+// why not RtMidi's). RtMidi reports errors by throwing RtMidiError; they stop here.
 #include <RtMidi.h>
 #include <alsa/asoundlib.h>
 #include <jack/jack.h>
@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "host/live/midi_port.hpp"
+#include "host/live/rtmidi/jack_input.hpp"
 #include "host/live/rtmidi/jack_output.hpp"
 #include "host/modules/module_loader.hpp"
 
@@ -107,6 +108,7 @@ std::vector<MidiPortInfo> list_ports(MidiApi api, std::string& error) {
   return out;
 }
 
+// An input on the ALSA sequencer.
 class RtInput final : public MidiInput {
  public:
   RtInput(MidiApi api, MidiReceive receive, void* context)
@@ -130,8 +132,7 @@ class RtInput final : public MidiInput {
     return error.empty();
   }
   std::string name() const override { return name_; }
-  // Asked of the open client itself (a client opened for it would cost 10–25 ms of JACK's set-up, in the
-  // loop that sends the notes).
+  // Asked of the open sequencer client itself, not a new one, in the loop that sends the notes.
   bool present() const override {
     if (virtual_) return true;
     const unsigned count = in_.getPortCount();
@@ -213,6 +214,10 @@ class RtMidiBackend final : public MidiPortBackend {
   }
   std::unique_ptr<MidiInput> open(MidiApi api, const std::string& port, MidiReceive receive, void* context,
                                   std::string& error) const override {
+    if (api == MidiApi::jack) {
+      quiet_libraries();
+      return open_jack_input(port, receive, context, error);
+    }
     if (error = unavailable(api); !error.empty()) return nullptr;
     try {
       auto in = std::make_unique<RtInput>(api, receive, context);
