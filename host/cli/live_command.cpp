@@ -255,11 +255,7 @@ int run_live(const LiveOptions& o) {
   if (sound.audible()) {
     sound.set_events({});
     sound.start(0);
-    // The latency is the driver's period, which it may choose unlike the one asked for: known from its
-    // first callback.
-    if (!sound.wait_for_first_callback(std::chrono::milliseconds(500)))
-      std::fprintf(stderr, "warning: audio: the %s driver has not called back in 0.5 s; its latency is a guess\n",
-                   sound.driver_name().c_str());
+    await_audio_period(sound);
   }
   double delay_ms = o.vibration_delay_ms.value_or(0.0);
   if (o.sync_sound) {

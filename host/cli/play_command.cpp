@@ -276,6 +276,7 @@ int run_play(const PlayOptions& o) {
 
   audio::AudioPlayer audio(audio_opts);
   if (audio.audible()) {
+    await_audio_period(audio);
     std::fprintf(stderr, "audio: %s, output latency %.1f ms (compensated)\n", audio.driver_name().c_str(),
                  audio.output_latency_s() * 1e3);
   }

@@ -1,6 +1,7 @@
 #include "host/cli/song_options.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -139,6 +140,12 @@ audio::AudioOptions audio_options(const AudioCliOptions& o) {
     a.soundfont = *o.soundfont;
   }
   return a;
+}
+
+void await_audio_period(const audio::AudioPlayer& audio) {
+  if (audio.audible() && !audio.wait_for_first_callback(std::chrono::milliseconds(500)))
+    std::fprintf(stderr, "warning: audio: the %s driver has not called back in 0.5 s; its latency is a guess\n",
+                 audio.driver_name().c_str());
 }
 
 }  // namespace hmp::cli

@@ -9,6 +9,7 @@
 #include <CLI/CLI.hpp>
 
 #include "host/audio/audio_options.hpp"
+#include "host/audio/audio_player.hpp"
 #include "host/haptics/haptic_track.hpp"
 #include "host/haptics/track_window.hpp"
 #include "host/midi/smf_reader.hpp"
@@ -48,6 +49,9 @@ struct AudioCliOptions {
 };
 void add_audio_options(CLI::App* cmd, AudioCliOptions& o);
 audio::AudioOptions audio_options(const AudioCliOptions& o);
+// Waits up to 0.5 s for the sound's first driver callback: the output latency is the period the driver
+// uses, which may not be the one asked for. A warning on stderr if none came (the latency then a guess).
+void await_audio_period(const audio::AudioPlayer& audio);
 
 // "warning: MESSAGE" on stderr: where the commands send the reader's warnings.
 void warn_on_stderr(const std::string& message);
