@@ -4,12 +4,11 @@
 #include <jack/midiport.h>
 #include <jack/ringbuffer.h>
 
-#include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <thread>
 
-#include "host/live/rtmidi/jack_ports.hpp"
+#include "host/live/rtmidi/jack_client.hpp"
 
 namespace hmp::live {
 namespace {
@@ -28,53 +27,22 @@ class JackOutput final : public MidiOutput {
   JackOutput(const JackOutput&) = delete;
   JackOutput& operator=(const JackOutput&) = delete;
   ~JackOutput() override {
-    if (client_ != nullptr) {
-      if (sent_any_) drain();
-      // Closing the client stops its process thread; only after that is the buffer it reads freed.
-      jack_client_close(client_);
-    }
+    if (sent_any_) drain();
+    // Closing the client stops its process thread; only after that is the buffer it reads freed.
+    client_.close();
     if (ring_ != nullptr) jack_ringbuffer_free(ring_);
   }
 
   bool open(const std::string& port, std::string& error) {
-    client_ = jack_client_open("hmp", JackNoStartServer, nullptr);
-    if (client_ == nullptr) {
-      error = "no JACK server running";
-      return false;
-    }
     ring_ = jack_ringbuffer_create(kRingBytes);
     if (ring_ == nullptr) {
       error = "no memory for a JACK MIDI buffer";
       return false;
     }
-    std::string target;
-    if (!port.empty()) {
-      target = first_jack_port_named_like(client_, port, JackPortIsInput);
-      if (target.empty()) {
-        error = no_port_named(MidiApi::jack, false, port);
-        return false;
-      }
-    }
-    port_ = jack_port_register(client_, port.empty() ? "hmp" : "hmp-out", JACK_DEFAULT_MIDI_TYPE, JackPortIsOutput, 0);
-    if (port_ == nullptr) {
-      error = "the JACK server refused a MIDI output port";
-      return false;
-    }
-    jack_set_process_callback(client_, &JackOutput::process, this);
-    jack_on_shutdown(client_, &JackOutput::on_shutdown, this);
-    if (jack_activate(client_) != 0) {
-      error = "the JACK server did not start our client";
-      return false;
-    }
-    if (!target.empty() && jack_connect(client_, jack_port_name(port_), target.c_str()) != 0) {
-      error = "the JACK server did not connect us to " + target;
-      return false;
-    }
-    name_ = target.empty() ? own_port_description(MidiApi::jack) : target;
-    return true;
+    return client_.open(port, false, &JackOutput::process, this, error);
   }
 
-  std::string name() const override { return name_; }
+  std::string name() const override { return client_.description(); }
 
   bool send(const std::uint8_t* bytes, std::size_t size, std::string& error) override {
     if (size == 0) return true;
@@ -82,14 +50,14 @@ class JackOutput final : public MidiOutput {
       error = "a MIDI message of " + std::to_string(size) + " bytes is more than JACK's buffer here takes";
       return false;
     }
-    for (int waited = 0; !gone_ && jack_ringbuffer_write_space(ring_) < sizeof(Size) + size; ++waited) {
+    for (int waited = 0; !client_.gone() && jack_ringbuffer_write_space(ring_) < sizeof(Size) + size; ++waited) {
       if (waited == kWaitMs) {
         error = "the JACK server took no MIDI for 0.2 s";
         return false;
       }
       std::this_thread::sleep_for(std::chrono::milliseconds(1));
     }
-    if (gone_) {
+    if (client_.gone()) {
       error = "the JACK server stopped";
       return false;
     }
@@ -102,20 +70,20 @@ class JackOutput final : public MidiOutput {
 
  private:
   // What was sent last (a song's closing all-notes-off) reaches the ports connected before the client
-  // closes: the process callback takes it within a cycle, and that cycle ends within another.
+  // closes: the process callback takes it within a cycle, and the ports that read it have it a cycle or
+  // two later. Cycles counted, not timed: on a busy machine the server's cycles come late, and a wait of
+  // two periods' time lost a whole batch in 1 of 3,000 closes here.
   void drain() const {
-    for (int i = 0; i < kWaitMs && !gone_ && jack_ringbuffer_read_space(ring_) > 0; ++i)
+    for (int i = 0; i < kWaitMs && !client_.gone() && jack_ringbuffer_read_space(ring_) > 0; ++i)
       std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    const double period_s =
-        static_cast<double>(jack_get_buffer_size(client_)) / static_cast<double>(jack_get_sample_rate(client_));
-    std::this_thread::sleep_for(std::chrono::duration<double>(2.0 * period_s));
+    client_.wait_cycles(3);
   }
 
   // On JACK's process thread: every whole message waiting goes out at the cycle's first frame, in order;
   // those the port's buffer has no room for this cycle wait for the next.
   static int process(jack_nframes_t frames, void* self) {
     auto* me = static_cast<JackOutput*>(self);
-    void* buffer = jack_port_get_buffer(me->port_, frames);
+    void* buffer = jack_port_get_buffer(me->client_.port(), frames);
     jack_midi_clear_buffer(buffer);
     Size size = 0;
     while (jack_ringbuffer_peek(me->ring_, reinterpret_cast<char*>(&size), sizeof size) == sizeof size &&
@@ -128,14 +96,9 @@ class JackOutput final : public MidiOutput {
     return 0;
   }
 
-  static void on_shutdown(void* self) { static_cast<JackOutput*>(self)->gone_ = true; }
-
-  jack_client_t* client_ = nullptr;
-  jack_port_t* port_ = nullptr;  // registered before the client is activated: the callback never sees null
-  jack_ringbuffer_t* ring_ = nullptr;
-  std::atomic<bool> gone_{false};
+  jack_ringbuffer_t* ring_ = nullptr;  // created before the client: the callback never sees null
   bool sent_any_ = false;
-  std::string name_;
+  JackMidiClient client_;
 };
 
 }  // namespace
