@@ -61,7 +61,7 @@ PY
 }
 
 play sim "${E2E_SECONDS:-song}"
-image=${HMP_QEMU_ELF:-$(ls "$(dirname "$build")"/qemu-an386/boards/qemu-an386/hmp_fw_qemu_an386-*.elf 2>/dev/null | tail -1)}
+image=${HMP_QEMU_ELF:-$(ls "$(dirname "$build")"/qemu-an386/boards/qemu-an386/hmp_fw_qemu_an386-*.elf 2>/dev/null | tail -1 || true)}
 if [ -f "$image" ] && command -v "${QEMU_SYSTEM_ARM:-qemu-system-arm}" >/dev/null; then
   HMP_QEMU_ELF=$image play qemu "${E2E_QEMU_SECONDS:-60}"
 else

@@ -16,7 +16,7 @@ sleep 1
 notes=${LIVE_NOTES:-2000}
 spacing=${LIVE_SPACING_MS:-8}
 "$build/bench/bench_live_latency" sim "$notes" "$build/bin/hmp" "$tmp/sim.jsonl" "$spacing"
-image=${HMP_QEMU_ELF:-$(ls "$(dirname "$build")"/qemu-an386/boards/qemu-an386/hmp_fw_qemu_an386-*.elf 2>/dev/null | tail -1)}
+image=${HMP_QEMU_ELF:-$(ls "$(dirname "$build")"/qemu-an386/boards/qemu-an386/hmp_fw_qemu_an386-*.elf 2>/dev/null | tail -1 || true)}
 if [ -f "$image" ] && command -v "${QEMU_SYSTEM_ARM:-qemu-system-arm}" >/dev/null; then
   # The board's two links: its UART (a byte per emulator round trip) and its Ethernet controller.
   for device in qemu qemu:net; do
