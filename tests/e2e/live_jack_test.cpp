@@ -15,7 +15,6 @@
 #include <RtMidi.h>
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <mutex>
@@ -26,6 +25,7 @@
 #include <regex>
 #include <sstream>
 #include <string>
+#include <stop_token>
 #include <thread>
 #include <vector>
 
@@ -552,11 +552,11 @@ TEST(LiveJack, MidiInputClosedWhileAKeyboardPlaysTakesOnlyWholeNotes) {
   std::string opened;
   const auto keyboard = hmp::live::midi_port_backend()->open_output(hmp::live::MidiApi::jack, "", opened);
   ASSERT_NE(keyboard, nullptr) << opened;
-  std::atomic<bool> stop{false};
-  std::thread player([&] {
+  // Stopped and joined when the test ends, also by a failed assertion.
+  const std::jthread player([&](const std::stop_token& stop) {
     const std::vector<std::vector<unsigned char>> unfelt = {
         {0xF8}, {0xFE}, {0xF1, 0x21}, {0xF0, 0x7E, 0x7F, 0x09, 0x01, 0xF7}};
-    for (unsigned k = 0; !stop; ++k) {
+    for (unsigned k = 0; !stop.stop_requested(); ++k) {
       const auto key = static_cast<unsigned char>(36 + k % 48);
       send(*keyboard, {0x90, key, 100});
       for (const auto& m : unfelt) send(*keyboard, m);
@@ -596,8 +596,6 @@ TEST(LiveJack, MidiInputClosedWhileAKeyboardPlaysTakesOnlyWholeNotes) {
       }
     }
   }
-  stop = true;
-  player.join();
 }
 
 TEST(LiveJack, PlayMidiOutToAPortThatIsNotThereIsBadInput) {
