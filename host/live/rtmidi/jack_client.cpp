@@ -1,8 +1,5 @@
 #include "host/live/rtmidi/jack_client.hpp"
 
-#include <chrono>
-#include <thread>
-
 #include "host/live/midi_port.hpp"
 
 namespace hmp::live {
@@ -18,10 +15,6 @@ std::string first_port_named_like(jack_client_t* client, const std::string& port
   jack_free(static_cast<void*>(ports));
   return found;
 }
-
-// How long wait_cycles() waits at the most: a cycle is a few ms, so this long means the server is not
-// running our client.
-constexpr int kWaitMs = 200;
 
 void on_shutdown(void* gone) { static_cast<std::atomic<bool>*>(gone)->store(true); }
 
@@ -83,8 +76,7 @@ std::string JackMidiClient::description() const {
 
 void JackMidiClient::wait_cycles(unsigned count) const {
   const unsigned from = cycles_;
-  for (int waited = 0; cycles_ - from < count && !gone_ && waited < kWaitMs; ++waited)
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  wait_until([&] { return cycles_ - from >= count; });
 }
 
 bool JackMidiClient::present() const {

@@ -4,7 +4,9 @@
 #include <jack/jack.h>
 
 #include <atomic>
+#include <chrono>
 #include <string>
+#include <thread>
 
 namespace hmp::live {
 
@@ -33,8 +35,22 @@ class JackMidiClient {
   bool present() const;
   // Whether the server has shut our client down.
   bool gone() const { return gone_; }
-  // Waits until `count` more process cycles have run (at most 0.2 s: the server is not running us).
+  // Waits, polling every millisecond, until `done()` holds, for at most kWaitMs; false if it did not hold
+  // by then or the server shut our client down.
+  template <class Done>
+  bool wait_until(Done done) const {
+    for (int waited = 0; !gone_; ++waited) {
+      if (done()) return true;
+      if (waited == kWaitMs) return false;
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    return false;
+  }
+  // Waits until `count` more process cycles have run (wait_until's bounds).
   void wait_cycles(unsigned count) const;
+
+  // A cycle is a few ms: a wait this long means the server is not running our client.
+  static constexpr int kWaitMs = 200;
 
  private:
   static int each_cycle(jack_nframes_t frames, void* self);

@@ -4,9 +4,7 @@
 #include <jack/midiport.h>
 #include <jack/ringbuffer.h>
 
-#include <chrono>
 #include <cstdint>
-#include <thread>
 
 #include "host/live/rtmidi/jack_client.hpp"
 
@@ -17,9 +15,6 @@ namespace {
 // short messages, far more than a song sends in one JACK period.
 constexpr std::size_t kRingBytes = 16384;
 using Size = std::uint16_t;
-// How long send() waits for the process callback to make room, and the destructor for it to take what
-// was sent last: a cycle is a few ms, so this long means the server is not running our client.
-constexpr int kWaitMs = 200;
 
 class JackOutput final : public MidiOutput {
  public:
@@ -50,15 +45,9 @@ class JackOutput final : public MidiOutput {
       error = "a MIDI message of " + std::to_string(size) + " bytes is more than JACK's buffer here takes";
       return false;
     }
-    for (int waited = 0; !client_.gone() && jack_ringbuffer_write_space(ring_) < sizeof(Size) + size; ++waited) {
-      if (waited == kWaitMs) {
-        error = "the JACK server took no MIDI for 0.2 s";
-        return false;
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    }
-    if (client_.gone()) {
-      error = "the JACK server stopped";
+    // The process callback makes room within a cycle or two.
+    if (!client_.wait_until([&] { return jack_ringbuffer_write_space(ring_) >= sizeof(Size) + size; })) {
+      error = client_.gone() ? "the JACK server stopped" : "the JACK server took no MIDI for 0.2 s";
       return false;
     }
     const auto header = static_cast<Size>(size);
@@ -74,8 +63,7 @@ class JackOutput final : public MidiOutput {
   // two later. Cycles counted, not timed: on a busy machine the server's cycles come late, and a wait of
   // two periods' time lost a whole batch in 1 of 3,000 closes here.
   void drain() const {
-    for (int i = 0; i < kWaitMs && !client_.gone() && jack_ringbuffer_read_space(ring_) > 0; ++i)
-      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    client_.wait_until([&] { return jack_ringbuffer_read_space(ring_) == 0; });
     client_.wait_cycles(3);
   }
 
