@@ -100,6 +100,8 @@ class PhiChain {
   const double* integral(int level) { return at(p_, level); }
   // Q(τ): the response to an input growing linearly from 0.
   const double* ramp(int level) { return at(q_, level); }
+  // ‖D⁻¹·A·D‖₁ of the last computation's balanced A: a bound on its eigenvalues' moduli, in 1/s.
+  double norm() const { return norm_; }
 
   static constexpr int kMaxLevels = 12;
   // The work matrices' rows are padded to a multiple of this many doubles: whole vectors of 8 or 4.
