@@ -82,15 +82,19 @@ INSTANTIATE_TEST_SUITE_P(Stiff, TautScenes,
 // docs/performance.md).
 class CarriedGrip : public testing::TestWithParam<double> {};
 
-TEST_P(CarriedGrip, ForcesWithinBounds) {
-  const double stiffness = GetParam();
-  const PlantScene scene = make_plant_scene("frame_edge", stiffness, kSeconds);
+// The default integrator alone, at one step per tick, against the reference.
+WorkPrecision default_against_reference(const char* scene_name, double stiffness, double seconds) {
   WorkPrecisionOptions o;
   o.methods = {default_method()};
   o.steps_per_tick = {1};
   o.cvode_rtols = {};
   o.repeats = 1;
-  const WorkPrecision wp = work_precision(scene, o);
+  return work_precision(make_plant_scene(scene_name, stiffness, seconds), o);
+}
+
+TEST_P(CarriedGrip, ForcesWithinBounds) {
+  const double stiffness = GetParam();
+  const WorkPrecision wp = default_against_reference("frame_edge", stiffness, kSeconds);
   ASSERT_EQ(wp.points.size(), 1u);
   const WorkPrecisionPoint& def = wp.points[0];
   ASSERT_TRUE(def.is_default);
@@ -116,15 +120,10 @@ class SlackStrings : public testing::TestWithParam<double> {};
 
 TEST_P(SlackStrings, ForcesWithinBounds) {
   const double stiffness = GetParam();
-  const PlantScene scene = make_plant_scene("slack", stiffness, 1.0);
-  WorkPrecisionOptions o;
-  o.methods = {default_method()};
-  o.steps_per_tick = {1};
-  o.cvode_rtols = {};
-  o.repeats = 1;
-  const WorkPrecision wp = work_precision(scene, o);
+  const WorkPrecision wp = default_against_reference("slack", stiffness, 1.0);
   ASSERT_EQ(wp.points.size(), 1u);
   const WorkPrecisionPoint& def = wp.points[0];
+  ASSERT_TRUE(def.is_default);
   ASSERT_TRUE(def.ok);
   std::printf("  slack, k = %.0e N/m: default %.3f%% / %.3f%%, reference %.1e / %.1e\n", stiffness,
               100 * def.error.force, 100 * def.error.finger_force, wp.reference_convergence.force,
