@@ -206,27 +206,6 @@ class Exponential final : public Integrator {
     system.project(y);
   }
 
-  // One classical Runge–Kutta step of length tau from y, with f_ = f(y) on entry.
-  void rk4(OdeSystem& system, double tau, double* y) {
-    const int n = system.size();
-    const double weight[3] = {2, 2, 1}, reach[3] = {0.5 * tau, tau, 0};
-    for (int i = 0; i < n; ++i) {
-      slope_sum_[i] = f_[i];
-      a_[i] = y[i] + 0.5 * tau * f_[i];
-    }
-    for (int stage = 0; stage < 3; ++stage) {
-      system.project(a_.data());
-      system.derivative(a_.data(), f1_.data());
-      ++evaluations_;
-      for (int i = 0; i < n; ++i) {
-        slope_sum_[i] += weight[stage] * f1_[i];
-        a_[i] = y[i] + reach[stage] * f1_[i];
-      }
-    }
-    for (int i = 0; i < n; ++i) y[i] += tau / 6 * slope_sum_[i];
-    system.project(y);
-  }
-
   // A (sub-)step's start, state and derivative, kept so that the step can be taken again.
   void save_start(const double* y, int n) {
     for (int i = 0; i < n; ++i) saved_[i] = y[i];
@@ -281,6 +260,9 @@ class Exponential final : public Integrator {
         if (system.piece_of(g) == piece) continue;
         restore_start(y, n);
       }
+      // The Runge–Kutta parts a fine sub-step would take: the fastest rate is bounded by ‖A‖₁ of this
+      // quarter's piece, taken as the bound of the fine sub-steps' pieces too. They differ from it in the
+      // strings that switch within the quarter, whose tension is small near the switch.
       const double fine = std::ldexp(h, -kFineLevel);
       const int parts = static_cast<int>(std::ceil(fine * lin->chain.norm() / kExplicitReach));
       for (int m = 0; m < (1 << (kFineLevel - kCheckpointLevel)); ++m) {
@@ -288,23 +270,33 @@ class Exponential final : public Integrator {
           system.derivative(y, f_.data());
           ++evaluations_;
         }
-        system.switch_functions(y, g);
-        const std::uint32_t fine_piece = system.piece_of(g);
-        std::array<double, kMaxDrift> drift{};
-        Linearisation* on = find(system, y, fine_piece, h, drift);
-        if (on == nullptr && parts <= kExplicitParts) {
-          for (int part = 0; part < parts; ++part) {
-            if (part > 0) {
-              system.derivative(y, f_.data());
-              ++evaluations_;
-            }
-            rk4(system, fine / parts, y);
-          }
-          continue;
-        }
-        etd2(system, on != nullptr ? *on : new_linearisation(system, y, fine_piece, h), kFineLevel, h, y);
+        fine_substep(system, y, h, parts);
       }
     }
+  }
+
+  // One fine sub-step (h / 2^kFineLevel) from y, with f_ = f(y) on entry, on the piece y is on: by its
+  // cached linearisation within reach; else, if `parts` ≤ kExplicitParts, as that many Runge–Kutta
+  // steps; else by a new linearisation.
+  void fine_substep(OdeSystem& system, double* y, double h, int parts) {
+    double g[kMaxSwitches];
+    system.switch_functions(y, g);
+    const std::uint32_t piece = system.piece_of(g);
+    std::array<double, kMaxDrift> drift{};
+    Linearisation* on = find(system, y, piece, h, drift);
+    if (on == nullptr && parts <= kExplicitParts) {
+      const double tau = std::ldexp(h, -kFineLevel) / parts;
+      for (int part = 0; part < parts; ++part) {
+        if (part > 0) {
+          system.derivative(y, f_.data());
+          ++evaluations_;
+        }
+        rk4_step(system, y, tau, f_.data(), runge_kutta_);
+        evaluations_ += 3;
+      }
+      return;
+    }
+    etd2(system, on != nullptr ? *on : new_linearisation(system, y, piece, h), kFineLevel, h, y);
   }
 
   // The cached linearisation of `piece` at step h taken nearest to y, if y is within its reach; `drift`
@@ -435,7 +427,8 @@ class Exponential final : public Integrator {
   const Linearisation* stepping_ = nullptr;  // the one the last whole step started on
   bool carrying_ = false;                    // the last whole step went more than kFarStep (saved_ holds its start)
   std::vector<double> jacobian_, gradient_;
-  Vector f_{}, f1_{}, a_{}, slope_sum_{}, f0_{}, col_{}, tmp_y_{}, saved_{}, f_saved_{}, mid_{};
+  RungeKuttaWork runge_kutta_;
+  Vector f_{}, f1_{}, a_{}, f0_{}, col_{}, tmp_y_{}, saved_{}, f_saved_{}, mid_{};
 };
 
 }  // namespace

@@ -50,21 +50,14 @@ class RungeKutta4 final : public Integrator {
  public:
   Method method() const override { return Method::rk4; }
   void step(OdeSystem& system, double* y, double h) override {
-    const int n = system.size();
     system.derivative(y, k1_.data());
-    for (int i = 0; i < n; ++i) tmp_[i] = y[i] + 0.5 * h * k1_[i];
-    system.derivative(tmp_.data(), k2_.data());
-    for (int i = 0; i < n; ++i) tmp_[i] = y[i] + 0.5 * h * k2_[i];
-    system.derivative(tmp_.data(), k3_.data());
-    for (int i = 0; i < n; ++i) tmp_[i] = y[i] + h * k3_[i];
-    system.derivative(tmp_.data(), k4_.data());
+    rk4_step(system, y, h, k1_.data(), work_);
     evaluations_ += 4;
-    for (int i = 0; i < n; ++i) y[i] += h / 6.0 * (k1_[i] + 2.0 * (k2_[i] + k3_[i]) + k4_[i]);
-    system.project(y);
   }
 
  private:
-  Vector k1_{}, k2_{}, k3_{}, tmp_{}, k4_{};
+  Vector k1_{};
+  RungeKuttaWork work_;
 };
 
 // Shared by the linearly implicit methods: a numerical Jacobian J of the system's smooth_derivative()
@@ -285,6 +278,19 @@ bool parse_method(std::string_view name, Method& out) {
       return true;
     }
   return false;
+}
+
+void rk4_step(OdeSystem& system, double* y, double h, const double* k1, RungeKuttaWork& work) {
+  const int n = system.size();
+  double *k2 = work.k2.data(), *k3 = work.k3.data(), *k4 = work.k4.data(), *stage = work.stage.data();
+  for (int i = 0; i < n; ++i) stage[i] = y[i] + 0.5 * h * k1[i];
+  system.derivative(stage, k2);
+  for (int i = 0; i < n; ++i) stage[i] = y[i] + 0.5 * h * k2[i];
+  system.derivative(stage, k3);
+  for (int i = 0; i < n; ++i) stage[i] = y[i] + h * k3[i];
+  system.derivative(stage, k4);
+  for (int i = 0; i < n; ++i) y[i] += h / 6.0 * (k1[i] + 2.0 * (k2[i] + k3[i]) + k4[i]);
+  system.project(y);
 }
 
 std::unique_ptr<Integrator> make_integrator(Method method, const IntegratorOptions& options) {

@@ -142,4 +142,12 @@ struct IntegratorOptions {
 
 std::unique_ptr<Integrator> make_integrator(Method method, const IntegratorOptions& options = {});
 
+// The classical Runge–Kutta step, shared by Method::rk4 and the exponential integrator's short explicit
+// sub-steps: y advances by h from k1 = f(y), given; three derivative evaluations, the state projected at
+// the end only.
+struct RungeKuttaWork {
+  std::array<double, kMaxState> k2{}, k3{}, k4{}, stage{};
+};
+void rk4_step(OdeSystem& system, double* y, double h, const double* k1, RungeKuttaWork& work);
+
 }  // namespace hmp::sim::plant
