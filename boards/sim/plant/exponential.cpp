@@ -28,6 +28,10 @@ constexpr int kLevels = kFineLevel + 1;
 // 1.8 %. Where more than kExplicitParts would be needed (10⁷ N/m) the piece is linearised as before.
 constexpr double kExplicitReach = 0.25;
 constexpr int kExplicitParts = 8;
+// A checkpoint sub-step on a piece with no linearisation within reach is taken as fine sub-steps until
+// the piece has been missed this many times near the same state, then linearised (a carried grip's
+// pieces are passed by; a held grip's come back).
+constexpr int kMissesToLinearise = 2;
 // Linearisations kept: a slack/taut transient visits a handful of pieces, and a vibrating grip a few
 // poses of each.
 constexpr int kCacheSize = 24;
@@ -111,6 +115,7 @@ class Exponential final : public Integrator {
   Method method() const override { return Method::exponential; }
   void invalidate() override {
     for (Linearisation& l : cache_) l.valid = false;
+    for (Miss& m : misses_) m.count = 0;
     stepping_ = nullptr;
     carrying_ = false;
   }
@@ -148,11 +153,11 @@ class Exponential final : public Integrator {
       lin = &find_or_new(system, mid_.data(), piece, h);
       stepping_ = nullptr;
     } else {
-      lin = &linearisation(system, y, piece, h, true);
+      lin = &linearisation(system, y, piece, h);
     }
     carrying_ = false;
     if (ng > 0 && switch_within(system, *lin, g, piece, ng)) {
-      split_step(system, y, h);
+      split_step(system, y, h, lin->chain.norm());
       return;
     }
     save_start(y, n);
@@ -241,8 +246,10 @@ class Exponential final : public Integrator {
 
   // A step over which the piece changes, as kCheckpoints sub-steps: one over which no switch is predicted
   // (from its start) and whose end is on its start's piece is taken whole; the others as 2^(kFineLevel −
-  // kCheckpointLevel) fine sub-steps, each on the piece its start is on. f_ = f(y) on entry.
-  void split_step(OdeSystem& system, double* y, double h) {
+  // kCheckpointLevel) fine sub-steps, each on the piece its start is on. So is one on a piece with no
+  // linearisation within reach, until that piece has been missed kMissesToLinearise times near there.
+  // f_ = f(y) on entry; `norm`: ‖A‖₁ of the whole step's piece.
+  void split_step(OdeSystem& system, double* y, double h, double norm) {
     const int n = system.size();
     double g[kMaxSwitches];
     for (int k = 0; k < kCheckpoints; ++k) {
@@ -252,19 +259,21 @@ class Exponential final : public Integrator {
       }
       const int ng = system.switch_functions(y, g);
       const std::uint32_t piece = system.piece_of(g);
-      Linearisation* lin = &linearisation(system, y, piece, h, false);
-      if (!switch_within(system, *lin, g, piece, ng, 0, 0)) {
+      std::array<double, kMaxDrift> drift{};
+      Linearisation* lin = find(system, y, piece, h, drift);
+      if (lin == nullptr && (explicit_parts(h, norm) > kExplicitParts || missed_enough(system, y, piece, h)))
+        lin = &new_linearisation(system, y, piece, h);
+      if (lin != nullptr && !switch_within(system, *lin, g, piece, ng, 0, 0)) {
         save_start(y, n);
         etd2(system, *lin, kCheckpointLevel, h, y);
         system.switch_functions(y, g);
         if (system.piece_of(g) == piece) continue;
         restore_start(y, n);
       }
-      // The Runge–Kutta parts a fine sub-step would take: the fastest rate is bounded by ‖A‖₁ of this
-      // quarter's piece, taken as the bound of the fine sub-steps' pieces too. They differ from it in the
-      // strings that switch within the quarter, whose tension is small near the switch.
-      const double fine = std::ldexp(h, -kFineLevel);
-      const int parts = static_cast<int>(std::ceil(fine * lin->chain.norm() / kExplicitReach));
+      // The fastest rate is bounded by ‖A‖₁ of this quarter's piece (or the step's), taken as the bound
+      // of the fine sub-steps' pieces too. They differ from it in the strings that switch within the
+      // quarter, whose tension is small near the switch.
+      const int parts = explicit_parts(h, lin != nullptr ? lin->chain.norm() : norm);
       for (int m = 0; m < (1 << (kFineLevel - kCheckpointLevel)); ++m) {
         if (m > 0) {
           system.derivative(y, f_.data());
@@ -273,6 +282,11 @@ class Exponential final : public Integrator {
         fine_substep(system, y, h, parts);
       }
     }
+  }
+
+  // The Runge–Kutta parts of a fine sub-step of a step h on a piece whose ‖A‖₁ is `norm`.
+  static int explicit_parts(double h, double norm) {
+    return static_cast<int>(std::ceil(std::ldexp(h, -kFineLevel) * norm / kExplicitReach));
   }
 
   // One fine sub-step (h / 2^kFineLevel) from y, with f_ = f(y) on entry, on the piece y is on: by its
@@ -299,6 +313,30 @@ class Exponential final : public Integrator {
     etd2(system, on != nullptr ? *on : new_linearisation(system, y, piece, h), kFineLevel, h, y);
   }
 
+  // Whether `piece` has been missed (no linearisation within reach) kMissesToLinearise times within reach
+  // of where it was first missed, this time included; the misses remembered are forgotten then.
+  bool missed_enough(const OdeSystem& system, const double* y, std::uint32_t piece, double h) {
+    std::array<double, kMaxDrift> d{};
+    Miss* oldest = &misses_[0];
+    for (Miss& m : misses_) {
+      if (m.count > 0 && m.piece == piece && m.h == h && m.n == system.size() &&
+          drift_squared(system, m.origin.data(), y, d, 1.0) <= 1.0) {
+        m.last = ++clock_;
+        if (++m.count < kMissesToLinearise) return false;
+        m.count = 0;
+        return true;
+      }
+      if (m.count == 0 || (oldest->count > 0 && m.last < oldest->last)) oldest = &m;
+    }
+    oldest->piece = piece;
+    oldest->h = h;
+    oldest->n = system.size();
+    oldest->count = 1;
+    oldest->last = ++clock_;
+    for (int i = 0; i < system.size(); ++i) oldest->origin[i] = y[i];
+    return kMissesToLinearise <= 1;
+  }
+
   // The cached linearisation of `piece` at step h taken nearest to y, if y is within its reach; `drift`
   // receives y's drift from it.
   Linearisation* find(const OdeSystem& system, const double* y, std::uint32_t piece, double h,
@@ -319,17 +357,17 @@ class Exponential final : public Integrator {
     return nearest;
   }
 
-  // The linearisation for a step (`step`: a whole one, else part of a split one): the cached one, else a
-  // new one in place of the least recently used. A grip that has settled away from where its
+  // The linearisation for a whole step: the cached one, else a new one in place of the least recently
+  // used. A grip that has settled away from where its
   // linearisation was taken (gravity sagging it onto the finger, a vibration's mean shifting) is
   // linearised again where it now is, once its drift averaged over kSettleTime of whole steps on that
   // linearisation is more than kSettledDrift of the reach: a stale linearisation's error grows with the
   // offset (0.07 mm of sag cost 0.9 % of finger force at 10⁵ N/m). A grip swinging across several cached
   // linearisations uses each only briefly, and its average starts again each time.
-  Linearisation& linearisation(OdeSystem& system, const double* y, std::uint32_t piece, double h, bool step) {
+  Linearisation& linearisation(OdeSystem& system, const double* y, std::uint32_t piece, double h) {
     std::array<double, kMaxDrift> drift{};
     Linearisation* lin = find(system, y, piece, h, drift);
-    if (lin != nullptr && step) {
+    if (lin != nullptr) {
       if (lin != stepping_) {
         lin->mean_drift = drift;
         lin->settled_for = 0;
@@ -344,7 +382,7 @@ class Exponential final : public Integrator {
       if (lin->settled_for >= kSettleTime && m2 > kSettledDrift * kSettledDrift) recompute(system, y, piece, h, *lin);
     }
     if (lin == nullptr) lin = &new_linearisation(system, y, piece, h);
-    if (step) stepping_ = lin;
+    stepping_ = lin;
     return *lin;
   }
 
@@ -427,6 +465,15 @@ class Exponential final : public Integrator {
   const Linearisation* stepping_ = nullptr;  // the one the last whole step started on
   bool carrying_ = false;                    // the last whole step went more than kFarStep (saved_ holds its start)
   std::vector<double> jacobian_, gradient_;
+  // Pieces a split step found no linearisation for, where.
+  struct Miss {
+    std::uint32_t piece = 0;
+    double h = 0;
+    int n = 0, count = 0;  // count 0: unused
+    std::uint64_t last = 0;
+    Vector origin{};
+  };
+  std::array<Miss, kCacheSize> misses_{};
   RungeKuttaWork runge_kutta_;
   Vector f_{}, f1_{}, a_{}, f0_{}, col_{}, tmp_y_{}, saved_{}, f_saved_{}, mid_{};
 };

@@ -18,6 +18,9 @@
 // Switches inside a step are located: the piece's switch functions are predicted along the step at
 // kCheckpoints points from their linearisation; a step over which the piece changes is taken instead as
 // kCheckpoints sub-steps, those in which a switch falls as finer ones, each on the piece its start is on.
+// A sub-step on a piece with no linearisation within reach is taken as finer ones too (explicit
+// Runge–Kutta where no linearisation is near), the piece linearised only when missed there a second
+// time: a carried grip passes most of its pieces by.
 //
 // A system that has coordinates in which it is nearer linear (OdeSystem::to_linear: the plant's string
 // stretches) is stepped in them, every cached linearisation and kept start with it.
