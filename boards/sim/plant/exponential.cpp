@@ -358,12 +358,12 @@ class Exponential final : public Integrator {
   }
 
   // The linearisation for a whole step: the cached one, else a new one in place of the least recently
-  // used. A grip that has settled away from where its
-  // linearisation was taken (gravity sagging it onto the finger, a vibration's mean shifting) is
-  // linearised again where it now is, once its drift averaged over kSettleTime of whole steps on that
-  // linearisation is more than kSettledDrift of the reach: a stale linearisation's error grows with the
-  // offset (0.07 mm of sag cost 0.9 % of finger force at 10⁵ N/m). A grip swinging across several cached
-  // linearisations uses each only briefly, and its average starts again each time.
+  // used. A grip that has settled away from where its linearisation was taken (gravity sagging it onto
+  // the finger, a vibration's mean shifting) is linearised again where it now is, once its drift averaged
+  // over kSettleTime of whole steps on that linearisation is more than kSettledDrift of the reach: a stale
+  // linearisation's error grows with the offset (0.07 mm of sag cost 0.9 % of finger force at 10⁵ N/m).
+  // A grip swinging across several cached linearisations uses each only briefly, and its average starts
+  // again each time.
   Linearisation& linearisation(OdeSystem& system, const double* y, std::uint32_t piece, double h) {
     std::array<double, kMaxDrift> drift{};
     Linearisation* lin = find(system, y, piece, h, drift);

@@ -12,8 +12,8 @@ namespace hmp::sim::plant {
 namespace {
 
 // The Taylor series of φ₂ is summed at ‖X‖₁ ≤ 8, forward, until what is left after a term is below
-// 10⁻¹³ (of φ₂(0) = I/2; the integrator's errors are 10⁻⁴ of the force and more, and 10⁻¹⁷ took a fifth
-// more terms, 4 % of the carried grip's run at 10⁵ N/m): each term is a product by the sparse X, about a
+// 10⁻¹³ (of φ₂(0) = I/2; the integrator's errors are 10⁻⁴ of the force and more, and the terms down to
+// 10⁻¹⁷ cost 4 % of the carried grip's run at 10⁵ N/m): each term is a product by the sparse X, about a
 // twelfth of a doubling's three dense products, so a larger norm and more terms cost less than more
 // levels. The bound is set by cancellation: the terms of a lightly damped mode grow to 8⁶/8! ≈ 6.5 of I
 // before they fall; at 16, a 7 kHz string mode over 10 ms lost E's tenth digit
