@@ -25,7 +25,7 @@ constexpr int kLevels = kFineLevel + 1;
 // 1-norm bounds the fastest mode's rate): a piece a string snaps through once is seldom visited again at
 // the same pose, and a linearisation costs as much as ~100 derivatives. One sub-step of 31 µs at 10⁵ N/m
 // (‖τA‖₁ ≈ 0.4) cost 3.2 % of the slack scene's string force against 1.7 % on linearisations; two cost
-// 1.8 %. Where more than kExplicitParts would be needed (10⁷ N/m) the piece is linearised as before.
+// 1.8 %. Where more than kExplicitParts would be needed (10⁷ N/m) the piece is linearised.
 constexpr double kExplicitReach = 0.25;
 constexpr int kExplicitParts = 8;
 // A checkpoint sub-step on a piece with no linearisation within reach is taken as fine sub-steps until
@@ -246,9 +246,9 @@ class Exponential final : public Integrator {
 
   // A step over which the piece changes, as kCheckpoints sub-steps: one over which no switch is predicted
   // (from its start) and whose end is on its start's piece is taken whole; the others as 2^(kFineLevel −
-  // kCheckpointLevel) fine sub-steps, each on the piece its start is on. So is one on a piece with no
-  // linearisation within reach, until that piece has been missed kMissesToLinearise times near there.
-  // f_ = f(y) on entry; `norm`: ‖A‖₁ of the whole step's piece.
+  // kCheckpointLevel) fine sub-steps, each on the piece its start is on. So is one on a piece that
+  // sub_step_linearisation() gives no linearisation for. f_ = f(y) on entry; `norm`: ‖A‖₁ of the whole
+  // step's piece.
   void split_step(OdeSystem& system, double* y, double h, double norm) {
     const int n = system.size();
     double g[kMaxSwitches];
@@ -259,10 +259,7 @@ class Exponential final : public Integrator {
       }
       const int ng = system.switch_functions(y, g);
       const std::uint32_t piece = system.piece_of(g);
-      std::array<double, kMaxDrift> drift{};
-      Linearisation* lin = find(system, y, piece, h, drift);
-      if (lin == nullptr && (explicit_parts(h, norm) > kExplicitParts || missed_enough(system, y, piece, h)))
-        lin = &new_linearisation(system, y, piece, h);
+      Linearisation* lin = sub_step_linearisation(system, y, piece, h, SubStep::checkpoint, explicit_parts(h, norm));
       if (lin != nullptr && !switch_within(system, *lin, g, piece, ng, 0, 0)) {
         save_start(y, n);
         etd2(system, *lin, kCheckpointLevel, h, y);
@@ -289,16 +286,30 @@ class Exponential final : public Integrator {
     return static_cast<int>(std::ceil(std::ldexp(h, -kFineLevel) * norm / kExplicitReach));
   }
 
+  // Sub-steps that may go without a linearisation of their piece.
+  enum class SubStep { checkpoint, fine };
+
+  // The linearisation a sub-step from y on `piece` is taken on: the cached one within reach; else a new
+  // one, or none (nullptr) where the sub-step goes without. A fine sub-step goes without if its
+  // Runge–Kutta `parts` are at most kExplicitParts; a checkpoint quarter then too (to its fine sub-steps),
+  // until its piece has been missed kMissesToLinearise times near y. (A whole step always linearises:
+  // linearisation(), find_or_new().)
+  Linearisation* sub_step_linearisation(OdeSystem& system, const double* y, std::uint32_t piece, double h,
+                                        SubStep sub_step, int parts) {
+    if (Linearisation* cached = find(system, y, piece, h)) return cached;
+    const bool linearise =
+        parts > kExplicitParts || (sub_step == SubStep::checkpoint && missed_enough(system, y, piece, h));
+    return linearise ? &new_linearisation(system, y, piece, h) : nullptr;
+  }
+
   // One fine sub-step (h / 2^kFineLevel) from y, with f_ = f(y) on entry, on the piece y is on: by its
-  // cached linearisation within reach; else, if `parts` ≤ kExplicitParts, as that many Runge–Kutta
-  // steps; else by a new linearisation.
+  // linearisation, or as `parts` Runge–Kutta steps where sub_step_linearisation() gives none.
   void fine_substep(OdeSystem& system, double* y, double h, int parts) {
     double g[kMaxSwitches];
     system.switch_functions(y, g);
     const std::uint32_t piece = system.piece_of(g);
-    std::array<double, kMaxDrift> drift{};
-    Linearisation* on = find(system, y, piece, h, drift);
-    if (on == nullptr && parts <= kExplicitParts) {
+    Linearisation* on = sub_step_linearisation(system, y, piece, h, SubStep::fine, parts);
+    if (on == nullptr) {
       const double tau = std::ldexp(h, -kFineLevel) / parts;
       for (int part = 0; part < parts; ++part) {
         if (part > 0) {
@@ -310,7 +321,7 @@ class Exponential final : public Integrator {
       }
       return;
     }
-    etd2(system, on != nullptr ? *on : new_linearisation(system, y, piece, h), kFineLevel, h, y);
+    etd2(system, *on, kFineLevel, h, y);
   }
 
   // Whether `piece` has been missed (no linearisation within reach) kMissesToLinearise times within reach
@@ -355,6 +366,10 @@ class Exponential final : public Integrator {
     }
     if (nearest != nullptr) nearest->last_use = ++clock_;
     return nearest;
+  }
+  Linearisation* find(const OdeSystem& system, const double* y, std::uint32_t piece, double h) {
+    std::array<double, kMaxDrift> drift{};
+    return find(system, y, piece, h, drift);
   }
 
   // The linearisation for a whole step: the cached one, else a new one in place of the least recently
@@ -401,8 +416,7 @@ class Exponential final : public Integrator {
   // carried step: its finer levels are left until a step asks for them (a grip carried on rarely comes
   // back to the same pose).
   Linearisation& find_or_new(OdeSystem& system, const double* y, std::uint32_t piece, double h) {
-    std::array<double, kMaxDrift> drift{};
-    Linearisation* lin = find(system, y, piece, h, drift);
+    Linearisation* lin = find(system, y, piece, h);
     return lin != nullptr ? *lin : new_linearisation(system, y, piece, h, 1u);
   }
 
