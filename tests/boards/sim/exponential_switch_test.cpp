@@ -62,7 +62,7 @@ void exact(long double x0, long double v0, long double t, long double& x, long d
   v = speed * std::cos(wk * (t - crossing));
 }
 
-// x(0) = 0.1 mm, v(0) = −0.16 m/s: x crosses 0 at ≈ 0.63 ms, in the step's third quarter.
+// x(0) = 0.1 mm, v(0) = −0.16 m/s: x crosses 0 at ≈ 0.62 ms, in the step's third quarter.
 constexpr double kX0 = 1e-4, kV0 = -0.16;
 
 TEST(ExponentialSwitch, LandsOnTheExactSolutionAcrossTheSwitch) {
