@@ -101,6 +101,9 @@ class OdeSystem {
     return 0;
   }
   static constexpr double kNoBound = std::numeric_limits<double>::infinity();
+  // How far ahead of a moving state, along its motion, a new linearisation may be taken, in the drift's
+  // units (0: at the state). One taken ahead serves the way ahead as well as the state.
+  virtual double linearisation_lead() const { return 0; }
 
   // ---- coordinates in which the model is nearly linear (the exponential integrator) ----
   // A model whose stiff part is linear in other coordinates z = Φ(y) than its own (a string's stretch in

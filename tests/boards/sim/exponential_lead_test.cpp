@@ -1,0 +1,114 @@
+// The exponential integrator (boards/sim/plant/exponential) on a state carried along: an oscillator
+// whose frequency follows a position p moved at constant speed, the only nonlinearity. A linearisation
+// serves the states within reach of it on every side, so one taken ahead of the moving state along its
+// motion (OdeSystem::linearisation_lead()) serves it longer than one taken where it is. Counted here
+// against what the reach and the lead give by construction, and the carried oscillator's path checked
+// against a fine classical Runge–Kutta solution, with and without the lead.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+
+#include "boards/sim/plant/exponential.hpp"
+
+namespace hmp::sim::plant {
+namespace {
+
+constexpr double kStep = 1e-3;     // s
+constexpr double kReach = 1e-3;    // m of p: a drift of 1
+constexpr double kPerStep = 0.23;  // of the reach: p's motion in a step
+constexpr double kSpeed = kPerStep * kReach / kStep;
+constexpr double kOmega = 6.283185307179586 * 80;  // rad/s at p = 0
+constexpr double kBend = 20;                       // 1/m: ω grows by 2 % per mm of p
+
+// y = (p, x, v): p' = kSpeed, x' = v, v' = −ω(p)²·x with ω(p) = kOmega·(1 + kBend·p).
+class CarriedOscillator final : public OdeSystem {
+ public:
+  explicit CarriedOscillator(double lead) : lead_(lead) {}
+  int size() const override { return 3; }
+  void derivative(const double* y, double* dydt) override {
+    const double w = kOmega * (1 + kBend * y[0]);
+    dydt[0] = kSpeed;
+    dydt[1] = y[2];
+    dydt[2] = -w * w * y[1];
+  }
+  void position_rates(const double* y, double* dydt) const override {
+    dydt[0] = kSpeed;
+    dydt[1] = y[2];
+  }
+  bool is_position(int index) const override { return index < 2; }
+  double scale(int index) const override { return index == 2 ? 1.0 : 1e-3; }
+  void project(double*) const override {}
+  int linearisation_drift(const double* origin, const double* y, double* drift, double) const override {
+    drift[0] = (y[0] - origin[0]) / kReach;
+    return 1;
+  }
+  double linearisation_lead() const override { return lead_; }
+
+ private:
+  double lead_;
+};
+
+// kSteps steps from p = 0 and x = 1 mm with the lead given; the linearisations taken, and the largest
+// error of x against `reference` (x at each step's end) over the swing.
+struct Carried {
+  unsigned long linearisations = 0;
+  double error = 0;
+};
+constexpr int kSteps = 45;
+
+Carried run(double lead, const double* reference) {
+  CarriedOscillator system(lead);
+  std::unique_ptr<Integrator> integrator = make_exponential_integrator();
+  double y[3] = {0, 1e-3, 0};
+  Carried r;
+  for (int k = 0; k < kSteps; ++k) {
+    integrator->step(system, y, kStep);
+    r.error = std::fmax(r.error, std::fabs(y[1] - reference[k]) / 1e-3);
+  }
+  r.linearisations = integrator->factorisations();
+  return r;
+}
+
+// The same path by classical Runge–Kutta at 1 µs, x at each step's end.
+void reference_path(double* x) {
+  CarriedOscillator system(0);
+  double y[3] = {0, 1e-3, 0};
+  const int fine = 1000;
+  const double h = kStep / fine;
+  double k1[3], k2[3], k3[3], k4[3], t[3];
+  for (int k = 0; k < kSteps; ++k) {
+    for (int s = 0; s < fine; ++s) {
+      system.derivative(y, k1);
+      for (int i = 0; i < 3; ++i) t[i] = y[i] + h / 2 * k1[i];
+      system.derivative(t, k2);
+      for (int i = 0; i < 3; ++i) t[i] = y[i] + h / 2 * k2[i];
+      system.derivative(t, k3);
+      for (int i = 0; i < 3; ++i) t[i] = y[i] + h * k3[i];
+      system.derivative(t, k4);
+      for (int i = 0; i < 3; ++i) y[i] += h / 6 * (k1[i] + 2 * k2[i] + 2 * k3[i] + k4[i]);
+    }
+    x[k] = y[1];
+  }
+}
+
+TEST(ExponentialLead, ALinearisationTakenAheadServesTheWayAhead) {
+  double reference[kSteps];
+  reference_path(reference);
+  // Without a lead a linearisation serves the starts 0 … 1 of the reach past it: 0, 0.23, … 0.92, five
+  // steps, so 45 steps take 9. With a lead of 0.8 the first step (no motion seen yet) is linearised where
+  // it starts and serves five; each later one is taken 0.8 ahead and serves the starts −0.8 … 1 about it,
+  // eight steps: 1 + 40 / 8 = 6.
+  const Carried plain = run(0, reference);
+  const Carried ahead = run(0.8, reference);
+  EXPECT_EQ(plain.linearisations, 9u);
+  EXPECT_EQ(ahead.linearisations, 6u);
+  // The lead moves where the linearisations are, not how far from them a step may be: the error stays
+  // of the same size (measured 1.0% of the swing without, 0.86% with; ETD2's second-order error on the
+  // frequency's 0.5% change in a step, over 3.6 periods).
+  EXPECT_LT(plain.error, 0.02);
+  EXPECT_LT(ahead.error, 1.25 * plain.error);
+}
+
+}  // namespace
+}  // namespace hmp::sim::plant
