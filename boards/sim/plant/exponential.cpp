@@ -208,16 +208,16 @@ class Exponential final : public Integrator {
   // Matthews' ETDRK2): a = y + P·f(y); y ← a + (Q/τ)·(f(a) − E·f(y)). The second stage takes the
   // change of the nonlinear remainder f − A·y over the step as linear in time.
   void etd2(OdeSystem& system, Linearisation& lin, int level, double h, double* y) {
-    const int n = lin.n;
+    const int n = lin.n, ld = PhiChain::stride(n);
     const double tau = std::ldexp(h, -level);
     for (int i = 0; i < n; ++i) a_[i] = y[i];
-    multiply_add_rows(lin.chain.integral(level), n, n, f_.data(), 1.0, a_.data());
+    multiply_add_columns(lin.chain.integral(level), n, ld, f_.data(), 1.0, a_.data());
     system.project(a_.data());
     system.derivative(a_.data(), f1_.data());
     ++evaluations_;
-    multiply_add_rows(lin.chain.exponential(level), n, n, f_.data(), -1.0, f1_.data());
+    multiply_add_columns(lin.chain.exponential(level), n, ld, f_.data(), -1.0, f1_.data());
     for (int i = 0; i < n; ++i) y[i] = a_[i];
-    multiply_add_rows(lin.chain.ramp(level), n, n, f1_.data(), 1.0 / tau, y);
+    multiply_add_columns(lin.chain.ramp(level), n, ld, f1_.data(), 1.0 / tau, y);
     system.project(y);
   }
 

@@ -39,9 +39,11 @@ struct SparseRows {
   void gather(const double* a, int rows, int cols, int lda);
 };
 
-// out += s·(m·v) for `rows` rows of m, row-major with row stride n (a step by the chain's functions, the
-// switch functions' rows along one).
+// out += s·(m·v) for `rows` rows of m, row-major with row stride n (the switch functions' rows along a step).
 void multiply_add_rows(const double* m, int rows, int n, const double* v, double s, double* out);
+// out += s·(m·v) for the n×n m stored by columns, column stride ld (PhiChain::stride(n)), its rows n … ld − 1
+// zero: a step by the chain's functions.
+void multiply_add_columns(const double* m, int n, int ld, const double* v, double s, double* out);
 
 // Storage that starts on a cache line (64 bytes). The chain's padded rows are whole lines, so a row's
 // vectors never straddle two lines; on malloc's 16-byte alignment they may, and whether they did depended
@@ -95,7 +97,7 @@ class PhiChain {
   // (a chain most likely read at h only need not write its other levels).
   void compute(const double* a, int n, double h, int levels, const QuarterRows* quarters = nullptr,
                std::uint32_t keep_now = ~0u);
-  // n×n, row-major, stride n; level < max_levels.
+  // n×n by columns: entry (i, j) at [j·stride(n) + i], rows n … stride(n) − 1 zero; level < max_levels.
   const double* exponential(int level) { return at(e_, level); }
   const double* integral(int level) { return at(p_, level); }
   // Q(τ): the response to an input growing linearly from 0.
@@ -106,12 +108,14 @@ class PhiChain {
   static constexpr int kMaxLevels = 12;
   // The work matrices' rows are padded to a multiple of this many doubles: whole vectors of 8 or 4.
   static constexpr int kLanes = 8;
+  // The columns' stride of the functions read for n states: n rounded up to whole vectors.
+  static constexpr int stride(int n) { return (n + kLanes - 1) / kLanes * kLanes; }
 
  private:
-  static constexpr std::size_t kStride = static_cast<std::size_t>(kMaxState) * kMaxState;
   static constexpr std::size_t kPadded =
-      static_cast<std::size_t>(kMaxState) * ((kMaxState + kLanes - 1) / kLanes * kLanes);
-  const double* at(const std::vector<double>& functions, int level) {
+      static_cast<std::size_t>(kMaxState) * ((kMaxState + kLanes - 1) / kLanes * kLanes);  // stride(kMaxState) rows
+  static constexpr std::size_t kStride = kPadded;
+  const double* at(const LineAlignedDoubles& functions, int level) {
     if (!ready_[static_cast<std::size_t>(level)]) sum_level(level);
     return &functions[static_cast<std::size_t>(level) * kStride];
   }
@@ -134,7 +138,7 @@ class PhiChain {
   int start_ = 0;            // the level the doubling started from
   double h_ = 0, norm_ = 0;  // the step and ‖B‖₁ of the balanced matrix
   std::array<bool, kMaxLevels> ready_{};
-  std::vector<double> e_, p_, q_;   // max_levels × kStride each
+  LineAlignedDoubles e_, p_, q_;    // max_levels × kStride each
   LineAlignedDoubles b_;            // B = D⁻¹·A·D, kPadded: a level asked for later starts from it
   std::vector<double> scale_;       // balancing: A = D·B·D⁻¹, D = diag(scale_)
   std::unique_ptr<Workspace> own_;  // when no workspace is shared

@@ -77,6 +77,7 @@ void check(const std::vector<Oscillator>& oscillators, double h, double toleranc
         a[static_cast<std::size_t>((b + i) * n + b + j)] = static_cast<double>(
             block[i * 2 + j] * d[static_cast<std::size_t>(b + i)] / d[static_cast<std::size_t>(b + j)]);
   }
+  const int ld = PhiChain::stride(n);
   PhiChain chain(6);
   if (!before.empty()) chain.compute(before.data(), n, h, eager_levels);
   chain.compute(a.data(), n, h, eager_levels);
@@ -92,7 +93,7 @@ void check(const std::vector<Oscillator>& oscillators, double h, double toleranc
         Real scale = 0, worst = 0;
         for (int i = 0; i < 2; ++i)
           for (int j = 0; j < 2; ++j) {
-            const std::size_t at = static_cast<std::size_t>((b + i) * n + b + j);
+            const std::size_t at = static_cast<std::size_t>((b + j) * ld + b + i);  // by columns
             const Real unscaled =
                 static_cast<Real>(got[f][at]) * d[static_cast<std::size_t>(b + j)] / d[static_cast<std::size_t>(b + i)];
             scale = std::fmax(scale, std::fabs(want[f][i * 2 + j]));
@@ -104,7 +105,7 @@ void check(const std::vector<Oscillator>& oscillators, double h, double toleranc
       // Nothing leaks between the blocks.
       for (int i = 0; i < n; ++i) {
         if (i / 2 == b / 2) continue;
-        EXPECT_EQ(got[0][static_cast<std::size_t>(i * n + b)], 0.0) << "row " << i;
+        EXPECT_EQ(got[0][static_cast<std::size_t>(b * ld + i)], 0.0) << "row " << i;
       }
     }
   }
@@ -157,6 +158,7 @@ TEST(PhiChain, QuarterRowsAreTheRowsTimesTheIntegral) {
         g[static_cast<std::size_t>(k * n + j)] =
             (k + j) % 3 == 0 ? 0.0 : std::cos(2.0 + k * n + j) * std::pow(10.0, k - 2);
     const double h = 1e-3;
+    const int ld = PhiChain::stride(n);
     for (std::uint32_t kept : {~0u, 1u}) {
       std::vector<double> out(static_cast<std::size_t>(4 * m * n), -1.0);
       PhiChain::QuarterRows quarters;
@@ -172,7 +174,7 @@ TEST(PhiChain, QuarterRowsAreTheRowsTimesTheIntegral) {
           for (int j = 0; j < n; ++j) {
             Real want = 0, size = 0;
             for (int l = 0; l < n; ++l) {
-              const Real term = static_cast<Real>(g[static_cast<std::size_t>(k * n + l)]) * p[c][l * n + j];
+              const Real term = static_cast<Real>(g[static_cast<std::size_t>(k * n + l)]) * p[c][j * ld + l];
               want += term;
               size += std::fabs(term);
             }
@@ -186,10 +188,10 @@ TEST(PhiChain, QuarterRowsAreTheRowsTimesTheIntegral) {
   }
 }
 
-// multiply_add_rows (a step's products by the functions, the switch rows along one) against the sum
-// taken here in long double, for every width from 1 to kMaxState (whole fours and every remainder) and
-// row counts that are and are not multiples of four, entries of very different sizes; and the same sums
-// over a matrix and vector padded with zero columns (a system with more states, all zero) bit for bit.
+// multiply_add_rows (the switch rows along a step) against the sum taken here in long double, for every
+// width from 1 to kMaxState (whole fours and every remainder) and row counts that are and are not
+// multiples of four, entries of very different sizes; and the same sums over a matrix and vector padded
+// with zero columns (a system with more states, all zero) bit for bit.
 TEST(PhiChain, MultiplyAddRowsIsTheProductAddedAndScaled) {
   for (int n = 1; n <= kMaxState; ++n) {
     for (int rows : {1, 3, 4, 7, n}) {
@@ -228,6 +230,43 @@ TEST(PhiChain, MultiplyAddRowsIsTheProductAddedAndScaled) {
   }
 }
 
+// multiply_add_columns (a step's products by the chain's functions, stored by columns) against the sum
+// taken here in long double, for every size from 1 to kMaxState, entries of very different sizes; and
+// the same sums over the matrix and vector padded with zero rows and columns up to kMaxState (a system
+// with more states, all zero) bit for bit.
+TEST(PhiChain, MultiplyAddColumnsIsTheProductAddedAndScaled) {
+  const auto entry = [](int i, int j) { return std::sin(1.0 + 7 * i + j) * std::pow(10.0, (i + 3 * j) % 9 - 4); };
+  for (int n = 1; n <= kMaxState; ++n) {
+    const int ld = PhiChain::stride(n), wide = PhiChain::stride(kMaxState);
+    std::vector<double> m(static_cast<std::size_t>(n * ld), 0.0), mw(static_cast<std::size_t>(kMaxState * wide), 0.0);
+    std::vector<double> v(static_cast<std::size_t>(kMaxState), 0.0), start(static_cast<std::size_t>(kMaxState));
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i)
+        m[static_cast<std::size_t>(j * ld + i)] = mw[static_cast<std::size_t>(j * wide + i)] = entry(i, j);
+    for (int j = 0; j < n; ++j) v[static_cast<std::size_t>(j)] = std::cos(0.5 + j) * std::pow(10.0, j % 5 - 2);
+    for (int i = 0; i < kMaxState; ++i) start[static_cast<std::size_t>(i)] = i - 1.5;
+    const double s = -0.37;
+    std::vector<double> out = start, outw = start;
+    multiply_add_columns(m.data(), n, ld, v.data(), s, out.data());
+    multiply_add_columns(mw.data(), kMaxState, wide, v.data(), s, outw.data());
+    for (int i = 0; i < n; ++i) {
+      Real sum = 0, size = 0;
+      for (int j = 0; j < n; ++j) {
+        const Real term = static_cast<Real>(entry(i, j)) * v[static_cast<std::size_t>(j)];
+        sum += term;
+        size += std::fabs(term);
+      }
+      const Real want = start[static_cast<std::size_t>(i)] + s * sum;
+      EXPECT_LE(static_cast<double>(std::fabs(out[static_cast<std::size_t>(i)] - want)),
+                1e-15 * (std::fabs(static_cast<double>(want)) + std::fabs(s) * static_cast<double>(size)))
+          << "n " << n << ", row " << i;
+      EXPECT_EQ(outw[static_cast<std::size_t>(i)], out[static_cast<std::size_t>(i)]) << "n " << n << ", row " << i;
+    }
+    for (int i = n; i < kMaxState; ++i)  // rows past n untouched
+      EXPECT_EQ(out[static_cast<std::size_t>(i)], start[static_cast<std::size_t>(i)]) << "n " << n << ", row " << i;
+  }
+}
+
 TEST(PhiChain, ZeroMatrixGivesTheIntegralsOfOneAndOfS) {
   const double a[9] = {};
   PhiChain chain(3);
@@ -235,9 +274,10 @@ TEST(PhiChain, ZeroMatrixGivesTheIntegralsOfOneAndOfS) {
   for (int level = 0; level < 3; ++level) {
     const double t = std::ldexp(0.5, -level);
     for (int i = 0; i < 3; ++i) {
-      EXPECT_EQ(chain.exponential(level)[i * 3 + i], 1.0);
-      EXPECT_DOUBLE_EQ(chain.integral(level)[i * 3 + i], t);
-      EXPECT_DOUBLE_EQ(chain.ramp(level)[i * 3 + i], t * t / 2);
+      const int at = i * PhiChain::stride(3) + i;
+      EXPECT_EQ(chain.exponential(level)[at], 1.0);
+      EXPECT_DOUBLE_EQ(chain.integral(level)[at], t);
+      EXPECT_DOUBLE_EQ(chain.ramp(level)[at], t * t / 2);
     }
   }
 }
@@ -271,7 +311,8 @@ TEST(PhiChain, SharedWorkspaceAndLevelsLeftForLaterChangeNoBit) {
       const double* g[3] = {got->exponential(level), got->integral(level), got->ramp(level)};
       const double* w[3] = {want->exponential(level), want->integral(level), want->ramp(level)};
       for (int f = 0; f < 3; ++f)
-        for (int i = 0; i < 36; ++i) ASSERT_EQ(g[f][i], w[f][i]) << "function " << f << ", level " << level;
+        for (int i = 0; i < 6 * PhiChain::stride(6); ++i)
+          ASSERT_EQ(g[f][i], w[f][i]) << "function " << f << ", level " << level;
     }
   }
 }
