@@ -7,7 +7,9 @@
 // tick) and second order otherwise, the change of the nonlinear remainder over the step taken as linear.
 // A (and E, P, Q) is kept while the system's linearisation_drift() from where it was taken stays below 1,
 // and taken again where the state has settled if it stays more than a tenth of that away for 20 ms; the
-// linearisations of several pieces and poses are cached, a vibrating grip revisiting the same ones. A step
+// linearisations of several pieces and poses are cached, a vibrating grip revisiting the same ones. A
+// moving state's new one is taken ahead of it along its last step's motion (the system's
+// linearisation_lead()), so that it serves the way ahead as well as the state. A step
 // that carried the state more than twice that far (a grip being moved) is taken again on a linearisation
 // at its midpoint, about which the remainder's change is symmetric; while the grip goes on being carried,
 // each step is linearised at the midpoint its predecessor's motion predicts, and taken again only where
