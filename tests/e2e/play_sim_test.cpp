@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "play_harness.hpp"
+#include "host/audio/synth_settings.hpp"
 #include "host/transport/sim_transport.hpp"
 
 namespace {
@@ -149,7 +150,8 @@ TEST(PlaySim, WithSoundOnTheVirtualCardEveryNoteIsOnItsTick) {
   // then rounded to a tick: two notes' spacing is off the song's by less than a block plus a tick
   // (2.33 ms; a fresh machine measured 2.333), and by 0.05 ms more for the audio clock's learnt rate
   // over the 4 s.
-  const double block_ms = 64 * 1000.0 / 48000;
+  constexpr int kFluidSynthBlockFrames = 64;  // FluidSynth renders and starts notes in blocks of 64 frames
+  const double block_ms = kFluidSynthBlockFrames * 1000.0 / hmp::audio::SynthSettings{}.sample_rate;
   expect_on_tick_and_spaced(log, 1.0 + block_ms + 0.05);
   ASSERT_TRUE(log.summary.has_value());
   EXPECT_EQ(log.summary->at("late").get<int>(), 0);
