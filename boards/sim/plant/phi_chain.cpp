@@ -240,10 +240,6 @@ template <int R>
   }
 }
 
-}  // namespace
-
-namespace {
-
 // out_i += s·Σ_j m_ij·v_j over a column-major m: each vector of NV holds rows side by side, and every
 // row's sum runs over the columns in order, one multiply–add each, so vectors of 4 and of 8 give the
 // same bits. Three times the row-wise kernel's speed at n = 37 with vectors of 8: no sum waits on its

@@ -113,7 +113,7 @@ class PhiChain {
 
  private:
   static constexpr std::size_t kPadded =
-      static_cast<std::size_t>(kMaxState) * ((kMaxState + kLanes - 1) / kLanes * kLanes);  // stride(kMaxState) rows
+      static_cast<std::size_t>(kMaxState) * ((kMaxState + kLanes - 1) / kLanes * kLanes);  // × stride(kMaxState)
   static constexpr std::size_t kStride = kPadded;
   const double* at(const LineAlignedDoubles& functions, int level) {
     if (!ready_[static_cast<std::size_t>(level)]) sum_level(level);
