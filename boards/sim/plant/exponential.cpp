@@ -158,8 +158,7 @@ class Exponential final : public Integrator {
     const bool predicted = carrying_;
     if (predicted) {
       // saved_ still holds the last whole step's start: nothing has been saved since.
-      for (int i = 0; i < n; ++i) mid_[i] = y[i] + 0.5 * (y[i] - saved_[i]);
-      system.project(mid_.data());
+      along_motion(system, saved_.data(), y, 0.5, mid_.data());
       lin = &find_or_new(system, mid_.data(), piece, h);
       stepping_ = nullptr;
     } else {
@@ -440,10 +439,14 @@ class Exponential final : public Integrator {
     std::array<double, kMaxDrift> d{};
     const double d2 = drift_squared(system, start_before_.y.data(), y, d, 1.0);
     if (!(d2 <= 1.0) || d2 < kLeastMotion * kLeastMotion) return y;
-    const double steps = std::fmin(lead / std::sqrt(d2), kStepsAhead);
-    for (int i = 0; i < system.size(); ++i) ahead_[i] = y[i] + steps * (y[i] - start_before_.y[i]);
-    system.project(ahead_.data());
+    along_motion(system, start_before_.y.data(), y, std::fmin(lead / std::sqrt(d2), kStepsAhead), ahead_.data());
     return ahead_.data();
+  }
+
+  // out = y + steps·(y − from), projected: the state `steps` steps further along the motion from `from` to y.
+  static void along_motion(const OdeSystem& system, const double* from, const double* y, double steps, double* out) {
+    for (int i = 0; i < system.size(); ++i) out[i] = y[i] + steps * (y[i] - from[i]);
+    system.project(out);
   }
 
   // The cached linearisation of `piece` nearest y within its reach, else a new one taken at y, for a

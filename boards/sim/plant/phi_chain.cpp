@@ -183,12 +183,19 @@ __attribute__((target("arch=x86-64-v4"))) void sparse_product8(const Left& a, co
 }
 #endif
 
+#if defined(__x86_64__)
+// Whether the CPU runs the vectors of 8 (AVX-512): asked once.
+bool wide_vectors() {
+  static const bool wide = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq");
+  return wide;
+}
+#endif
+
 // The rows of a·b for b of row stride ld (a multiple of kLanes, columns n … ld − 1 zero) to `sink`.
 template <class Left, class Sink>
 void sparse_product(const Left& a, const double* b, int ld, Sink sink) {
 #if defined(__x86_64__)
-  static const bool wide = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq");
-  if (wide) return sparse_product8(a, b, ld, sink);
+  if (wide_vectors()) return sparse_product8(a, b, ld, sink);
 #endif
   sparse_product4(a, b, ld, sink);
 }
@@ -284,8 +291,7 @@ __attribute__((target("arch=x86-64-v4"))) void columns8(const double* m, int n, 
 
 void multiply_add_columns(const double* m, int n, int ld, const double* v, double s, double* out) {
 #if defined(__x86_64__)
-  static const bool wide = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq");
-  if (wide) return columns8(m, n, ld, v, s, out);
+  if (wide_vectors()) return columns8(m, n, ld, v, s, out);
 #endif
   columns4(m, n, ld, v, s, out);
 }
