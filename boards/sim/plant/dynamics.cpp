@@ -57,7 +57,13 @@ PlantDynamics::PlantDynamics(const PlantParams& params)
       stretch_coordinates_(params.string.stiffness >= kStretchCoordinatesFrom),
       drift_scale_(
           std::sqrt(std::fmin(1.0, params.string.stiffness / kLinearDrift.soft) *
-                    (stretch_coordinates_ ? 1.0 : std::fmax(1.0, params.string.stiffness / kLinearDrift.stiff)))) {}
+                    (stretch_coordinates_ ? 1.0 : std::fmax(1.0, params.string.stiffness / kLinearDrift.stiff)))),
+      switch_frequency_(
+          std::sqrt(params.string.stiffness *
+                    (params.motor.drive.pulley_radius * params.motor.drive.pulley_radius * inv_inertia_ +
+                     kStrings * (inv_mass_ + (params.scene.translation_only
+                                                  ? 0.0
+                                                  : params.grip.radius * params.grip.radius * inv_grip_inertia_))))) {}
 
 void PlantDynamics::evaluate(const double* y, PlantForces& out, bool bilateral) const {
   compute(y, out, bilateral ? TensionRule::near_bilateral : TensionRule::unilateral, 0);

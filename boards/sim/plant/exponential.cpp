@@ -50,6 +50,21 @@ constexpr double kLeastMotion = 0.05;
 constexpr double kFarStep = 2.0;
 // A whole step whose second-stage correction exceeds this (of a state's scale) is taken again as two halves.
 constexpr double kCorrectionLimit = 0.01;
+// The checkpoints see a switch only where a switch function is on the other side at one of them. Where
+// the system's switch_frequency() turns more than π between two checkpoints (they sample it below its
+// Nyquist rate) a switch function can cross zero and come back between them: at 10⁶ N/m a string near
+// slack rings at ~2.4 kHz and goes slack for less than the 250 µs between checkpoints; the whole steps
+// and quarters that missed it were 34% off in string force over one tick. There, if the fine sub-steps
+// do sample it (turn at most π each), a (sub-)step is also followed along its piece's linear motion to
+// every fine sub-step's end, and a fine sub-step whose end is on another piece is taken again by
+// Runge–Kutta to the switch and on from it (a kink inside a 31 µs ETD2 step on the old piece cost more
+// than the missed switches). The bound on the plant's rate turns, between checkpoints, 2.7 rad at
+// 10⁵ N/m, 8.4 at 10⁶ and 27 at 10⁷ (3.3 between fine sub-steps: there neither would see it).
+constexpr double kNyquistTurn = 3.14159265358979323846;
+// There the Runge–Kutta parts of a fine sub-step each turn the switch frequency by at most kPartTurn:
+// the rate after a switch, not the piece's before it (a string snapping taut makes it faster), sets
+// their accuracy; classical Runge–Kutta's phase error is turn⁵/120 a part.
+constexpr double kPartTurn = 0.35;
 
 // The matrix functions of one piece, linearised at `origin`.
 struct Linearisation {
@@ -70,6 +85,8 @@ struct Linearisation {
   // rows[j]: the switch functions' gradient times P(t_j), t_j = (j + 1)·h / kCheckpoints: g(t_j) ≈ g(0) +
   // rows[j]·f(y(0)) along the piece's linear motion.
   std::vector<double> rows = std::vector<double>(static_cast<std::size_t>(kCheckpoints) * kMaxSwitches * kMaxState);
+  // The switch functions' gradient G by its nonzeros: g(y) ≈ g(y₀) + G·(y − y₀).
+  SparseRows gradient;
 };
 
 // A system seen in its linear coordinates (OdeSystem::to_linear): what the steps work on when it has them.
@@ -108,6 +125,7 @@ class InLinearCoordinates final : public OdeSystem {
     return s_->linearisation_drift(origin, z, drift, beyond);
   }
   double linearisation_lead() const override { return s_->linearisation_lead(); }
+  double switch_frequency() const override { return s_->switch_frequency(); }
 
  private:
   OdeSystem* s_ = nullptr;
@@ -165,7 +183,12 @@ class Exponential final : public Integrator {
       lin = &linearisation(system, y, piece, h);
     }
     carrying_ = false;
-    if (ng > 0 && switch_within(system, *lin, g, piece, ng)) {
+    const double turn = std::ldexp(h, -kCheckpointLevel) * system.switch_frequency();  // between checkpoints
+    const double fine_turn = std::ldexp(turn, kCheckpointLevel - kFineLevel);
+    follow_ = turn > kNyquistTurn && fine_turn <= kNyquistTurn;
+    followed_parts_ = static_cast<int>(std::ceil(fine_turn / kPartTurn));
+    if (ng > 0 &&
+        (switch_within(system, *lin, g, piece, ng) || (follow_ && switch_along(system, *lin, 0, g, piece, ng)))) {
       split_step(system, y, h, lin->chain.norm());
       return;
     }
@@ -253,6 +276,29 @@ class Exponential final : public Integrator {
     return false;
   }
 
+  // Whether the piece changes at the end of any fine sub-step of a (sub-)step of `level` from the state
+  // whose switch functions are g0 and derivative f_, predicted along the linearisation's motion:
+  // y(t + τ) = y(t) + P(τ)·y'(t), y'(t + τ) = E(τ)·y'(t), τ the fine level's step, g ≈ g0 + G·(y − y0).
+  bool switch_along(const OdeSystem& system, Linearisation& lin, int level, const double* g0, std::uint32_t piece,
+                    int ng) {
+    // The motion from y, d(t) = y(t) − y, moves by d(t + τ) = E(τ)·d(t) + P(τ)·f(y).
+    const int n = lin.n, ld = PhiChain::stride(n);
+    const double* e = lin.chain.exponential(kFineLevel);
+    for (int i = 0; i < n; ++i) push_[i] = 0;
+    multiply_add_columns(lin.chain.integral(kFineLevel), n, ld, f_.data(), 1.0, push_.data());
+    moved_ = push_;
+    double g[kMaxSwitches];
+    for (int j = 1;; ++j) {
+      gradient_times(lin, moved_.data(), 1.0, g);
+      for (int k = 0; k < ng; ++k) g[k] += g0[k];
+      if (system.piece_of(g) != piece) return true;
+      if (j == 1 << (kFineLevel - level)) return false;
+      next_ = push_;
+      multiply_add_columns(e, n, ld, moved_.data(), 1.0, next_.data());
+      moved_.swap(next_);
+    }
+  }
+
   // A step over which the piece changes, as kCheckpoints sub-steps: one over which no switch is predicted
   // (from its start) and whose end is on its start's piece is taken whole; the others as 2^(kFineLevel −
   // kCheckpointLevel) fine sub-steps, each on the piece its start is on. So is one on a piece that
@@ -269,7 +315,8 @@ class Exponential final : public Integrator {
       const int ng = system.switch_functions(y, g);
       const std::uint32_t piece = system.piece_of(g);
       Linearisation* lin = sub_step_linearisation(system, y, piece, h, SubStep::checkpoint, explicit_parts(h, norm));
-      if (lin != nullptr && !switch_within(system, *lin, g, piece, ng, 0, 0)) {
+      if (lin != nullptr && !switch_within(system, *lin, g, piece, ng, 0, 0) &&
+          !(follow_ && switch_along(system, *lin, kCheckpointLevel, g, piece, ng))) {
         save_start(y, n);
         etd2(system, *lin, kCheckpointLevel, h, y);
         system.switch_functions(y, g);
@@ -280,12 +327,13 @@ class Exponential final : public Integrator {
       // of the fine sub-steps' pieces too. They differ from it in the strings that switch within the
       // quarter, whose tension is small near the switch.
       const int parts = explicit_parts(h, lin != nullptr ? lin->chain.norm() : norm);
+      bool current = true;  // f_ = f(y)
       for (int m = 0; m < (1 << (kFineLevel - kCheckpointLevel)); ++m) {
-        if (m > 0) {
+        if (!current) {
           system.derivative(y, f_.data());
           ++evaluations_;
         }
-        fine_substep(system, y, h, parts);
+        current = fine_substep(system, y, h, parts);
       }
     }
   }
@@ -313,24 +361,120 @@ class Exponential final : public Integrator {
 
   // One fine sub-step (h / 2^kFineLevel) from y, with f_ = f(y) on entry, on the piece y is on: by its
   // linearisation, or as `parts` Runge–Kutta steps where sub_step_linearisation() gives none.
-  void fine_substep(OdeSystem& system, double* y, double h, int parts) {
-    double g[kMaxSwitches];
-    system.switch_functions(y, g);
+  // Returns whether f_ is f(y) at the end.
+  bool fine_substep(OdeSystem& system, double* y, double h, int parts) {
+    const double fine = std::ldexp(h, -kFineLevel);
+    double g[kMaxSwitches], end[kMaxSwitches];
+    const int ng = system.switch_functions(y, g);
     const std::uint32_t piece = system.piece_of(g);
     Linearisation* on = sub_step_linearisation(system, y, piece, h, SubStep::fine, parts);
-    if (on == nullptr) {
-      const double tau = std::ldexp(h, -kFineLevel) / parts;
-      for (int part = 0; part < parts; ++part) {
-        if (part > 0) {
-          system.derivative(y, f_.data());
-          ++evaluations_;
-        }
-        rk4_step(system, y, tau, f_.data(), runge_kutta_);
-        evaluations_ += 3;
-      }
-      return;
+    if (on == nullptr) return runge_kutta(system, y, fine, follow_ ? followed_parts_ : parts, follow_);
+    if (!follow_) {
+      etd2(system, *on, kFineLevel, h, y);
+      return false;
     }
+    save_start(y, system.size());
     etd2(system, *on, kFineLevel, h, y);
+    system.switch_functions(y, end);
+    if (system.piece_of(end) == piece) return false;
+    // Taken again by Runge–Kutta up to the switch and on from it: the right-hand side's kink then falls
+    // between two parts, not inside one.
+    restore_start(y, system.size());
+    // The switch functions' rates at both ends along the piece's linear motion, ẏ(τ) = E(τ)·f(y), over
+    // the sub-step: the crossing is found on the cubic they and the values make.
+    double rate[kMaxSwitches], end_rate[kMaxSwitches];
+    const int n = system.size(), ld = PhiChain::stride(n);
+    for (int i = 0; i < n; ++i) next_[i] = 0;
+    multiply_add_columns(on->chain.exponential(kFineLevel), n, ld, f_.data(), 1.0, next_.data());
+    gradient_times(*on, f_.data(), fine, rate);
+    gradient_times(*on, next_.data(), fine, end_rate);
+    const double at = switch_time(system, ng, piece, g, end, rate, end_rate);
+    runge_kutta(system, y, at * fine, static_cast<int>(std::ceil(at * followed_parts_)));
+    system.derivative(y, f_.data());
+    ++evaluations_;
+    runge_kutta(system, y, (1 - at) * fine, static_cast<int>(std::ceil((1 - at) * followed_parts_)));
+    return false;
+  }
+
+  // `parts` classical Runge–Kutta steps over `length` from y, with f_ = f(y) on entry. `locate`: a part
+  // over which the piece changes is taken again as two, split where the switch functions, taken as linear
+  // over the part, say it changed. Returns whether f_ is f(y) at the end (so it is where it located).
+  bool runge_kutta(OdeSystem& system, double* y, double length, int parts, bool locate = false) {
+    const int n = system.size();
+    double g[kMaxSwitches], end[kMaxSwitches], slope[kMaxSwitches];
+    const int ng = locate ? system.switch_functions(y, g) : 0;
+    const double tau = length / parts;
+    for (int part = 0; part < parts; ++part) {
+      if (part > 0 && ng == 0) {
+        system.derivative(y, f_.data());
+        ++evaluations_;
+      }
+      if (ng > 0) save_start(y, n);
+      rk4_step(system, y, tau, f_.data(), runge_kutta_);
+      evaluations_ += 3;
+      if (ng == 0) continue;
+      // The derivative first: the switch functions at the same state come with it.
+      system.derivative(y, f_.data());
+      ++evaluations_;
+      system.switch_functions(y, end);
+      const std::uint32_t piece = system.piece_of(g);
+      if (system.piece_of(end) != piece) {
+        restore_start(y, n);
+        for (int k = 0; k < ng; ++k) slope[k] = end[k] - g[k];
+        const double at = switch_time(system, ng, piece, g, end, slope, slope);
+        rk4_step(system, y, at * tau, f_.data(), runge_kutta_);
+        system.derivative(y, f_.data());
+        rk4_step(system, y, (1 - at) * tau, f_.data(), runge_kutta_);
+        system.derivative(y, f_.data());
+        evaluations_ += 8;
+        system.switch_functions(y, end);
+      }
+      for (int k = 0; k < ng; ++k) g[k] = end[k];
+    }
+    return ng > 0;
+  }
+
+  // out = scale·G·v for the linearisation's switch gradient G.
+  static void gradient_times(const Linearisation& lin, const double* v, double scale, double* out) {
+    const SparseRows& g = lin.gradient;
+    for (int k = 0; k < g.rows; ++k) {
+      double sum = 0;
+      for (int l = g.first(k); l < g.last(k); ++l) sum += g.value(k, l) * v[g.column(l)];
+      out[k] = scale * sum;
+    }
+  }
+
+  // Where, as a fraction of a sub-step, the piece first changes (at its end it is not `piece`): the
+  // switch functions as the cubics with values g0, g1 and rates m0, m1 (per sub-step) at its ends.
+  static double switch_time(const OdeSystem& system, int ng, std::uint32_t piece, const double* g0, const double* g1,
+                            const double* m0, const double* m1) {
+    const auto cubic = [&](int k, double s) {
+      const double s2 = s * s, s3 = s2 * s;
+      return (2 * s3 - 3 * s2 + 1) * g0[k] + (s3 - 2 * s2 + s) * m0[k] + (3 * s2 - 2 * s3) * g1[k] + (s3 - s2) * m1[k];
+    };
+    double at = 1, g[kMaxSwitches];
+    for (int k = 0; k < ng; ++k) {
+      if ((g0[k] > 0) == (g1[k] > 0)) continue;
+      // Newton's method on the cubic from the secant's zero, kept inside the bracket [lo, hi] (bisecting
+      // where it would leave it).
+      double lo = 0, hi = 1, s = g0[k] / (g0[k] - g1[k]);
+      for (int i = 0; i < 12 && hi - lo > 1e-9; ++i) {
+        const double value = cubic(k, s);
+        ((value > 0) == (g0[k] > 0) ? lo : hi) = s;
+        const double s2 = s * s;
+        const double slope =
+            (6 * s2 - 6 * s) * (g0[k] - g1[k]) + (3 * s2 - 4 * s + 1) * m0[k] + (3 * s2 - 2 * s) * m1[k];
+        const double next = s - value / slope;
+        s = next > lo && next < hi ? next : 0.5 * (lo + hi);
+      }
+      if (s >= at) continue;
+      // The piece just after this zero; a zero of a switch function that leaves the piece as it is (the
+      // spring force of a slack string) is not the switch.
+      const double after = std::fmin(1.0, s + 1e-9);
+      for (int j = 0; j < ng; ++j) g[j] = cubic(j, after);
+      if (system.piece_of(g) != piece) at = s;
+    }
+    return at;
   }
 
   // Whether `piece` has been missed (no linearisation within reach) kMissesToLinearise times within reach
@@ -506,6 +650,7 @@ class Exponential final : public Integrator {
     // rows[c] = G·P(t_c), t_c = (c + 1)·h/4. G, the switch functions' gradient, is sparse.
     l.chain.compute(jacobian_.data(), n, h, kCheckpointLevel + 1, ng > 0 ? &quarters : nullptr, keep_now);
     ++factorisations_;
+    if (ng > 0) l.gradient.gather(gradient_.data(), ng, n, n);
   }
 
   InLinearCoordinates linear_;
@@ -515,6 +660,8 @@ class Exponential final : public Integrator {
   std::uint64_t clock_ = 0;
   const Linearisation* stepping_ = nullptr;  // the one the last whole step started on
   bool carrying_ = false;                    // the last whole step went more than kFarStep (saved_ holds its start)
+  bool follow_ = false;                      // this step is followed to every fine sub-step (kNyquistTurn)
+  int followed_parts_ = 1;                   // then: a fine sub-step's Runge–Kutta parts (kPartTurn)
   std::vector<double> jacobian_, gradient_;
   // Pieces a split step found no linearisation for, where.
   struct Miss {
@@ -534,6 +681,7 @@ class Exponential final : public Integrator {
   Start last_start_, start_before_;  // this step's and the one before
   RungeKuttaWork runge_kutta_;
   Vector f_{}, f1_{}, a_{}, f0_{}, col_{}, tmp_y_{}, saved_{}, f_saved_{}, mid_{}, ahead_{};
+  Vector push_{}, moved_{}, next_{};  // switch_along()'s predicted motion
 };
 
 }  // namespace

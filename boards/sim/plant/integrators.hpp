@@ -104,6 +104,10 @@ class OdeSystem {
   // How far ahead of a moving state, along its motion, a new linearisation may be taken, in the drift's
   // units (0: at the state). One taken ahead serves the way ahead as well as the state.
   virtual double linearisation_lead() const { return 0; }
+  // An upper bound on the angular frequency (rad/s) at which the switch functions can ring: how closely
+  // a step must be followed for a switch function that crosses zero and comes back to be seen. 0: none
+  // known (the checkpoints of the exponential integrator are taken to suffice).
+  virtual double switch_frequency() const { return 0; }
 
   // ---- coordinates in which the model is nearly linear (the exponential integrator) ----
   // A model whose stiff part is linear in other coordinates z = Φ(y) than its own (a string's stretch in
