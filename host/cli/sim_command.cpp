@@ -68,19 +68,27 @@ void write_work_precision_csv(const SimCliOptions& o, const simulate::WorkPrecis
   output::FilePtr f = output::open_for_writing(o.out, o.force);
   std::fputs(
       "integrator,steps_per_tick,rtol,default,ok,force_error_rel,finger_force_error_rel,band_force_error_rel,"
-      "realtime_factor,reference_convergence_force,reference_convergence_finger,reference_convergence_band\n",
+      "realtime_factor,reference_convergence_force,reference_convergence_finger,reference_convergence_band,"
+      "tick_force_error_rel,tick_finger_force_error_rel\n",
       f.get());
   // A value not measured (the band of a method other than the default) is an empty field.
   const auto value = [](double v, const char* format) {
     return std::isfinite(v) ? fmt::format(fmt::runtime(format), v) : std::string();
   };
   for (const simulate::WorkPrecisionPoint& p : wp.points) {
-    std::fprintf(f.get(), "%s,%d,%g,%d,%d,%.4g,%.4g,%s,%.4g,%.3g,%.3g,%s\n", p.integrator.c_str(), p.steps_per_tick,
-                 p.rtol, p.is_default ? 1 : 0, p.ok ? 1 : 0, p.error.force, p.error.finger_force,
+    std::fprintf(f.get(), "%s,%d,%g,%d,%d,%.4g,%.4g,%s,%.4g,%.3g,%.3g,%s,%s,%s\n", p.integrator.c_str(),
+                 p.steps_per_tick, p.rtol, p.is_default ? 1 : 0, p.ok ? 1 : 0, p.error.force, p.error.finger_force,
                  value(p.error.band_force, "{:.4g}").c_str(), p.realtime_factor, wp.reference_convergence.force,
-                 wp.reference_convergence.finger_force, value(wp.reference_convergence.band_force, "{:.3g}").c_str());
+                 wp.reference_convergence.finger_force, value(wp.reference_convergence.band_force, "{:.3g}").c_str(),
+                 value(p.tick_error.force, "{:.4g}").c_str(), value(p.tick_error.finger_force, "{:.4g}").c_str());
   }
   output::close_output(f);
+}
+
+// An error below ten times its reference's own uncertainty is not resolved: shown as an upper bound.
+std::string resolved(const simulate::WorkPrecision& wp, double error, double convergence) {
+  return wp.claimed(error, convergence) ? fmt::format("{:.3g}%", 100 * error)
+                                        : fmt::format("< {:.2g}%", 1000 * convergence);
 }
 
 void print_work_precision(const simulate::WorkPrecision& wp) {
@@ -96,16 +104,20 @@ void print_work_precision(const simulate::WorkPrecision& wp) {
       std::printf("%-22s %9s %14s\n", name.c_str(), steps.c_str(), "unstable");
       continue;
     }
-    // An error below ten times the reference's own uncertainty is not resolved: shown as an upper bound.
-    const auto cell = [&](double e, double c) {
-      return wp.claimed(e, c) ? fmt::format("{:.3g}%", 100 * e) : fmt::format("< {:.2g}%", 1000 * c);
-    };
-    const std::string band =
-        std::isfinite(p.error.band_force) ? cell(p.error.band_force, wp.reference_convergence.band_force) : "";
+    const simulate::TraceError& c = wp.reference_convergence;
+    const std::string band = std::isfinite(p.error.band_force) ? resolved(wp, p.error.band_force, c.band_force) : "";
     std::printf("%-22s %9s %14s %14s %14s %10.1f\n", name.c_str(), steps.c_str(),
-                cell(p.error.force, wp.reference_convergence.force).c_str(),
-                cell(p.error.finger_force, wp.reference_convergence.finger_force).c_str(), band.c_str(),
-                p.realtime_factor);
+                resolved(wp, p.error.force, c.force).c_str(),
+                resolved(wp, p.error.finger_force, c.finger_force).c_str(), band.c_str(), p.realtime_factor);
+  }
+  for (const simulate::WorkPrecisionPoint& p : wp.points) {
+    if (!p.is_default || !std::isfinite(p.tick_error.force)) continue;
+    const simulate::TraceError& c = wp.tick_reference_convergence;
+    std::printf(
+        "default over one tick (every %dth tick taken again by cvode from its state): %s string force, "
+        "%s finger force\n",
+        simulate::kTickSampleEvery, resolved(wp, p.tick_error.force, c.force).c_str(),
+        resolved(wp, p.tick_error.finger_force, c.finger_force).c_str());
   }
 }
 

@@ -270,62 +270,133 @@ SolverStats cvode_integrate(const SwitchedOde& ode, std::vector<double>& y, int 
   }
 }
 
+namespace {
+
+// The plant's equations for CVODE, driven by `drive` from its tick `first` on, sampled into a trace at
+// the end of each tick.
+class PlantOde {
+ public:
+  PlantOde(const plant::PlantDynamics& dynamics, const PlantDrive& drive, const plant::PlantParams& params,
+           const ReferenceOptions& options, std::size_t first)
+      : dynamics_(dynamics), drive_(drive), band_(params.scene.band_force), first_(first) {
+    const int n = dynamics_.size();
+    const double supply = params.motor.drive.supply_voltage;
+    ode_.size = n;
+    for (int i = 0; i < n; ++i) ode_.atol.push_back(options.atol_factor * dynamics_.scale(i));
+    ode_.begin_tick = [this, supply](int k) {
+      const std::size_t tick = first_ + static_cast<std::size_t>(k);
+      const auto& duty = drive_.duty[tick];
+      for (int i = 0; i < kStrings; ++i) {
+        double d = duty[static_cast<std::size_t>(i)];
+        if (!std::isfinite(d)) d = 0;  // as Plant::step drives an invalid duty
+        dynamics_.set_voltage(i, std::clamp(d, -1.0, 1.0) * supply);
+      }
+      dynamics_.set_finger_anchor(drive_.anchor[tick]);
+    };
+    ode_.rhs = [this](const double* state, double* dydt) { dynamics_.derivative(state, dydt); };
+    ode_.switches = plant::kMaxSwitches;
+    ode_.switching = [this](const double* state, double* g) { dynamics_.switch_functions(state, g); };
+    ode_.project = [this](double* state) { dynamics_.project(state); };
+    ode_.max_step = options.max_step;
+  }
+  PlantOde(const PlantOde&) = delete;
+  PlantOde& operator=(const PlantOde&) = delete;
+
+  // Integrates `ticks` ticks from y, appending each tick's end to `trace`; the solver's counters summed
+  // into it.
+  bool run(std::vector<double>& y, int ticks, double rtol, PlantTrace& trace) {
+    const auto sample = [&](int, const double* state) {
+      plant::PlantForces f;
+      dynamics_.evaluate(state, f);
+      trace.string_force.push_back(f.string_force);
+      trace.finger_force.push_back(f.finger_force);
+      if (band_) trace.band_string_force.push_back(dynamics_.band_force(state));
+      std::array<double, 8> t{};
+      std::copy(f.tension, f.tension + kStrings, t.begin());
+      trace.tension.push_back(t);
+    };
+    const SolverStats stats = cvode_integrate(ode_, y, ticks, drive_.tick_s, rtol, sample);
+    trace.steps += stats.steps;
+    trace.rhs_evals += stats.rhs_evals;
+    trace.roots += stats.roots;
+    trace.cpu_s += stats.cpu_s;
+    if (!stats.ok) {
+      trace.ok = false;
+      trace.error = stats.error;
+    }
+    return stats.ok;
+  }
+  void start_at(std::size_t first) { first_ = first; }
+
+ private:
+  plant::PlantDynamics dynamics_;
+  const PlantDrive& drive_;
+  bool band_;
+  std::size_t first_;
+  SwitchedOde ode_;
+};
+
+std::string drive_error(const PlantDrive& drive, const ReferenceOptions& options) {
+  if (drive.anchor.size() != drive.duty.size())
+    return "drive: " + std::to_string(drive.duty.size()) + " duty entries but " + std::to_string(drive.anchor.size()) +
+           " anchors";
+  if (!(options.atol_factor > 0)) return "atol_factor must be positive";
+  return {};
+}
+
+}  // namespace
+
 PlantTrace cvode_reference(const plant::PlantParams& params, double bias_tension, const PlantDrive& drive,
                            const ReferenceOptions& options) {
   PlantTrace trace;
-  if (drive.anchor.size() != drive.duty.size()) {
+  trace.error = drive_error(drive, options);
+  if (!trace.error.empty()) {
     trace.ok = false;
-    trace.error = "drive: " + std::to_string(drive.duty.size()) + " duty entries but " +
-                  std::to_string(drive.anchor.size()) + " anchors";
-    return trace;
-  }
-  if (!(options.atol_factor > 0)) {
-    trace.ok = false;
-    trace.error = "atol_factor must be positive";
     return trace;
   }
   try {
     plant::Plant reference(params);
     reference.reset(bias_tension);
-    plant::PlantDynamics dynamics = reference.dynamics();
-    const int n = dynamics.size();
-    std::vector<double> y(reference.state(), reference.state() + n);
-    const double supply = params.motor.drive.supply_voltage;
-
-    SwitchedOde ode;
-    ode.size = n;
-    for (int i = 0; i < n; ++i) ode.atol.push_back(options.atol_factor * dynamics.scale(i));
-    ode.begin_tick = [&](int k) {
-      const auto& duty = drive.duty[static_cast<std::size_t>(k)];
-      for (int i = 0; i < kStrings; ++i) {
-        double d = duty[static_cast<std::size_t>(i)];
-        if (!std::isfinite(d)) d = 0;  // as Plant::step drives an invalid duty
-        dynamics.set_voltage(i, std::clamp(d, -1.0, 1.0) * supply);
-      }
-      dynamics.set_finger_anchor(drive.anchor[static_cast<std::size_t>(k)]);
-    };
-    ode.rhs = [&](const double* state, double* dydt) { dynamics.derivative(state, dydt); };
-    ode.switches = plant::kMaxSwitches;
-    ode.switching = [&](const double* state, double* g) { dynamics.switch_functions(state, g); };
-    ode.project = [&](double* state) { dynamics.project(state); };
-    ode.max_step = options.max_step;
-
+    std::vector<double> y(reference.state(), reference.state() + reference.state_size());
     const std::size_t ticks = drive.duty.size();
     trace.string_force.reserve(ticks);
     trace.finger_force.reserve(ticks);
     trace.tension.reserve(ticks);
-    const auto sample = [&](int, const double* state) {
-      plant::PlantForces f;
-      dynamics.evaluate(state, f);
-      trace.string_force.push_back(f.string_force);
-      trace.finger_force.push_back(f.finger_force);
-      if (params.scene.band_force) trace.band_string_force.push_back(dynamics.band_force(state));
-      std::array<double, 8> t{};
-      std::copy(f.tension, f.tension + kStrings, t.begin());
-      trace.tension.push_back(t);
-    };
-    static_cast<SolverStats&>(trace) =
-        cvode_integrate(ode, y, static_cast<int>(ticks), drive.tick_s, options.rtol, sample);
+    PlantOde ode(reference.dynamics(), drive, params, options, 0);
+    ode.run(y, static_cast<int>(ticks), options.rtol, trace);
+  } catch (const std::exception& e) {
+    trace.ok = false;
+    trace.error = std::string("exception: ") + e.what();
+  }
+  return trace;
+}
+
+PlantTrace cvode_ticks(const plant::PlantParams& params, double bias_tension, const PlantDrive& drive,
+                       const std::vector<TickStart>& starts, const ReferenceOptions& options) {
+  PlantTrace trace;
+  trace.error = drive_error(drive, options);
+  for (const TickStart& s : starts)
+    if (trace.error.empty() && s.tick >= drive.duty.size())
+      trace.error = "tick " + std::to_string(s.tick) + " not driven";
+  if (!trace.error.empty()) {
+    trace.ok = false;
+    return trace;
+  }
+  try {
+    plant::Plant plant(params);
+    plant.reset(bias_tension);  // the strings' free lengths
+    PlantOde ode(plant.dynamics(), drive, params, options, 0);
+    for (const TickStart& s : starts) {
+      if (s.state.size() != static_cast<std::size_t>(plant.state_size())) {
+        trace.ok = false;
+        trace.error = "tick " + std::to_string(s.tick) + ": a state of " + std::to_string(s.state.size()) +
+                      " values, the plant has " + std::to_string(plant.state_size());
+        break;
+      }
+      std::vector<double> y = s.state;
+      ode.start_at(s.tick);
+      if (!ode.run(y, 1, options.rtol, trace)) break;
+    }
   } catch (const std::exception& e) {
     trace.ok = false;
     trace.error = std::string("exception: ") + e.what();

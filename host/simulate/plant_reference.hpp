@@ -54,6 +54,17 @@ struct ReferenceOptions {
 PlantTrace cvode_reference(const sim::plant::PlantParams& params, double bias_tension, const PlantDrive& drive,
                            const ReferenceOptions& options = {});
 
+// One tick from a given state: the tick of the drive it is and the plant's state at its start.
+struct TickStart {
+  std::size_t tick = 0;
+  std::vector<double> state;  // Plant::state_size() values
+};
+
+// For each start, that tick alone from its state (the one-tick reference: a run's own states, each tick
+// taken again by CVODE), sampled at the tick's end; the plant as cvode_reference() makes it.
+PlantTrace cvode_ticks(const sim::plant::PlantParams& params, double bias_tension, const PlantDrive& drive,
+                       const std::vector<TickStart>& starts, const ReferenceOptions& options = {});
+
 // The general form: y' = rhs(y), smooth within each tick and between zeros of the switching functions.
 struct SwitchedOde {
   int size = 0;

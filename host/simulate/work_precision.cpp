@@ -30,6 +30,34 @@ double relative_error(const std::vector<plant::Vec3d>& x, const std::vector<plan
 
 double seconds_of(const PlantScene& scene) { return static_cast<double>(scene.drive.duty.size()) * scene.drive.tick_s; }
 
+// A run of the scene on our Plant that keeps, for every `every`-th tick, the state it starts from and the
+// forces at its end.
+struct TickSamples {
+  std::vector<TickStart> starts;
+  PlantTrace ends;
+};
+TickSamples sample_ticks(const PlantScene& scene, plant::Method method, double max_step, int every) {
+  plant::PlantParams p = scene.params;
+  p.stepper.method = method;
+  p.stepper.max_step = max_step;
+  plant::Plant sim(p);
+  sim.reset(scene.bias_tension);
+  TickSamples out;
+  double d[spidar::kStrings];
+  for (std::size_t k = 0; k < scene.drive.duty.size() && !sim.unstable(); ++k) {
+    for (int i = 0; i < spidar::kStrings; ++i) d[i] = scene.drive.duty[k][static_cast<std::size_t>(i)];
+    sim.set_finger_anchor(scene.drive.anchor[k]);
+    const bool sampled = k % static_cast<std::size_t>(every) == 0;
+    if (sampled) out.starts.push_back({k, std::vector<double>(sim.state(), sim.state() + sim.state_size())});
+    const plant::PlantOutput& o = sim.step(d, scene.drive.tick_s);
+    if (!sampled) continue;
+    out.ends.string_force.push_back(o.string_force);
+    out.ends.finger_force.push_back(o.finger_force);
+  }
+  out.ends.ok = !sim.unstable();
+  return out;
+}
+
 }  // namespace
 
 TraceError trace_error(const PlantTrace& run, const PlantTrace& reference) {
@@ -91,7 +119,10 @@ WorkPrecision work_precision(const PlantScene& scene, const WorkPrecisionOptions
     std::sort(steps.begin(), steps.end());
     for (int n : steps) runs.emplace_back(m, n);
   }
-  const std::size_t total = 2 + runs.size() + o.cvode_rtols.size();
+  const bool with_default = std::any_of(runs.begin(), runs.end(), [&](const auto& r) {
+    return r.first == default_method() && r.second == default_steps;
+  });
+  const std::size_t total = 2 + (with_default ? 1 : 0) + runs.size() + o.cvode_rtols.size();
   std::size_t done = 0;
   const auto say = [&](const std::string& what) {
     if (o.progress) o.progress(what, done, total);
@@ -125,6 +156,16 @@ WorkPrecision work_precision(const PlantScene& scene, const WorkPrecisionOptions
       if (p.is_default) {
         const PlantTrace banded = run_plant(scene, m, tick / n, true);
         if (banded.ok) p.error.band_force = trace_error(banded, wp.reference).band_force;
+        say("one tick at a time (cvode from the default's states)");
+        const TickSamples samples = sample_ticks(scene, m, tick / n, kTickSampleEvery);
+        ReferenceOptions to;
+        to.rtol = o.reference_rtol / 2;
+        const PlantTrace tight = cvode_ticks(scene.params, scene.bias_tension, scene.drive, samples.starts, to);
+        to.rtol = o.reference_rtol;
+        const PlantTrace loose = cvode_ticks(scene.params, scene.bias_tension, scene.drive, samples.starts, to);
+        if (!tight.ok || !loose.ok) throw std::runtime_error("one-tick reference: " + (tight.ok ? loose : tight).error);
+        if (samples.ends.ok) p.tick_error = trace_error(samples.ends, tight);
+        wp.tick_reference_convergence = trace_error(loose, tight);
       }
       double cpu = t.cpu_s;
       for (int r = 1; r < o.repeats; ++r) cpu = std::min(cpu, run_plant(scene, m, tick / n).cpu_s);

@@ -7,7 +7,10 @@
 // stiffness_n_per_m, integrator, steps_per_tick (0 for cvode, then rtol), default, ok,
 // force_error_rel, finger_force_error_rel, band_force_error_rel (the string force below 1 kHz; the default
 // integrator only, else null), realtime_factor, reference_convergence_force, reference_convergence_band,
-// reference_convergence (the finger force's), claimed (the errors are ≥ 10 × the reference's convergence).
+// reference_convergence (the finger force's), claimed (the errors are ≥ 10 × the reference's convergence),
+// and for the default integrator the errors over one tick, tick_force_error_rel and
+// tick_finger_force_error_rel, with their reference's convergence tick_reference_convergence_force and
+// tick_reference_convergence (else null).
 // Draws one figure per scene (finger-force error against CPU seconds per simulated second, one panel per
 // stiffness) into DIR/sim-work-precision-SCENE.png.
 //
@@ -71,11 +74,15 @@ void print_point(const std::string& scene, double k, const simulate::WorkPrecisi
       "\"rtol\":%g,\"default\":%s,\"ok\":%s,\"force_error_rel\":%s,\"finger_force_error_rel\":%s,"
       "\"band_force_error_rel\":%s,\"realtime_factor\":%s,\"reference_convergence_force\":%s,"
       "\"reference_convergence\":%s,\"reference_convergence_band\":%s,\"claimed\":%s,"
-      "\"clock\":\"thread_cpu\"}}\n",
+      "\"tick_force_error_rel\":%s,\"tick_finger_force_error_rel\":%s,\"tick_reference_convergence_force\":%s,"
+      "\"tick_reference_convergence\":%s,\"clock\":\"thread_cpu\"}}\n",
       force.c_str(), scene.c_str(), k, p.integrator.c_str(), p.steps_per_tick, p.rtol, p.is_default ? "true" : "false",
       p.ok ? "true" : "false", force.c_str(), finger.c_str(), number(p.ok ? p.error.band_force : nan).c_str(),
       number(p.ok ? p.realtime_factor : nan).c_str(), number(c.force, "%.3g").c_str(),
-      number(c.finger_force, "%.3g").c_str(), number(c.band_force, "%.3g").c_str(), claimed ? "true" : "false");
+      number(c.finger_force, "%.3g").c_str(), number(c.band_force, "%.3g").c_str(), claimed ? "true" : "false",
+      number(p.tick_error.force).c_str(), number(p.tick_error.finger_force).c_str(),
+      number(p.is_default ? wp.tick_reference_convergence.force : nan, "%.3g").c_str(),
+      number(p.is_default ? wp.tick_reference_convergence.finger_force : nan, "%.3g").c_str());
   std::fflush(stdout);
 }
 

@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """The tables of docs/performance.md, "Plant simulator: work-precision", from the JSON lines of
 `scripts/bench sim-work-precision` (stdin): the default integrator in every scene at every stiffness
-against the goals (the string force's error below 1 kHz in brackets beside it), and how much CPU CVODE
-needs for the default's finger-force error.
+against the goals (the string force's error below 1 kHz in brackets beside it), its errors over one tick
+(where resolved by their own reference), and how much CPU CVODE needs for the default's finger-force error.
 
 Usage: scripts/bench sim-work-precision | python3 tools/bench/sim_work_precision_table.py
 """
@@ -37,6 +37,16 @@ def cvode_cpu_at(points, error):
     return None
 
 
+def one_tick(row):
+    """The errors over one tick, string / finger force, if measured and ten times their reference's
+    convergence; else None."""
+    s, f = row.get("tick_force_error_rel"), row.get("tick_finger_force_error_rel")
+    cs, cf = row.get("tick_reference_convergence_force"), row.get("tick_reference_convergence")
+    if None in (s, f, cs, cf) or s < 10 * cs or f < 10 * cf:
+        return None
+    return f"{pct(s)} / {pct(f)}"
+
+
 def render(rows):
     """The table (Markdown lines) and the cells that miss a goal, from the benchmark's rows' params."""
     scenes = list(dict.fromkeys(r["scene"] for r in rows))
@@ -67,6 +77,9 @@ def render(rows):
             cvode = cvode_cpu_at([r for r in cell if r["integrator"] == "cvode"], f)
             if cvode is not None and rt > 0:
                 text += f" (CVODE {cvode * rt:.0f}× the CPU)"
+            tick = one_tick(default)
+            if tick:
+                text += f"; one tick {tick}"
             cells.append(text)
         lines.append(f"| {scene} | " + " | ".join(cells) + " |")
     return lines, misses
