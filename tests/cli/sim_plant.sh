@@ -3,7 +3,8 @@
 # (≤ 0, NaN, infinite, beyond 1e9, unknown) exits 2 with one line on stderr naming it and writes nothing;
 # --work-precision refuses a passage over 20 s, and on a short one writes a CSV with a row for every
 # integrator and CVODE whose default row (the exponential integrator) is more accurate than ROS2 at its
-# default step, and which alone carries the error of the string force below 1 kHz.
+# default step, and which alone carries the error of the string force below 1 kHz and its errors over one
+# tick.
 set -u
 hmp="$1"
 demo="$2/examples/bach-bwv1050-brandenburg5-mvt3-allegro.mid"
@@ -49,5 +50,10 @@ awk -F, '$1 == "exponential" && $4 == 1 { e = $7 } $1 == "rosenbrock2" && $2 == 
 # The string force's error below 1 kHz: measured for the default, an empty field for the others.
 awk -F, '$1 == "exponential" && $4 == 1 { b = $8 } $1 == "rk4" && $2 == 8 { o = $8; seen = 1 }
          END { if (!(b > 0) || !seen || o != "") { print "FAIL: band field default \"" b "\", rk4 \"" o "\""; exit 1 } }' \
+  "$tmp/wp.csv" || fail=1
+# The error over one tick: for the default a number below its bound, an empty field for the others.
+awk -F, '$1 == "exponential" && $4 == 1 { t = $13; f = $14 } $1 == "rk4" && $2 == 8 { o = $13; seen = 1 }
+         END { if (!(t > 0 && t < 0.01 && f > 0 && f < 0.005) || !seen || o != "") {
+                 print "FAIL: one-tick fields default \"" t "\" \"" f "\", rk4 \"" o "\""; exit 1 } }' \
   "$tmp/wp.csv" || fail=1
 exit $fail

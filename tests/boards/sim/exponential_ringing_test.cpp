@@ -11,6 +11,7 @@
 #include <memory>
 
 #include "boards/sim/plant/exponential.hpp"
+#include "tests/boards/sim/switch_at_zero.hpp"
 
 namespace hmp::sim::plant {
 namespace {
@@ -21,29 +22,13 @@ constexpr double kInside = 2 * kOutside;    // rad/s, x < 0
 constexpr double kRest = 1e-6;              // m, x_e
 constexpr double kStep = 1e-3;              // s
 
-// y = (x, v); piece 0: x ≥ 0, piece 1: x < 0, with the second spring.
-class Grazing final : public OdeSystem {
+// Piece 0: x ≥ 0; piece 1: x < 0, with the second spring.
+class Grazing final : public SwitchAtZero {
  public:
-  explicit Grazing(double switch_frequency) : switch_frequency_(switch_frequency) {}
-  int size() const override { return 2; }
-  void derivative(const double* y, double* dydt) override {
-    double g[1];
-    switch_functions(y, g);
-    piece_derivative(y, piece_of(g), dydt);
+  explicit Grazing(double switch_frequency) : SwitchAtZero(1e-6, 1e-2), switch_frequency_(switch_frequency) {}
+  double acceleration(double x, std::uint32_t piece) const override {
+    return -kOutside * kOutside * (x - kRest) - (piece == 1 ? kInside * kInside - kOutside * kOutside : 0) * x;
   }
-  void piece_derivative(const double* y, std::uint32_t piece, double* dydt) override {
-    dydt[0] = y[1];
-    dydt[1] = -kOutside * kOutside * (y[0] - kRest) - (piece == 1 ? kInside * kInside - kOutside * kOutside : 0) * y[0];
-  }
-  void position_rates(const double* y, double* dydt) const override { dydt[0] = y[1]; }
-  bool is_position(int index) const override { return index == 0; }
-  double scale(int index) const override { return index == 0 ? 1e-6 : 1e-2; }
-  void project(double*) const override {}
-  int switch_functions(const double* y, double* g) const override {
-    g[0] = y[0];
-    return 1;
-  }
-  std::uint32_t piece_of(const double* g) const override { return g[0] < 0 ? 1u : 0u; }
   double switch_frequency() const override { return switch_frequency_; }
 
  private:

@@ -11,6 +11,7 @@
 #include <memory>
 
 #include "boards/sim/plant/exponential.hpp"
+#include "tests/boards/sim/switch_at_zero.hpp"
 
 namespace hmp::sim::plant {
 namespace {
@@ -20,29 +21,14 @@ constexpr double kSoft = kTwoPi * 50;    // rad/s, x > 0
 constexpr double kStiff = kTwoPi * 120;  // rad/s, x < 0
 constexpr double kStep = 1e-3;           // s
 
-// y = (x, v); piece 0: x ≥ 0, piece 1: x < 0.
-class Bilinear final : public OdeSystem {
+// Piece 0: x ≥ 0, the soft spring; piece 1: x < 0, the stiff one.
+class Bilinear final : public SwitchAtZero {
  public:
-  int size() const override { return 2; }
-  void derivative(const double* y, double* dydt) override {
-    double g[1];
-    switch_functions(y, g);
-    piece_derivative(y, piece_of(g), dydt);
-  }
-  void piece_derivative(const double* y, std::uint32_t piece, double* dydt) override {
+  Bilinear() : SwitchAtZero(1e-3, 1.0) {}
+  double acceleration(double x, std::uint32_t piece) const override {
     const double w = piece == 1 ? kStiff : kSoft;
-    dydt[0] = y[1];
-    dydt[1] = -w * w * y[0];
+    return -w * w * x;
   }
-  void position_rates(const double* y, double* dydt) const override { dydt[0] = y[1]; }
-  bool is_position(int index) const override { return index == 0; }
-  double scale(int index) const override { return index == 0 ? 1e-3 : 1.0; }
-  void project(double*) const override {}
-  int switch_functions(const double* y, double* g) const override {
-    g[0] = y[0];
-    return 1;
-  }
-  std::uint32_t piece_of(const double* g) const override { return g[0] < 0 ? 1u : 0u; }
 };
 
 // The exact motion from (x0 > 0, v0 < 0): on the soft side until x reaches 0 at `crossing`, then on the

@@ -44,6 +44,15 @@ PlantDrive holding_drive(const plant::PlantParams& params, int ticks, double swi
   return drive;
 }
 
+// holding_drive() with motors 0–3 let go (duty 0) over ticks [from, to): their strings go slack and then
+// snap taut.
+PlantDrive releasing_drive(const plant::PlantParams& params, int ticks, double swing, int from, int to) {
+  PlantDrive drive = holding_drive(params, ticks, swing);
+  for (int k = from; k < to; ++k)
+    for (int i = 0; i < 4; ++i) drive.duty[static_cast<std::size_t>(k)][static_cast<std::size_t>(i)] = 0.0;
+  return drive;
+}
+
 // The plant's own stepping, tick by tick, with the same drive.
 std::vector<plant::Vec3d> plant_string_force(const plant::PlantParams& params, const PlantDrive& drive) {
   plant::Plant p(params);
@@ -317,9 +326,7 @@ TEST(PlantReference, MatchesTheExactSolutionOfTheLinearisedStiffPlant) {
 TEST(PlantReference, ConvergesWhereStringsGoSlackAndTaut) {
   plant::PlantParams params;
   params.string.stiffness = 1e6;
-  PlantDrive drive = holding_drive(params, 100, 0.0);
-  for (int k = 20; k < 60; ++k)
-    for (int i = 0; i < 4; ++i) drive.duty[static_cast<std::size_t>(k)][static_cast<std::size_t>(i)] = 0.0;
+  const PlantDrive drive = releasing_drive(params, 100, 0.0, 20, 60);
   ReferenceOptions coarse, fine;
   coarse.rtol = 1e-10;
   fine.rtol = 1e-11;
@@ -370,9 +377,7 @@ SampledRun sampled_rk4(plant::PlantParams params, const PlantDrive& drive, int s
 TEST(PlantReference, TakesEachTickAgainFromTheStatesOfARun) {
   plant::PlantParams params;
   params.string.stiffness = 1e6;
-  PlantDrive drive = holding_drive(params, 60, 0.05);
-  for (int k = 20; k < 40; ++k)
-    for (int i = 0; i < 4; ++i) drive.duty[static_cast<std::size_t>(k)][static_cast<std::size_t>(i)] = 0.0;
+  const PlantDrive drive = releasing_drive(params, 60, 0.05, 20, 40);
   const SampledRun coarse = sampled_rk4(params, drive, 512), fine = sampled_rk4(params, drive, 2048);
   EXPECT_GT(fine.slack, 0) << "strings must go slack for the scene to test the switches";
   const PlantTrace a = hmp::simulate::cvode_ticks(params, kBias, drive, coarse.starts);
