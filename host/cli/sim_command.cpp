@@ -110,6 +110,9 @@ void print_work_precision(const simulate::WorkPrecision& wp) {
                 resolved(wp, p.error.force, c.force).c_str(),
                 resolved(wp, p.error.finger_force, c.finger_force).c_str(), band.c_str(), p.realtime_factor);
   }
+  if (!wp.tick_reference_error.empty())
+    std::printf("default over one tick: not measured (the one-tick reference failed: %s)\n",
+                wp.tick_reference_error.c_str());
   for (const simulate::WorkPrecisionPoint& p : wp.points) {
     if (!p.is_default || !std::isfinite(p.tick_error.force)) continue;
     const simulate::TraceError& c = wp.tick_reference_convergence;

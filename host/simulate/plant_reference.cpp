@@ -272,13 +272,13 @@ SolverStats cvode_integrate(const SwitchedOde& ode, std::vector<double>& y, int 
 
 namespace {
 
-// The plant's equations for CVODE, driven by `drive` from its tick `first` on, sampled into a trace at
-// the end of each tick.
+// The plant's equations for CVODE, driven by `drive` from its tick start_at() on (0 at first), sampled
+// into a trace at the end of each tick.
 class PlantOde {
  public:
   PlantOde(const plant::PlantDynamics& dynamics, const PlantDrive& drive, const plant::PlantParams& params,
-           const ReferenceOptions& options, std::size_t first)
-      : dynamics_(dynamics), drive_(drive), band_(params.scene.band_force), first_(first) {
+           const ReferenceOptions& options)
+      : dynamics_(dynamics), drive_(drive), band_(params.scene.band_force) {
     const int n = dynamics_.size();
     const double supply = params.motor.drive.supply_voltage;
     ode_.size = n;
@@ -332,7 +332,7 @@ class PlantOde {
   plant::PlantDynamics dynamics_;
   const PlantDrive& drive_;
   bool band_;
-  std::size_t first_;
+  std::size_t first_ = 0;
   SwitchedOde ode_;
 };
 
@@ -362,7 +362,7 @@ PlantTrace cvode_reference(const plant::PlantParams& params, double bias_tension
     trace.string_force.reserve(ticks);
     trace.finger_force.reserve(ticks);
     trace.tension.reserve(ticks);
-    PlantOde ode(reference.dynamics(), drive, params, options, 0);
+    PlantOde ode(reference.dynamics(), drive, params, options);
     ode.run(y, static_cast<int>(ticks), options.rtol, trace);
   } catch (const std::exception& e) {
     trace.ok = false;
@@ -385,7 +385,7 @@ PlantTrace cvode_ticks(const plant::PlantParams& params, double bias_tension, co
   try {
     plant::Plant plant(params);
     plant.reset(bias_tension);  // the strings' free lengths
-    PlantOde ode(plant.dynamics(), drive, params, options, 0);
+    PlantOde ode(plant.dynamics(), drive, params, options);
     for (const TickStart& s : starts) {
       if (s.state.size() != static_cast<std::size_t>(plant.state_size())) {
         trace.ok = false;

@@ -70,6 +70,7 @@ struct WorkPrecision {
   PlantTrace reference;              // at reference_rtol / 2
   TraceError reference_convergence;  // between the reference at reference_rtol and at half of it
   TraceError tick_reference_convergence = {kNaN, kNaN, kNaN};  // the one-tick reference's, likewise
+  std::string tick_reference_error;  // why the one-tick errors were not measured, if CVODE failed there
   std::vector<WorkPrecisionPoint> points;
   // Whether an error this size is resolved by the reference (≥ 10 × its convergence).
   bool claimed(double error, double convergence) const { return error >= 10.0 * convergence; }
