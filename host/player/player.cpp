@@ -426,8 +426,11 @@ bool Player::handle_commands(Outcome& outcome) {
 bool Player::ended() {
   if (paused_ || !scheduler_.finished() || !resend_.empty()) return false;
   if (song_now() < window_end_us()) return false;
-  const std::optional<double> position = link_.position(steady_us());
-  return position && *position >= static_cast<double>(last_note_end_tick_) + 2.0;
+  // The device's own report of its tick, not the clock fit's estimate: a device whose clock fell behind
+  // the fit (an emulated board losing ticks on a busy host) still has notes to start, which a stop now
+  // would cancel.
+  const std::optional<protocol::Status> s = link_.status();
+  return s && s->tick >= last_note_end_tick_ + 2;
 }
 
 void Player::finish() {

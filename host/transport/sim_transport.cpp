@@ -98,6 +98,15 @@ void SimTransport::advance(std::uint64_t ticks) {
   collect_reports();
 }
 
+void SimTransport::lose_ticks(std::chrono::nanoseconds span) {
+  if (options_.pacing != Pacing::real_time) return;
+  {
+    std::lock_guard lock(mutex_);
+    start_time_ += span;  // every tick from now on is due `span` later
+  }
+  changed_.notify_all();
+}
+
 bool SimTransport::send(const Report& report) {
   if (!state_.is_open()) return false;
   std::unique_lock lock(mutex_);

@@ -50,6 +50,10 @@ class SimTransport final : public TransportWithState {
   std::chrono::steady_clock::time_point tick_due_at(std::uint64_t tick) const;
   // virtual_time: runs `ticks` device ticks now (their reports wait for receive()). real_time: no-op.
   void advance(std::uint64_t ticks);
+  // real_time: the device's clock stands still for `span` from now and then runs on from where it stood,
+  // those ticks lost (an emulated board's timer on a busy host); the link stays up, reports wait for the
+  // next tick. virtual_time: no-op.
+  void lose_ticks(std::chrono::nanoseconds span);
   // Runs fn(device) with the device's clock held still: inspection, log echo, output recording.
   template <class F>
   decltype(auto) with_device(F&& fn) {

@@ -1,5 +1,6 @@
 // `hmp play` when the link misbehaves (design §9, §10): a link that dies or a device that falls silent
-// mid-song is reported within 1 s without hanging; a device of another protocol version is refused with
+// mid-song is reported within 1 s without hanging; a device that loses ticks before the last note
+// still plays it; a device of another protocol version is refused with
 // a clear message (library and command line); a device with a tiny queue is never overrun (the credit
 // rule holds: nothing refused, nothing dropped); a slow link drops nothing and the late notes are
 // counted exactly.
@@ -11,6 +12,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <condition_variable>
 #include <cstring>
 #include <deque>
@@ -285,6 +287,44 @@ TEST(PlayFaults, DeviceThatRestartsIsGreetedAgainAndPlaysOn) {
   EXPECT_GE(c.notes_played + 3, expected.size());  // at most the notes around the restart are lost
   EXPECT_EQ(c.rejected, 0u);
   for (const hmp::player::StartedNote& n : s.started()) EXPECT_EQ(n.actual_tick, n.scheduled_tick);
+}
+
+TEST(PlayFaults, DeviceWhoseClockStallsBeforeTheLastNoteStillPlaysIt) {
+  // An emulated board on a busy host loses ticks: its clock stands still for a while and runs on from
+  // there. Here the device loses 300 ms of ticks from 300 ms after the passage's second-to-last note: the
+  // last note's tick then comes after the passage's end by the host's clock. A stop sent when the host's
+  // clock says the song is over reaches a device that has not yet started the last note and cancels it.
+  hmp::transport::SimTransport sim;
+  test::Session s(sim, test::passage(kFlute, 130, 134));
+  const auto expected = test::passage_notes(kFlute, 130, 134);
+  ASSERT_GE(expected.size(), 2u);
+  const double last_gap_s = expected.back().second - expected[expected.size() - 2].second;
+  ASSERT_GT(last_gap_s, 0.3);
+  ASSERT_LT(134 - expected[expected.size() - 2].second, 0.6);  // the end falls inside the stall too
+  s.start();
+  std::uint64_t stalled_at = 0, last_tick = 0;
+  for (;;) {
+    const auto started = s.started();
+    if (started.size() + 1 >= expected.size()) {
+      last_tick = started.back().scheduled_tick +
+                  static_cast<std::uint64_t>(std::lround(last_gap_s * static_cast<double>(sim.tick_hz())));
+      std::this_thread::sleep_until(sim.tick_due_at(started.back().actual_tick) + 300ms);
+      stalled_at = sim.with_device([](hmp::sim::SimDevice& d) { return d.tick(); });
+      sim.lose_ticks(300ms);
+      break;
+    }
+    if (s.outcome() || !s.error().empty()) break;
+    std::this_thread::sleep_for(1ms);
+  }
+  s.join();
+  ASSERT_TRUE(s.outcome().has_value()) << s.error();
+  ASSERT_GT(stalled_at, 0u) << "the passage ended before its second-to-last note was reported";
+  if (stalled_at >= last_tick) GTEST_SKIP() << "too loaded to measure: the stall began after the last note's tick";
+  const hmp::player::Counters c = s.player().counters();
+  EXPECT_EQ(c.notes_sent, expected.size());
+  EXPECT_EQ(c.notes_played, expected.size());
+  EXPECT_EQ(c.cancelled, 0u);
+  EXPECT_EQ(s.started().size(), expected.size());
 }
 
 TEST(PlayFaults, DeviceOfAnotherProtocolVersionIsRefused) {

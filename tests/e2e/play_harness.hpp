@@ -155,7 +155,8 @@ inline bool every_note_on_its_tick(const std::string& log_path, std::size_t expe
 inline void expect_every_note_on_its_tick(const std::string& log_path, std::size_t expected_notes,
                                           const std::string& context) {
   const ParsedLog log = parse_log(log_path);
-  ASSERT_EQ(log.notes.size(), expected_notes) << context;
+  ASSERT_EQ(log.notes.size(), expected_notes)
+      << context << "\nsummary: " << (log.summary ? log.summary->dump() : std::string("none"));
   for (const LogEntry& e : log.notes) EXPECT_EQ(e.actual, e.scheduled) << "key " << e.key << " at " << e.start_s;
   ASSERT_TRUE(log.summary.has_value()) << context;
   EXPECT_EQ(log.summary->at("notes_played").get<std::size_t>(), expected_notes);
