@@ -30,31 +30,13 @@ double relative_error(const std::vector<plant::Vec3d>& x, const std::vector<plan
 
 double seconds_of(const PlantScene& scene) { return static_cast<double>(scene.drive.duty.size()) * scene.drive.tick_s; }
 
-// A run of the scene on our Plant that keeps, for every `every`-th tick, the state it starts from and the
-// forces at its end.
-struct TickSamples {
-  std::vector<TickStart> starts;
-  PlantTrace ends;
-};
-TickSamples sample_ticks(const PlantScene& scene, plant::Method method, double max_step, int every) {
-  plant::PlantParams p = scene.params;
-  p.stepper.method = method;
-  p.stepper.max_step = max_step;
-  plant::Plant sim(p);
-  sim.reset(scene.bias_tension);
-  TickSamples out;
-  double d[spidar::kStrings];
-  for (std::size_t k = 0; k < scene.drive.duty.size() && !sim.unstable(); ++k) {
-    for (int i = 0; i < spidar::kStrings; ++i) d[i] = scene.drive.duty[k][static_cast<std::size_t>(i)];
-    sim.set_finger_anchor(scene.drive.anchor[k]);
-    const bool sampled = k % static_cast<std::size_t>(every) == 0;
-    if (sampled) out.starts.push_back({k, std::vector<double>(sim.state(), sim.state() + sim.state_size())});
-    const plant::PlantOutput& o = sim.step(d, scene.drive.tick_s);
-    if (!sampled) continue;
-    out.ends.string_force.push_back(o.string_force);
-    out.ends.finger_force.push_back(o.finger_force);
+// The forces of `run` at the end of the ticks of `starts`, as cvode_ticks() gives them.
+PlantTrace at_ticks(const PlantTrace& run, const std::vector<TickStart>& starts) {
+  PlantTrace out;
+  for (const TickStart& s : starts) {
+    out.string_force.push_back(run.string_force[s.tick]);
+    out.finger_force.push_back(run.finger_force[s.tick]);
   }
-  out.ends.ok = !sim.unstable();
   return out;
 }
 
@@ -73,7 +55,8 @@ int default_steps_per_tick(double tick_s) {
   return std::max(1, static_cast<int>(std::ceil(tick_s / step - 1e-9)));
 }
 
-PlantTrace run_plant(const PlantScene& scene, plant::Method method, double max_step, bool band) {
+PlantTrace run_plant(const PlantScene& scene, plant::Method method, double max_step, bool band,
+                     std::vector<TickStart>* starts, int every) {
   plant::PlantParams p = scene.params;
   p.stepper.method = method;
   p.stepper.max_step = max_step;
@@ -90,6 +73,8 @@ PlantTrace run_plant(const PlantScene& scene, plant::Method method, double max_s
   for (std::size_t k = 0; k < ticks && !sim.unstable(); ++k) {
     for (int i = 0; i < spidar::kStrings; ++i) d[i] = scene.drive.duty[k][static_cast<std::size_t>(i)];
     sim.set_finger_anchor(scene.drive.anchor[k]);
+    if (starts != nullptr && k % static_cast<std::size_t>(every) == 0)
+      starts->push_back({k, std::vector<double>(sim.state(), sim.state() + sim.state_size())});
     const plant::PlantOutput& out = sim.step(d, scene.drive.tick_s);
     t.string_force.push_back(out.string_force);
     t.finger_force.push_back(out.finger_force);
@@ -149,7 +134,8 @@ WorkPrecision work_precision(const PlantScene& scene, const WorkPrecisionOptions
     p.integrator = std::string(plant::method_name(m));
     p.steps_per_tick = n;
     p.is_default = m == default_method() && n == default_steps;
-    PlantTrace t = run_plant(scene, m, tick / n);
+    std::vector<TickStart> starts;
+    PlantTrace t = run_plant(scene, m, tick / n, false, p.is_default ? &starts : nullptr, kTickSampleEvery);
     p.ok = t.ok;
     if (p.ok) {
       p.error = trace_error(t, wp.reference);
@@ -157,16 +143,15 @@ WorkPrecision work_precision(const PlantScene& scene, const WorkPrecisionOptions
         const PlantTrace banded = run_plant(scene, m, tick / n, true);
         if (banded.ok) p.error.band_force = trace_error(banded, wp.reference).band_force;
         say("one tick at a time (cvode from the default's states)");
-        const TickSamples samples = sample_ticks(scene, m, tick / n, kTickSampleEvery);
         ReferenceOptions to;
         to.rtol = o.reference_rtol / 2;
-        const PlantTrace tight = cvode_ticks(scene.params, scene.bias_tension, scene.drive, samples.starts, to);
+        const PlantTrace tight = cvode_ticks(scene.params, scene.bias_tension, scene.drive, starts, to);
         to.rtol = o.reference_rtol;
-        const PlantTrace loose = cvode_ticks(scene.params, scene.bias_tension, scene.drive, samples.starts, to);
+        const PlantTrace loose = cvode_ticks(scene.params, scene.bias_tension, scene.drive, starts, to);
         if (!tight.ok || !loose.ok) {
           wp.tick_reference_error = (tight.ok ? loose : tight).error;  // the run's errors stand without it
-        } else if (samples.ends.ok) {
-          p.tick_error = trace_error(samples.ends, tight);
+        } else {
+          p.tick_error = trace_error(at_ticks(t, starts), tight);
           wp.tick_reference_convergence = trace_error(loose, tight);
         }
       }

@@ -39,8 +39,10 @@ struct TraceError {
 TraceError trace_error(const PlantTrace& run, const PlantTrace& reference);
 
 // The scene on our Plant with `method` at internal steps of at most `max_step` seconds (`band`: with the
-// band_force states too); cpu_s is the thread's CPU time and ok false if the plant went unstable.
-PlantTrace run_plant(const PlantScene& scene, sim::plant::Method method, double max_step, bool band = false);
+// band_force states too); cpu_s is the thread's CPU time and ok false if the plant went unstable. With
+// `starts`: also the state every `every`-th tick starts from, for cvode_ticks().
+PlantTrace run_plant(const PlantScene& scene, sim::plant::Method method, double max_step, bool band = false,
+                     std::vector<TickStart>* starts = nullptr, int every = 1);
 
 struct WorkPrecisionOptions {
   std::vector<sim::plant::Method> methods{std::begin(sim::plant::kAllMethods), std::end(sim::plant::kAllMethods)};

@@ -1,6 +1,7 @@
 #include "shared/spidar/motor.hpp"
 
 #include <cmath>
+#include <numbers>
 
 namespace hmp::spidar {
 
@@ -10,7 +11,7 @@ MotorModel<T>::MotorModel(const MotorParams<T>& p) {
   const T per_volt = static_cast<T>(1) / p.supply_voltage;
   duty_per_newton_ = p.resistance * p.pulley_radius / p.torque_constant * per_volt;
   duty_per_rad_s_ = (p.resistance * p.viscous_friction / p.torque_constant + p.torque_constant) * per_volt;
-  radians_per_count_ = static_cast<T>(6.28318530717958647692) / static_cast<T>(p.counts_per_rev);
+  radians_per_count_ = static_cast<T>(2 * std::numbers::pi) / static_cast<T>(p.counts_per_rev);
   metres_per_count_ = radians_per_count_ * p.pulley_radius;
 }
 

@@ -1,11 +1,12 @@
 #include "shared/synth/sine.hpp"
 
 #include <cmath>
+#include <numbers>
 
 namespace hmp::synth {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+constexpr double kPi = std::numbers::pi;
 constexpr float kTurnToRad = static_cast<float>(2.0 * kPi / 4294967296.0);  // 2π / 2^32
 
 // ---- table -------------------------------------------------------------------------------------------

@@ -5,13 +5,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 
 #include "tests/firmware/host_link.hpp"
 
 namespace hmp::test {
 namespace {
 
-constexpr double kTwoPi = 6.283185307179586476925;
+constexpr double kTwoPi = 2 * std::numbers::pi;
 constexpr auto kSquare = static_cast<std::uint8_t>(envelope::Preset::square);
 constexpr auto kOrgan = static_cast<std::uint8_t>(envelope::Preset::organ);
 

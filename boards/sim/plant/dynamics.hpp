@@ -16,6 +16,7 @@
 // u_i, m_i and lengths come from shared/spidar's compute_strings(), the same code the firmware uses.
 // A translation-only scene drops q and w (the grip keeps its rest orientation; torques are still reported).
 #include <cstdint>
+#include <numbers>
 
 #include "boards/sim/plant/integrators.hpp"
 #include "boards/sim/plant/plant_params.hpp"
@@ -38,7 +39,7 @@ inline constexpr int band_size = 6;  // (b, b') per axis, after the rest when Sc
 
 // The band the finger feels (design §12): the cut-off of the string force's low-pass above.
 inline constexpr double kBandHz = 1000.0;
-inline constexpr double kBandOmega = 2 * 3.14159265358979323846 * kBandHz;  // rad/s
+inline constexpr double kBandOmega = 2 * std::numbers::pi * kBandHz;  // rad/s
 
 // A slack string this close to taut (m) keeps its spring in the implicit methods' Jacobian: ~ the string
 // a motor can reel in within a 1 ms step at full speed (2.8 m/s), so a string never snaps taut under a

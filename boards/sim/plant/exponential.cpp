@@ -3,6 +3,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <numbers>
 #include <vector>
 
 #include "boards/sim/plant/phi_chain.hpp"
@@ -60,7 +61,7 @@ constexpr double kCorrectionLimit = 0.01;
 // Runge–Kutta to the switch and on from it (a kink inside a 31 µs ETD2 step on the old piece cost more
 // than the missed switches). The bound on the plant's rate turns, between checkpoints, 2.7 rad at
 // 10⁵ N/m, 8.4 at 10⁶ and 27 at 10⁷ (3.3 between fine sub-steps: there neither would see it).
-constexpr double kNyquistTurn = 3.14159265358979323846;
+constexpr double kNyquistTurn = std::numbers::pi;
 // There the Runge–Kutta parts of a fine sub-step each turn the switch frequency by at most kPartTurn:
 // the rate after a switch, not the piece's before it (a string snapping taut makes it faster), sets
 // their accuracy; classical Runge–Kutta's phase error is turn⁵/120 a part.

@@ -1,13 +1,14 @@
 #include "boards/sim/plant/plant.hpp"
 
 #include <cmath>
+#include <numbers>
 
 namespace hmp::sim::plant {
 
 using spidar::kStrings;
 
 namespace {
-constexpr double kTwoPi = 6.28318530717958647692;
+constexpr double kTwoPi = 2 * std::numbers::pi;
 // Plausibility limits that are not motor-specific: the frame is ~0.2 m across, a hand moves at ~1 m/s.
 constexpr double kMaxDistance = 1.0;         // m from the frame centre
 constexpr double kMaxVelocity = 50.0;        // m/s

@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <memory>
+#include <numbers>
 
 #include "boards/sim/plant/exponential.hpp"
 
@@ -18,8 +19,8 @@ constexpr double kStep = 1e-3;     // s
 constexpr double kReach = 1e-3;    // m of p: a drift of 1
 constexpr double kPerStep = 0.23;  // of the reach: p's motion in a step
 constexpr double kSpeed = kPerStep * kReach / kStep;
-constexpr double kOmega = 6.283185307179586 * 80;  // rad/s at p = 0
-constexpr double kBend = 20;                       // 1/m: ω grows by 2 % per mm of p
+constexpr double kOmega = 2 * std::numbers::pi * 80;  // rad/s at p = 0
+constexpr double kBend = 20;                          // 1/m: ω grows by 2 % per mm of p
 
 // y = (p, x, v): p' = kSpeed, x' = v, v' = −ω(p)²·x with ω(p) = kOmega·(1 + kBend·p).
 class CarriedOscillator final : public OdeSystem {

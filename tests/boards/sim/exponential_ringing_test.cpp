@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <numbers>
 
 #include "boards/sim/plant/exponential.hpp"
 #include "tests/boards/sim/switch_at_zero.hpp"
@@ -16,7 +17,7 @@
 namespace hmp::sim::plant {
 namespace {
 
-constexpr double kTwoPi = 6.283185307179586476925;
+constexpr double kTwoPi = 2 * std::numbers::pi;
 constexpr double kOutside = kTwoPi * 2400;  // rad/s, x ≥ 0
 constexpr double kInside = 2 * kOutside;    // rad/s, x < 0
 constexpr double kRest = 1e-6;              // m, x_e

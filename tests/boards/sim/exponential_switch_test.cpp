@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <numbers>
 
 #include "boards/sim/plant/exponential.hpp"
 #include "tests/boards/sim/switch_at_zero.hpp"
@@ -16,7 +17,7 @@
 namespace hmp::sim::plant {
 namespace {
 
-constexpr double kTwoPi = 6.283185307179586476925;
+constexpr double kTwoPi = 2 * std::numbers::pi;
 constexpr double kSoft = kTwoPi * 50;    // rad/s, x > 0
 constexpr double kStiff = kTwoPi * 120;  // rad/s, x < 0
 constexpr double kStep = 1e-3;           // s

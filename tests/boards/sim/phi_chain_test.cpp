@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <numbers>
 #include <utility>
 #include <vector>
 
@@ -114,7 +115,7 @@ void check(const std::vector<Oscillator>& oscillators, double h, double toleranc
 TEST(PhiChain, OscillatorsFromSoftToWireLikeStrings) {
   std::vector<Oscillator> set;
   for (int k = 0; k < 18; ++k)
-    set.push_back({2 * 3.14159265358979L * 10 * std::pow(700.0L, k / 17.0L), 0.005L + 0.02L * k});
+    set.push_back({2 * std::numbers::pi_v<long double> * 10 * std::pow(700.0L, k / 17.0L), 0.005L + 0.02L * k});
   for (int eager : {6, 3, 1}) check(set, 1e-3, 1e-10, eager);
 }
 

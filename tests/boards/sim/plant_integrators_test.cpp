@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -15,7 +16,7 @@ namespace {
 
 using namespace hmp::sim::plant;
 
-constexpr double kTwoPi = 6.283185307179586476925;
+constexpr double kTwoPi = 2 * std::numbers::pi;
 
 // Smooth regime: every string stays taut (1 N bias, duties ±10% around the hold), constant duties, so
 // the solution is smooth and each method shows its asymptotic order.

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <numbers>
 #include <vector>
 
 #include "boards/sim/plant/dynamics.hpp"
@@ -19,7 +20,7 @@ using namespace hmp::sim::plant;
 using plant_ref::V3;
 namespace flag = hmp::spidar::flag;
 
-constexpr double kTwoPi = 6.283185307179586476925;
+constexpr double kTwoPi = 2 * std::numbers::pi;
 
 V3 v3(const Vec3d& v) { return {v.x, v.y, v.z}; }
 

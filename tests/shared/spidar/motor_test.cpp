@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <numbers>
 #include <random>
 
 #include "shared/spidar/motor.hpp"
@@ -67,7 +68,7 @@ TEST(SpidarMotor, Facts) {
   EXPECT_NEAR(motor.stall_tension(), kV * kKt / (kR * kRadius), 1e-12);
   EXPECT_GT(motor.stall_tension(), 6.0);
   // 512 lines × 4 on a 5 mm pulley.
-  EXPECT_NEAR(motor.metres_per_count(), 2 * 3.14159265358979 * kRadius / 2048, 1e-15);
+  EXPECT_NEAR(motor.metres_per_count(), 2 * std::numbers::pi * kRadius / 2048, 1e-15);
   EXPECT_NEAR(motor.metres_per_count(), 15.34e-6, 0.01e-6);
   // Counts grow as string pays out: +10 counts in a 1 ms tick is the pulley unwinding (negative ω).
   EXPECT_NEAR(motor.winding_speed(10, 1000.0), -10 * 2 * 3.14159265358979 / 2048 * 1000, 1e-9);

@@ -4,6 +4,7 @@
 // random poses inside the workspace.
 #include <array>
 #include <cmath>
+#include <numbers>
 #include <random>
 
 namespace spidar_ref {
@@ -46,7 +47,7 @@ inline M3 transpose(const M3& m) {
 
 // design §11, X3: PX = PZ = 0.06 m, PY = 0.076 m, grip attachments at ±22.5 mm, whole layout turned −45° about y.
 constexpr double kPx = 0.06, kPy = 0.076, kPz = 0.06, kG = 0.0225;
-constexpr double kPi = 3.14159265358979323846;
+constexpr double kPi = std::numbers::pi;
 inline const M3& x3_turn() {
   static const M3 turn = axis_angle({0, 1, 0}, -kPi / 4);
   return turn;

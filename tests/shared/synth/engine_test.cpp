@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <numbers>
 #include <random>
 #include <vector>
 
@@ -22,7 +23,7 @@ using synth::Polyphony;
 
 constexpr auto kSquare = static_cast<std::uint8_t>(envelope::Preset::square);
 constexpr auto kViolin = static_cast<std::uint8_t>(envelope::Preset::violin);
-constexpr double kTwoPi = 6.283185307179586476925;
+constexpr double kTwoPi = 2 * std::numbers::pi;
 
 Note note(double hz, double amp, std::uint32_t ticks, std::uint8_t preset = kSquare, std::uint8_t track = 0) {
   Note n;

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <numbers>
 #include <random>
 
 namespace {
@@ -14,7 +15,7 @@ namespace {
 using namespace hmp::synth;
 using u128 = unsigned __int128;
 
-constexpr double kTwoPi = 6.283185307179586476925;
+constexpr double kTwoPi = 2 * std::numbers::pi;
 constexpr double kTwo20 = 1048576.0;
 constexpr double kTwo64 = 18446744073709551616.0;
 

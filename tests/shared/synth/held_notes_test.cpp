@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <numbers>
 
 #include "shared/synth/engine.hpp"
 #include "shared/synth/frequency.hpp"
@@ -17,7 +18,7 @@ using synth::Note;
 
 constexpr auto kSquare = static_cast<std::uint8_t>(envelope::Preset::square);
 constexpr auto kOrgan = static_cast<std::uint8_t>(envelope::Preset::organ);
-constexpr double kTwoPi = 6.283185307179586476925;
+constexpr double kTwoPi = 2 * std::numbers::pi;
 
 Note held(double hz, std::uint8_t key, std::uint8_t track = 0, std::uint8_t preset = kSquare) {
   Note n;

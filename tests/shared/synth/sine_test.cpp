@@ -7,13 +7,14 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <numbers>
 #include <random>
 
 namespace {
 
 using namespace hmp::synth;
 
-constexpr double kTwoPi = 6.283185307179586476925;
+constexpr double kTwoPi = 2 * std::numbers::pi;
 
 double reference(std::uint32_t phase) { return std::sin(kTwoPi * (static_cast<double>(phase) / 4294967296.0)); }
 

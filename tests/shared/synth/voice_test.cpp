@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <numbers>
 #include <random>
 
 #include "shared/synth/frequency.hpp"
@@ -16,7 +17,7 @@ namespace {
 using namespace hmp;
 using synth::SineImpl;
 
-constexpr double kTwoPi = 6.283185307179586476925;
+constexpr double kTwoPi = 2 * std::numbers::pi;
 constexpr double kBudget = 2e-5;  // design §7: max |error| over a 10-minute note, in full-scale units
 
 synth::Note make_note(double hz, double amp, std::uint32_t ticks) {
