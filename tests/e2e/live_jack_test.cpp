@@ -489,7 +489,11 @@ TEST(LiveJack, PlayMidiOutSendsTheSongOnTheDevicesClock) {
     if (!silenced[0] || !silenced[1]) failure += "a channel not silenced at the end; ";
     return std::string(worst_ms <= kBoundMs ? "complete" : "late");
   };
-  until_complete(jack, play, [](const std::string& s) { return s == "complete"; });
+  // A run late while the whole machine stood still for longer than the bound is measured again.
+  hmp::test::measure_unless_stalled(
+      kBoundMs, [&] { return until_complete(jack, play, [](const std::string& s) { return s == "complete"; }); },
+      [](const std::string& s) { return s == "late"; },
+      [&](const std::string&) { return "worst onset error " + std::to_string(worst_ms) + " ms"; });
   EXPECT_EQ(failure, "") << err;
   std::printf("midi-out: 18 note-ons, worst onset error %.2f ms (from their median)\n", worst_ms);
   HMP_SKIP_IF_TOO_LOADED(load, worst_ms <= kBoundMs, "worst onset error " << worst_ms << " ms");
