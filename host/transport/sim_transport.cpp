@@ -41,6 +41,7 @@ std::uint64_t SimTransport::due_tick(SteadyClock::time_point now) const {
 }
 
 SimTransport::SteadyClock::time_point SimTransport::tick_due_at(std::uint64_t tick) const {
+  std::lock_guard lock(mutex_);
   const auto ticks = static_cast<std::int64_t>(tick) - static_cast<std::int64_t>(start_tick_);
   const std::int64_t hz = options_.tick_hz;
   return start_time_ + std::chrono::nanoseconds(ticks / hz * 1'000'000'000 + ticks % hz * 1'000'000'000 / hz);

@@ -70,7 +70,7 @@ class SimTransport final : public TransportWithState {
   bool pop(Report& out);                                      // mutex_ held
 
   Options options_;
-  std::mutex mutex_;
+  mutable std::mutex mutex_;         // tick_due_at() reads start_time_, which lose_ticks() moves
   std::condition_variable changed_;  // a tick ran, a report arrived, or the link closed
   sim::SimDevice device_;
   std::deque<std::array<std::uint8_t, protocol::kReportSize>> inbox_;
