@@ -101,7 +101,7 @@ void print_work_precision(const simulate::WorkPrecision& wp) {
     const std::string steps =
         p.integrator == "cvode" ? fmt::format("rtol {:g}", p.rtol) : std::to_string(p.steps_per_tick);
     if (!p.ok) {
-      std::printf("%-22s %9s %14s\n", name.c_str(), steps.c_str(), "unstable");
+      std::printf("%-22s %9s  %s\n", name.c_str(), steps.c_str(), p.failure.c_str());
       continue;
     }
     const simulate::TraceError& c = wp.reference_convergence;

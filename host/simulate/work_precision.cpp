@@ -137,6 +137,7 @@ WorkPrecision work_precision(const PlantScene& scene, const WorkPrecisionOptions
     std::vector<TickStart> starts;
     PlantTrace t = run_plant(scene, m, tick / n, false, p.is_default ? &starts : nullptr, kTickSampleEvery);
     p.ok = t.ok;
+    p.failure = t.error;
     if (p.ok) {
       p.error = trace_error(t, wp.reference);
       if (p.is_default) {
@@ -172,6 +173,7 @@ WorkPrecision work_precision(const PlantScene& scene, const WorkPrecisionOptions
     co.atol_factor = rtol;
     PlantTrace t = cvode_reference(scene.params, scene.bias_tension, scene.drive, co);
     p.ok = t.ok;
+    p.failure = t.error;
     if (p.ok) {
       p.error = trace_error(t, wp.reference);
       p.cpu_s = t.cpu_s;

@@ -47,7 +47,7 @@ PlantTrace run_plant(const PlantScene& scene, sim::plant::Method method, double 
 struct WorkPrecisionOptions {
   std::vector<sim::plant::Method> methods{std::begin(sim::plant::kAllMethods), std::end(sim::plant::kAllMethods)};
   std::vector<int> steps_per_tick{1, 2, 4, 8, 16, 32, 64, 128};
-  std::vector<double> cvode_rtols{1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8};
+  std::vector<double> cvode_rtols{1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8};
   double reference_rtol = 1e-10;
   int repeats = 3;
   // Called before each run with what it is, how many runs are done and how many there are in all.
@@ -63,6 +63,7 @@ struct WorkPrecisionPoint {
   double rtol = 0;          // cvode only
   bool is_default = false;  // the plant's default integrator and step
   bool ok = true;           // stable (ours) or succeeded (cvode)
+  std::string failure;      // where ok is false, why: "unstable", or CVODE's error
   TraceError error;
   TraceError tick_error = {kNaN, kNaN, kNaN};  // the default integrator only
   double cpu_s = 0, realtime_factor = 0;

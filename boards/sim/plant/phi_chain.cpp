@@ -69,6 +69,12 @@ void balance(const double* a, double* b, int ld, double* scale, int n) {
 #else
 #define HMP_VECTOR_CLONES
 #endif
+// Clang clones plain functions only: there the function templates are built for the baseline.
+#if defined(__clang__)
+#define HMP_VECTOR_CLONES_TEMPLATE
+#else
+#define HMP_VECTOR_CLONES_TEMPLATE HMP_VECTOR_CLONES
+#endif
 
 HMP_VECTOR_CLONES double norm1(const double* a, int ld, int n) {
   double column[kMaxState] = {};
@@ -172,7 +178,7 @@ struct NextTerm {
 };
 
 template <class Left, class Sink>
-HMP_VECTOR_CLONES void sparse_product4(const Left& a, const double* b, int ld, Sink sink) {
+HMP_VECTOR_CLONES_TEMPLATE void sparse_product4(const Left& a, const double* b, int ld, Sink sink) {
   sparse_rows_of<Vector4>(LaneGroups{}, a, b, ld, sink);
 }
 

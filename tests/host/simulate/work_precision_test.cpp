@@ -171,6 +171,30 @@ INSTANTIATE_TEST_SUITE_P(Stiff, CarriedGrip, testing::Values(1e5, 1e7),
                            return "k" + std::to_string(static_cast<int>(std::log10(param.param)));
                          });
 
+// A point that failed says why: our integrator going unstable (RK4 at one step per tick on 10⁷ N/m
+// strings, far past its stable step) or CVODE giving up (at rtol 10⁻², the loosest it is run at, on the
+// 250 Hz vibration at 10⁵ N/m it sees the strings' switches chatter within the first ticks).
+TEST(WorkPrecisionPoints, AFailedPointSaysWhy) {
+  WorkPrecisionOptions o;
+  o.methods = {plant::Method::rk4};
+  o.steps_per_tick = {1};
+  o.cvode_rtols = {1e-2};
+  o.repeats = 1;
+  const WorkPrecision unstable = work_precision(make_plant_scene("vibration_250hz_1n", 1e7, 0.01), o);
+  o.methods = {};
+  const WorkPrecision chatter = work_precision(make_plant_scene("vibration_250hz_1n", 1e5, 0.01), o);
+  ASSERT_EQ(unstable.points.size(), 2u);
+  ASSERT_EQ(chatter.points.size(), 1u);
+  const WorkPrecisionPoint& rk4 = unstable.points[0];
+  const WorkPrecisionPoint& cvode = chatter.points[0];
+  EXPECT_FALSE(rk4.ok);
+  EXPECT_EQ(rk4.failure, "unstable");
+  EXPECT_TRUE(unstable.points[1].ok) << unstable.points[1].failure;  // CVODE at 10⁷ N/m: an ok point has none
+  EXPECT_TRUE(unstable.points[1].failure.empty());
+  EXPECT_FALSE(cvode.ok);
+  EXPECT_NE(cvode.failure.find("chattering"), std::string::npos) << cvode.failure;
+}
+
 TEST(PlantScenes, UnknownSceneIsBadInput) { EXPECT_ANY_THROW(make_plant_scene("nominal", 1e4, 0.1)); }
 
 TEST(PlantScenes, EveryNamedSceneBuilds) {
