@@ -64,23 +64,33 @@ void write_csv(const SimCliOptions& o, const std::vector<simulate::ForceSample>&
   output::close_output(f);
 }
 
+// A text field as RFC 4180 has it: in double quotes, its quotes doubled, where it holds a comma, a quote or
+// a line break (CVODE's messages have commas).
+std::string csv_text(const std::string& text) {
+  if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
+  std::string out = "\"";
+  for (char c : text) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
 void write_work_precision_csv(const SimCliOptions& o, const simulate::WorkPrecision& wp) {
   output::FilePtr f = output::open_for_writing(o.out, o.force);
   std::fputs(
       "integrator,steps_per_tick,rtol,default,ok,force_error_rel,finger_force_error_rel,band_force_error_rel,"
       "realtime_factor,reference_convergence_force,reference_convergence_finger,reference_convergence_band,"
-      "tick_force_error_rel,tick_finger_force_error_rel\n",
+      "tick_force_error_rel,tick_finger_force_error_rel,failure\n",
       f.get());
   // A value not measured (the band of a method other than the default) is an empty field.
   const auto value = [](double v, const char* format) {
     return std::isfinite(v) ? fmt::format(fmt::runtime(format), v) : std::string();
   };
   for (const simulate::WorkPrecisionPoint& p : wp.points) {
-    std::fprintf(f.get(), "%s,%d,%g,%d,%d,%.4g,%.4g,%s,%.4g,%.3g,%.3g,%s,%s,%s\n", p.integrator.c_str(),
-                 p.steps_per_tick, p.rtol, p.is_default ? 1 : 0, p.ok ? 1 : 0, p.error.force, p.error.finger_force,
+    std::fprintf(f.get(), "%s,%d,%g,%d,%d,%.4g,%.4g,%s,%.4g,%.3g,%.3g,%s,%s,%s,%s\n", p.integrator.c_str(),
+                 p.steps_per_tick, p.rtol, p.is_default ? 1 : 0, p.ok() ? 1 : 0, p.error.force, p.error.finger_force,
                  value(p.error.band_force, "{:.4g}").c_str(), p.realtime_factor, wp.reference_convergence.force,
                  wp.reference_convergence.finger_force, value(wp.reference_convergence.band_force, "{:.3g}").c_str(),
-                 value(p.tick_error.force, "{:.4g}").c_str(), value(p.tick_error.finger_force, "{:.4g}").c_str());
+                 value(p.tick_error.force, "{:.4g}").c_str(), value(p.tick_error.finger_force, "{:.4g}").c_str(),
+                 csv_text(p.failure).c_str());
   }
   output::close_output(f);
 }
@@ -100,7 +110,7 @@ void print_work_precision(const simulate::WorkPrecision& wp) {
     const std::string name = p.integrator + (p.is_default ? " (default)" : "");
     const std::string steps =
         p.integrator == "cvode" ? fmt::format("rtol {:g}", p.rtol) : std::to_string(p.steps_per_tick);
-    if (!p.ok) {
+    if (!p.ok()) {
       std::printf("%-22s %9s  %s\n", name.c_str(), steps.c_str(), p.failure.c_str());
       continue;
     }
@@ -134,7 +144,7 @@ void draw_work_precision(const SimCliOptions& o, const simulate::WorkPrecision& 
       output::LogLogSeries& s = panel->series.back();
       if (p.is_default) s.ringed = static_cast<int>(s.points.size());
       const double error = panel == &grip ? p.error.force : p.error.finger_force;
-      s.points.emplace_back(p.ok ? 1.0 / p.realtime_factor : nan, p.ok ? error : nan);
+      s.points.emplace_back(p.ok() ? 1.0 / p.realtime_factor : nan, p.ok() ? error : nan);
     }
   }
   output::LogLogPlotSpec spec;

@@ -40,6 +40,12 @@ PlantTrace at_ticks(const PlantTrace& run, const std::vector<TickStart>& starts)
   return out;
 }
 
+// Why a run failed, never empty for a failed one (a point's ok() is that its failure is empty); "" if it ran.
+std::string failure_of(const PlantTrace& run) {
+  if (run.ok) return {};
+  return run.error.empty() ? "failed" : run.error;
+}
+
 }  // namespace
 
 TraceError trace_error(const PlantTrace& run, const PlantTrace& reference) {
@@ -136,9 +142,8 @@ WorkPrecision work_precision(const PlantScene& scene, const WorkPrecisionOptions
     p.is_default = m == default_method() && n == default_steps;
     std::vector<TickStart> starts;
     PlantTrace t = run_plant(scene, m, tick / n, false, p.is_default ? &starts : nullptr, kTickSampleEvery);
-    p.ok = t.ok;
-    p.failure = t.error;
-    if (p.ok) {
+    p.failure = failure_of(t);
+    if (p.ok()) {
       p.error = trace_error(t, wp.reference);
       if (p.is_default) {
         const PlantTrace banded = run_plant(scene, m, tick / n, true);
@@ -172,9 +177,8 @@ WorkPrecision work_precision(const PlantScene& scene, const WorkPrecisionOptions
     co.rtol = rtol;
     co.atol_factor = rtol;
     PlantTrace t = cvode_reference(scene.params, scene.bias_tension, scene.drive, co);
-    p.ok = t.ok;
-    p.failure = t.error;
-    if (p.ok) {
+    p.failure = failure_of(t);
+    if (p.ok()) {
       p.error = trace_error(t, wp.reference);
       p.cpu_s = t.cpu_s;
       p.realtime_factor = t.cpu_s > 0 ? seconds / t.cpu_s : std::numeric_limits<double>::infinity();

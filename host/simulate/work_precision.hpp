@@ -62,11 +62,11 @@ struct WorkPrecisionPoint {
   int steps_per_tick = 0;   // 0 for cvode
   double rtol = 0;          // cvode only
   bool is_default = false;  // the plant's default integrator and step
-  bool ok = true;           // stable (ours) or succeeded (cvode)
-  std::string failure;      // where ok is false, why: "unstable", or CVODE's error
+  std::string failure;      // empty if stable (ours) or succeeded (cvode), else why: "unstable", or CVODE's error
   TraceError error;
   TraceError tick_error = {kNaN, kNaN, kNaN};  // the default integrator only
   double cpu_s = 0, realtime_factor = 0;
+  bool ok() const { return failure.empty(); }
 };
 
 struct WorkPrecision {

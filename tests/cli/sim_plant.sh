@@ -4,7 +4,7 @@
 # --work-precision refuses a passage over 20 s, and on a short one writes a CSV with a row for every
 # integrator and CVODE whose default row (the exponential integrator) is more accurate than ROS2 at its
 # default step, and which alone carries the error of the string force below 1 kHz and its errors over one
-# tick.
+# tick; a failed row says why.
 set -u
 hmp="$1"
 demo="$2/examples/bach-bwv1050-brandenburg5-mvt3-allegro.mid"
@@ -56,4 +56,10 @@ awk -F, '$1 == "exponential" && $4 == 1 { t = $13; f = $14 } $1 == "rk4" && $2 =
          END { if (!(t > 0 && t < 0.01 && f > 0 && f < 0.005) || !seen || o != "") {
                  print "FAIL: one-tick fields default \"" t "\" \"" f "\", rk4 \"" o "\""; exit 1 } }' \
   "$tmp/wp.csv" || fail=1
+# A failed run says why (explicit Euler at one step per tick is unstable on 10⁵ N/m strings); one that
+# ran has an empty failure field.
+awk -F, 'NR > 1 && $5 == 0 { failed++; if ($15 == "") { print "FAIL: row " NR " failed without a reason"; exit 1 } }
+         NR > 1 && $5 == 1 && $15 != "" { print "FAIL: row " NR " ran but has failure " $15; exit 1 }
+         $1 == "explicit_euler" && $2 == 1 && $15 != "unstable" { print "FAIL: explicit_euler 1: " $15; exit 1 }
+         END { if (!failed) { print "FAIL: no failed row to check"; exit 1 } }' "$tmp/wp.csv" || fail=1
 exit $fail

@@ -10,7 +10,8 @@
 // reference_convergence (the finger force's), claimed (the errors are ≥ 10 × the reference's convergence),
 // and for the default integrator the errors over one tick, tick_force_error_rel and
 // tick_finger_force_error_rel, with their reference's convergence tick_reference_convergence_force and
-// tick_reference_convergence (else null).
+// tick_reference_convergence (else null); failure: why a point failed (ok false: "unstable", or CVODE's
+// error), else null.
 // Draws one figure per scene (finger-force error against CPU seconds per simulated second, one panel per
 // stiffness) into DIR/sim-work-precision-SCENE.png.
 //
@@ -26,6 +27,8 @@
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "host/output/loglog_plot.hpp"
 #include "host/simulate/work_precision.hpp"
@@ -65,9 +68,9 @@ std::string number(double v, const char* format = "%.4g") {
 void print_point(const std::string& scene, double k, const simulate::WorkPrecisionPoint& p,
                  const simulate::WorkPrecision& wp) {
   const simulate::TraceError& c = wp.reference_convergence;
-  const bool claimed = p.ok && wp.claimed(p.error.force, c.force) && wp.claimed(p.error.finger_force, c.finger_force);
+  const bool claimed = p.ok() && wp.claimed(p.error.force, c.force) && wp.claimed(p.error.finger_force, c.finger_force);
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  const std::string force = number(p.ok ? p.error.force : nan), finger = number(p.ok ? p.error.finger_force : nan);
+  const std::string force = number(p.ok() ? p.error.force : nan), finger = number(p.ok() ? p.error.finger_force : nan);
   std::printf(
       "{\"bench\":\"sim-work-precision\",\"metric\":\"force_error_rel\",\"value\":%s,\"unit\":\"ratio\","
       "\"params\":{\"scene\":\"%s\",\"stiffness_n_per_m\":%g,\"integrator\":\"%s\",\"steps_per_tick\":%d,"
@@ -75,14 +78,15 @@ void print_point(const std::string& scene, double k, const simulate::WorkPrecisi
       "\"band_force_error_rel\":%s,\"realtime_factor\":%s,\"reference_convergence_force\":%s,"
       "\"reference_convergence\":%s,\"reference_convergence_band\":%s,\"claimed\":%s,"
       "\"tick_force_error_rel\":%s,\"tick_finger_force_error_rel\":%s,\"tick_reference_convergence_force\":%s,"
-      "\"tick_reference_convergence\":%s,\"clock\":\"thread_cpu\"}}\n",
+      "\"tick_reference_convergence\":%s,\"failure\":%s,\"clock\":\"thread_cpu\"}}\n",
       force.c_str(), scene.c_str(), k, p.integrator.c_str(), p.steps_per_tick, p.rtol, p.is_default ? "true" : "false",
-      p.ok ? "true" : "false", force.c_str(), finger.c_str(), number(p.ok ? p.error.band_force : nan).c_str(),
-      number(p.ok ? p.realtime_factor : nan).c_str(), number(c.force, "%.3g").c_str(),
+      p.ok() ? "true" : "false", force.c_str(), finger.c_str(), number(p.ok() ? p.error.band_force : nan).c_str(),
+      number(p.ok() ? p.realtime_factor : nan).c_str(), number(c.force, "%.3g").c_str(),
       number(c.finger_force, "%.3g").c_str(), number(c.band_force, "%.3g").c_str(), claimed ? "true" : "false",
       number(p.tick_error.force).c_str(), number(p.tick_error.finger_force).c_str(),
       number(p.is_default ? wp.tick_reference_convergence.force : nan, "%.3g").c_str(),
-      number(p.is_default ? wp.tick_reference_convergence.finger_force : nan, "%.3g").c_str());
+      number(p.is_default ? wp.tick_reference_convergence.finger_force : nan, "%.3g").c_str(),
+      p.ok() ? "null" : nlohmann::json(p.failure).dump().c_str());
   std::fflush(stdout);
 }
 
@@ -118,7 +122,7 @@ std::vector<FigurePoint> figure_points(const simulate::WorkPrecision& wp) {
   std::vector<FigurePoint> out;
   for (const simulate::WorkPrecisionPoint& p : wp.points)
     out.push_back(
-        {p.integrator, p.is_default, p.ok ? 1.0 / p.realtime_factor : nan, p.ok ? p.error.finger_force : nan});
+        {p.integrator, p.is_default, p.ok() ? 1.0 / p.realtime_factor : nan, p.ok() ? p.error.finger_force : nan});
   return out;
 }
 
