@@ -169,7 +169,7 @@ class Generator {
     switch (pick(10)) {
       case 0: return static_cast<std::uint32_t>(rng_());  // anything, mostly above Nyquist
       case 1: return pick(2) == 0 ? 0u : static_cast<std::uint32_t>(dev_.core().tick_hz()) << 19;  // edges
-      default: return synth::freq_to_q20(uniform(20.0f, 400.0f));
+      default: return synth::freq_to_q20(static_cast<double>(uniform(20.0f, 400.0f)));
     }
   }
 

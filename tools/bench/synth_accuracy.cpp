@@ -117,7 +117,7 @@ void emit(const char* metric, double value, const char* unit, synth::SineImpl im
 int main(int argc, char** argv) {
   double note_s = 600.0;
   std::vector<std::uint32_t> rates;
-  for (int i = 1; i < argc; ++i) {
+  for (int i = 1; i < argc; i += 2) {  // every option takes a value
     if (i + 1 >= argc) usage();
     const double value = std::strtod(argv[i + 1], nullptr);
     if (std::strcmp(argv[i], "--note-s") == 0 && value > 0.0) {
@@ -127,7 +127,6 @@ int main(int argc, char** argv) {
     } else {
       usage();
     }
-    ++i;
   }
   if (rates.empty()) rates = {1000, 10000};
 

@@ -48,8 +48,8 @@ void exact(long double& x, long double& v, long double duration) {
   long double t = 0;
   while (t < duration) {
     const bool below = x < 0;
-    w = below ? kInside : kOutside;
-    centre = below ? kRest * (kOutside / kInside) * (kOutside / kInside) : kRest;
+    w = static_cast<long double>(below ? kInside : kOutside);
+    centre = static_cast<long double>(below ? kRest * (kOutside / kInside) * (kOutside / kInside) : kRest);
     long double lo = 0, hi = 0, x1 = 0, v1 = 0;
     for (;;) {  // the next crossing within the time left, if any
       hi = std::fmin(lo + 1e-6L, duration - t);
@@ -88,12 +88,12 @@ Miss run(double switch_frequency) {
   Grazing system(switch_frequency);
   std::unique_ptr<Integrator> integrator = make_exponential_integrator();
   double y[2] = {kX0, kV0};
-  long double x = kX0, v = kV0;
+  long double x = static_cast<long double>(kX0), v = static_cast<long double>(kV0);
   Miss miss;
   const double speed = kSwing * kOutside;
   for (int k = 0; k < kSteps; ++k) {
     integrator->step(system, y, kStep);
-    exact(x, v, kStep);
+    exact(x, v, static_cast<long double>(kStep));
     miss.x = std::fmax(miss.x, std::fabs(y[0] - static_cast<double>(x)) / kSwing);
     miss.v = std::fmax(miss.v, std::fabs(y[1] - static_cast<double>(v)) / speed);
   }
@@ -117,10 +117,10 @@ TEST(ExponentialRinging, FollowsDipsBetweenCheckpointsWithTheSwitchFrequency) {
 TEST(ExponentialRinging, ExactDipsReachBelowZeroBetweenCheckpoints) {
   // The scene is what it claims: x is below 0 at some instant between checkpoints and at none of the
   // first step's checkpoints (so a step predicted from them alone sees no switch).
-  long double x = kX0, v = kV0;
+  long double x = static_cast<long double>(kX0), v = static_cast<long double>(kV0);
   int below_between = 0, below_at_checkpoints = 0;
   for (int i = 1; i <= 1000; ++i) {
-    exact(x, v, kStep / 1000);
+    exact(x, v, static_cast<long double>(kStep / 1000));
     if (x < 0) (i % 250 == 0 ? below_at_checkpoints : below_between) += 1;
   }
   EXPECT_GT(below_between, 50);

@@ -37,19 +37,23 @@ class Bilinear final : public SwitchAtZero {
 struct Exact {
   long double x0, v0, crossing;
   Exact(long double x, long double v) : x0(x), v0(v), crossing(0) {
-    long double lo = 0, hi = kTwoPi / 2 / kSoft;  // x falls through 0 within half a soft period
+    long double lo = 0,
+                hi = static_cast<long double>(kTwoPi / 2 / kSoft);  // x falls through 0 within half a soft period
     for (int i = 0; i < 200; ++i) {
       const long double mid = (lo + hi) / 2;
       (soft_x(mid) > 0 ? lo : hi) = mid;
     }
     crossing = (lo + hi) / 2;
   }
-  long double soft_x(long double s) const { return x0 * std::cos(kSoft * s) + v0 / kSoft * std::sin(kSoft * s); }
+  long double soft_x(long double s) const {
+    const long double w = static_cast<long double>(kSoft);
+    return x0 * std::cos(w * s) + v0 / w * std::sin(w * s);
+  }
   void at(long double t, long double& x, long double& v) const;
 };
 
 void Exact::at(long double t, long double& x, long double& v) const {
-  const long double ws = kSoft, wk = kStiff;
+  const long double ws = static_cast<long double>(kSoft), wk = static_cast<long double>(kStiff);
   if (t <= crossing) {
     x = soft_x(t);
     v = -x0 * ws * std::sin(ws * t) + v0 * std::cos(ws * t);
@@ -67,11 +71,11 @@ TEST(ExponentialSwitch, LandsOnTheExactSolutionAcrossTheSwitch) {
   Bilinear system;
   std::unique_ptr<Integrator> integrator = make_exponential_integrator();
   double y[2] = {kX0, kV0};
-  const Exact exact(kX0, kV0);
+  const Exact exact(static_cast<long double>(kX0), static_cast<long double>(kV0));
   long double x = 0, v = 0;
   for (int k = 1; k <= 3; ++k) {
     integrator->step(system, y, kStep);
-    exact.at(k * kStep, x, v);
+    exact.at(static_cast<long double>(k * kStep), x, v);
     // Measured: 2e-5 of the swing and 4e-5 of the speed at most; one ETD2 step through the switch on
     // the soft side's linearisation misses by 1e-3 and 1e-2.
     const double amplitude = std::fabs(kV0) / kSoft;  // the soft side's swing, about 0.5 mm

@@ -175,7 +175,8 @@ TEST(PhiChain, QuarterRowsAreTheRowsTimesTheIntegral) {
           for (int j = 0; j < n; ++j) {
             Real want = 0, size = 0;
             for (int l = 0; l < n; ++l) {
-              const Real term = static_cast<Real>(g[static_cast<std::size_t>(k * n + l)]) * p[c][j * ld + l];
+              const Real term =
+                  static_cast<Real>(g[static_cast<std::size_t>(k * n + l)]) * static_cast<Real>(p[c][j * ld + l]);
               want += term;
               size += std::fabs(term);
             }
@@ -208,12 +209,13 @@ TEST(PhiChain, MultiplyAddRowsIsTheProductAddedAndScaled) {
       for (int i = 0; i < rows; ++i) {
         Real sum = 0, size = 0;
         for (int j = 0; j < n; ++j) {
-          const Real term = static_cast<Real>(m[static_cast<std::size_t>(i * n + j)]) * v[static_cast<std::size_t>(j)];
+          const Real term = static_cast<Real>(m[static_cast<std::size_t>(i * n + j)]) *
+                            static_cast<Real>(v[static_cast<std::size_t>(j)]);
           sum += term;
           size += std::fabs(term);
         }
-        const Real want = start[static_cast<std::size_t>(i)] + s * sum;
-        EXPECT_LE(static_cast<double>(std::fabs(out[static_cast<std::size_t>(i)] - want)),
+        const Real want = static_cast<Real>(start[static_cast<std::size_t>(i)]) + static_cast<Real>(s) * sum;
+        EXPECT_LE(static_cast<double>(std::fabs(static_cast<Real>(out[static_cast<std::size_t>(i)]) - want)),
                   1e-15 * (std::fabs(static_cast<double>(want)) + std::fabs(s) * static_cast<double>(size)))
             << "n " << n << ", rows " << rows << ", row " << i;
       }
@@ -253,12 +255,12 @@ TEST(PhiChain, MultiplyAddColumnsIsTheProductAddedAndScaled) {
     for (int i = 0; i < n; ++i) {
       Real sum = 0, size = 0;
       for (int j = 0; j < n; ++j) {
-        const Real term = static_cast<Real>(entry(i, j)) * v[static_cast<std::size_t>(j)];
+        const Real term = static_cast<Real>(entry(i, j)) * static_cast<Real>(v[static_cast<std::size_t>(j)]);
         sum += term;
         size += std::fabs(term);
       }
-      const Real want = start[static_cast<std::size_t>(i)] + s * sum;
-      EXPECT_LE(static_cast<double>(std::fabs(out[static_cast<std::size_t>(i)] - want)),
+      const Real want = static_cast<Real>(start[static_cast<std::size_t>(i)]) + static_cast<Real>(s) * sum;
+      EXPECT_LE(static_cast<double>(std::fabs(static_cast<Real>(out[static_cast<std::size_t>(i)]) - want)),
                 1e-15 * (std::fabs(static_cast<double>(want)) + std::fabs(s) * static_cast<double>(size)))
           << "n " << n << ", row " << i;
       EXPECT_EQ(outw[static_cast<std::size_t>(i)], out[static_cast<std::size_t>(i)]) << "n " << n << ", row " << i;

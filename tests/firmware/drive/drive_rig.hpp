@@ -44,6 +44,9 @@ inline Sinusoid fit_sinusoid(const std::vector<double>& t, const std::vector<dou
   return {std::hypot(x[1], x[2]), std::atan2(x[2], x[1]), x[0]};
 }
 
+// The stall duty for a tension, from design §11's motor (Kt = 21.3 mN·m/A, R = 6.5 Ω, 12 V, r = 5 mm).
+inline double stall_duty(double tension) { return tension * 6.5 * 0.005 / (0.0213 * 12.0); }
+
 inline double wrap_angle(double a) {
   while (a > M_PI) a -= 2 * M_PI;
   while (a < -M_PI) a += 2 * M_PI;
@@ -98,14 +101,14 @@ struct DriveRig {
   }
   // Runs ticks like a live host (a Sync every 100 ms); records the commanded force (output × peak) at the
   // start of each tick's interval (plant time) when `record` is set.
-  void run(std::size_t ticks, double peak, bool record) {
+  void run(std::size_t ticks, float peak, bool record) {
     const std::size_t sync_every = dev.core().tick_hz() / 10;
     for (std::size_t i = 0; i < ticks; ++i) {
       const double t0 = dev.plant()->time();
       dev.advance(1);
       if (record) {
         cmd_t.push_back(t0);
-        cmd.push_back(static_cast<double>(dev.last_output()) * peak);
+        cmd.push_back(static_cast<double>(dev.last_output()) * static_cast<double>(peak));
       }
       if (++since_sync >= sync_every) {
         host.sync(0);

@@ -41,8 +41,6 @@ constexpr std::size_t kWatchTicks = 400;
 constexpr std::uint32_t kSensingFaults = protocol::fault_qp_infeasible | protocol::fault_pose_diverged |
                                          protocol::fault_encoder_jump | protocol::fault_string_slack;
 
-double stall_duty(double tension) { return tension * 6.5 * 0.005 / (0.0213 * 12.0); }  // design §11's motor
-
 bool finite(const Vec3d& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 double norm(const Vec3d& v) { return std::sqrt(v.x * v.x + v.y * v.y + v.z * v.z); }
 
@@ -105,7 +103,7 @@ class Bench {
     const fw::Drive& drive = core().drive();
     const spidar::TensionResult<float> bias = this->bias();
     for (int i = 0; i < spidar::kStrings; ++i) {
-      const double t = drive.tensions()[i], bias_t = bias.tension[i];
+      const double t = static_cast<double>(drive.tensions()[i]), bias_t = static_cast<double>(bias.tension[i]);
       if (!(std::fabs(t - bias_t) <= kTensionTolerance * bias_t)) {
         if (why) *why = "tension " + std::to_string(i) + " " + std::to_string(t) + " N, bias " + std::to_string(bias_t);
         return false;
@@ -163,7 +161,7 @@ class Bench {
   }
   // Whether every plant string is within 5% of t_min: the tension the safe state holds.
   bool plant_at_t_min() const {
-    const double t_min = settings_.t_min_n;
+    const double t_min = static_cast<double>(settings_.t_min_n);
     for (double t : plant_.tension)
       if (!(std::fabs(t - t_min) <= kTensionTolerance * t_min)) return false;
     return true;
@@ -173,7 +171,7 @@ class Bench {
   // the fault has already computed its output; from the next one on the output is silent.
   bool in_safe_state(bool output_silent = true) const {
     bool safe = core().state() == protocol::State::fault && (!output_silent || rig_.dev.last_output() == 0.0f);
-    const double hold = stall_duty(settings_.t_min_n);
+    const double hold = stall_duty(static_cast<double>(settings_.t_min_n));
     for (float d : rig_.dev.duties()) safe = safe && std::fabs(static_cast<double>(d) - hold) <= 1e-5;
     for (float t : core().drive().tensions()) safe = safe && t == settings_.t_min_n;
     return safe;
@@ -211,7 +209,7 @@ class Bench {
     // Status.force_n = requested + (applied − emphasised): at most the peak, the pre-emphasised request
     // ((1 + 2α)·peak) and what eight strings at t_max can make.
     const protocol::Status st = core().status();
-    const double alpha = std::fabs(drive.compensator().emphasis());
+    const double alpha = static_cast<double>(std::fabs(drive.compensator().emphasis()));
     const double force_bound = (2.0 + 2.0 * alpha) * static_cast<double>(settings_.peak_force_n) +
                                8.0 * static_cast<double>(settings_.t_max_n);
     if (!(std::fabs(static_cast<double>(st.force_n)) <= force_bound)) bad("force_n " + std::to_string(st.force_n));

@@ -12,7 +12,8 @@ namespace hmp::test {
 namespace {
 
 double distance_to_plant(const protocol::Status& st, const sim::plant::Vec3d& p) {
-  const double dx = double{st.grip_m[0]} - p.x, dy = double{st.grip_m[1]} - p.y, dz = double{st.grip_m[2]} - p.z;
+  const double dx = static_cast<double>(st.grip_m[0]) - p.x, dy = static_cast<double>(st.grip_m[1]) - p.y,
+               dz = static_cast<double>(st.grip_m[2]) - p.z;
   return std::sqrt(dx * dx + dy * dy + dz * dz);
 }
 

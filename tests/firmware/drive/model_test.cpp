@@ -32,8 +32,8 @@ void step(fw::DriveCompensator& c, double target, double& force, double& speed) 
   float t[kStrings], along[kStrings] = {}, f[kStrings], s[kStrings];
   for (float& v : t) v = static_cast<float>(target);
   c.step_between(t, 0.0f, along, f, s);
-  force = f[0];
-  speed = s[0];
+  force = static_cast<double>(f[0]);
+  speed = static_cast<double>(s[0]);
   for (int i = 1; i < kStrings; ++i) {
     EXPECT_EQ(f[i], f[0]);
     EXPECT_EQ(s[i], s[0]);

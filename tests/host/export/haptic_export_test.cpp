@@ -433,8 +433,8 @@ TEST(HapticExport, AhapIntensityIsTheSquareRootOfTheAmplitude) {
         if (k < hn.note.start_tick || k >= hn.note.start_tick + hn.note.duration_ticks) continue;
         const double v = p["ParameterValue"];
         const double amp = static_cast<double>(hn.note.amp_q16) / 65535.0;
-        const double env =
-            ex::note_envelope(l.w.haptic, l.opts, hn.note).at(static_cast<std::uint32_t>(k - hn.note.start_tick));
+        const double env = static_cast<double>(
+            ex::note_envelope(l.w.haptic, l.opts, hn.note).at(static_cast<std::uint32_t>(k - hn.note.start_tick)));
         EXPECT_NEAR(v * v * amp, env, 1e-6) << "tick " << k;
         ++checked;
       }

@@ -233,16 +233,17 @@ TEST(PlantReference, MatchesTheExactSolutionOfTheLinearisedStiffPlant) {
   const int m = n + 9;
   Matrix aug(static_cast<std::size_t>(m), std::vector<long double>(static_cast<std::size_t>(m), 0.0L));
   for (int i = 0; i < n; ++i) {
-    for (int j = 0; j < n; ++j) aug[i][j] = static_cast<long double>(a[i][j]) * kTick;
-    aug[i][n] = static_cast<long double>(f0[static_cast<std::size_t>(i)]) * kTick;
+    for (int j = 0; j < n; ++j) aug[i][j] = static_cast<long double>(a[i][j]) * static_cast<long double>(kTick);
+    aug[i][n] = static_cast<long double>(f0[static_cast<std::size_t>(i)]) * static_cast<long double>(kTick);
   }
-  for (int i = 0; i < 8; ++i) aug[plant::state::current + i][n + 1 + i] = kTick / static_cast<long double>(inductance);
+  for (int i = 0; i < 8; ++i)
+    aug[plant::state::current + i][n + 1 + i] = static_cast<long double>(kTick) / static_cast<long double>(inductance);
   const Matrix phi = expm(aug);
   std::vector<std::vector<double>> exact;
   std::vector<long double> z(static_cast<std::size_t>(n), 0.0L);
   for (int k = 0; k < ticks; ++k) {
     std::vector<long double> u(9, 1.0L), next(z.size(), 0.0L);
-    for (int i = 0; i < 8; ++i) u[static_cast<std::size_t>(1 + i)] = delta_v(k, i);
+    for (int i = 0; i < 8; ++i) u[static_cast<std::size_t>(1 + i)] = static_cast<long double>(delta_v(k, i));
     for (int i = 0; i < n; ++i) {
       long double acc = 0;
       for (int j = 0; j < n; ++j) acc += phi[i][j] * z[static_cast<std::size_t>(j)];

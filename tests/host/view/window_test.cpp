@@ -101,7 +101,8 @@ TEST(ViewWindow, FramesShowTheNotesWhereTheyBelong) {
   // right; x from time (12 s across the roll, the present at its centre), y from the key (the song's keys
   // 55–67 with the view's margin: key_range), layer 1 shifted 6 px up and right.
   const double roll = 1280.0 - 240.0;
-  const auto [key_low, key_high] = key_range(song);
+  const std::pair<int, int> keys = key_range(song);
+  const int key_low = keys.first, key_high = keys.second;  // a lambda below uses them
   const double row = (720.0 - 2 * 40.0) / (key_high - key_low + 1);
   auto centre = [&](std::int64_t start_us, std::int64_t end_us, int key, int depth) {
     const double x0 = roll / 2 + static_cast<double>(start_us - now) / 12e6 * roll + 6.0 * depth;

@@ -51,8 +51,9 @@ class Reference {
   explicit Reference(const Note& c) : ms_per_tick_(1000.0 / static_cast<double>(c.tick_hz)) {
     const Adsr& a = c.adsr;
     d_ = std::max<std::uint32_t>(c.ticks, 1) * ms_per_tick_;
-    peak_ = c.peak;
-    double attack = a.attack_ms, decay = a.decay_ms, release = a.release_ms;
+    peak_ = static_cast<double>(c.peak);
+    double attack = static_cast<double>(a.attack_ms), decay = static_cast<double>(a.decay_ms),
+           release = static_cast<double>(a.release_ms);
     // triangle: one decay over the whole note; damped: one release over the whole note, from the peak.
     if (a.shape != Shape::adsr) {
       attack = 0;
@@ -70,9 +71,9 @@ class Reference {
     t2_ = attack + decay;
     t3_ = short_note ? t2_ : d_ - release;  // a short note has no sustain: t3 = t2 exactly, not to rounding
     level_ = a.shape == Shape::damped ? peak_ : peak_ * static_cast<double>(a.sustain);
-    ratio_ = a.final_ratio;
+    ratio_ = static_cast<double>(a.final_ratio);
     if (a.shape == Shape::damped) ratio_ = level_ > 0 ? std::min(1.0, ratio_ / level_) : 1.0;
-    fade_ = c.fade_ms;
+    fade_ = static_cast<double>(c.fade_ms);
   }
 
   double at_ms(double x) const {

@@ -174,7 +174,8 @@ class Gen {
         s.output = real(-1, 1);
         s.force_n = real(-100, 100);
         s.grip_known = static_cast<std::uint8_t>(in(0, 1));
-        for (float& g : s.grip_m) g = s.grip_known != 0 ? real(-kGripRangeM, kGripRangeM) : 0.0f;
+        for (float& g : s.grip_m)
+          g = s.grip_known != 0 ? real(-static_cast<double>(kGripRangeM), static_cast<double>(kGripRangeM)) : 0.0f;
         break;
       }
       case Type::started: {

@@ -149,6 +149,9 @@ void record(const char* key, double value) {
 }
 
 bool within(double t, double lo, double hi) { return std::isfinite(t) && t >= lo && t <= hi; }
+bool within(float t, float lo, float hi) {
+  return within(static_cast<double>(t), static_cast<double>(lo), static_cast<double>(hi));
+}
 
 TEST(SpidarGeometry, X3TableMatchesSpec) {
   const Frame<double> frame = x3_frame<double>();
@@ -484,7 +487,9 @@ void degenerate_cases() {
     compute_strings(flat, Pose<T>{}, s);
     EXPECT_TRUE(conditioning_flags(s, params.degenerate_ratio) & flag::degenerate_geometry);
     TensionState state;
-    const TensionResult<T> r = solve_tensions(s, Vec3<T>{1, 1, 1}, Vec3<T>{0.01f, 0.01f, 0.01f}, params, state);
+    const TensionResult<T> r =
+        solve_tensions(s, Vec3<T>{1, 1, 1},
+                       Vec3<T>{static_cast<T>(0.01f), static_cast<T>(0.01f), static_cast<T>(0.01f)}, params, state);
     EXPECT_TRUE(r.flags & flag::degenerate_geometry);
     expect_bounded(r, params, "coplanar");
     EXPECT_NEAR(static_cast<double>(r.force.y), 0.0, 1e-6);  // nothing can pull out of the plane

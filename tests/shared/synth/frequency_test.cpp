@@ -16,7 +16,6 @@ using namespace hmp::synth;
 using u128 = unsigned __int128;
 
 constexpr double kTwoPi = 2 * std::numbers::pi;
-constexpr double kTwo20 = 1048576.0;
 constexpr double kTwo64 = 18446744073709551616.0;
 
 // floor(f · 2^44 / fs) mod 2^64, straight from the definition.
