@@ -8,6 +8,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
@@ -111,11 +112,14 @@ int run_measure(const EnvelopeOptions& o) {
   // FluidSynth would play some other preset for a program the SoundFont lacks: those are left out.
   const std::set<std::uint8_t> present = audio::soundfont_programs(mo.soundfont);
   std::string absent;
-  std::erase_if(mo.programs, [&](std::uint8_t p) {
-    if (present.count(p)) return false;
-    absent += (absent.empty() ? "" : ", ") + std::to_string(p);
-    return true;
-  });
+  std::vector<std::uint8_t> playable;
+  for (std::uint8_t p : mo.programs) {
+    if (present.count(p))
+      playable.push_back(p);
+    else
+      absent += (absent.empty() ? "" : ", ") + std::to_string(p);
+  }
+  mo.programs = std::move(playable);
   if (mo.programs.empty()) {
     throw BadInput(fmt::format("{}: no preset for program {} in bank 0", mo.soundfont, absent));
   }
