@@ -78,19 +78,19 @@ void write_work_precision_csv(const SimCliOptions& o, const simulate::WorkPrecis
   std::fputs(
       "integrator,steps_per_tick,rtol,default,ok,force_error_rel,finger_force_error_rel,band_force_error_rel,"
       "realtime_factor,reference_convergence_force,reference_convergence_finger,reference_convergence_band,"
-      "tick_force_error_rel,tick_finger_force_error_rel,failure\n",
+      "tick_force_error_rel,tick_finger_force_error_rel,derivatives,failure\n",
       f.get());
   // A value not measured (the band of a method other than the default) is an empty field.
   const auto value = [](double v, const char* format) {
     return std::isfinite(v) ? fmt::format(fmt::runtime(format), v) : std::string();
   };
   for (const simulate::WorkPrecisionPoint& p : wp.points) {
-    std::fprintf(f.get(), "%s,%d,%g,%d,%d,%.4g,%.4g,%s,%.4g,%.3g,%.3g,%s,%s,%s,%s\n", p.integrator.c_str(),
+    std::fprintf(f.get(), "%s,%d,%g,%d,%d,%.4g,%.4g,%s,%.4g,%.3g,%.3g,%s,%s,%s,%s,%s\n", p.integrator.c_str(),
                  p.steps_per_tick, p.rtol, p.is_default ? 1 : 0, p.ok() ? 1 : 0, p.error.force, p.error.finger_force,
                  value(p.error.band_force, "{:.4g}").c_str(), p.realtime_factor, wp.reference_convergence.force,
                  wp.reference_convergence.finger_force, value(wp.reference_convergence.band_force, "{:.3g}").c_str(),
                  value(p.tick_error.force, "{:.4g}").c_str(), value(p.tick_error.finger_force, "{:.4g}").c_str(),
-                 csv_text(p.failure).c_str());
+                 p.ok() ? std::to_string(p.derivatives).c_str() : "", csv_text(p.failure).c_str());
   }
   output::close_output(f);
 }
@@ -104,8 +104,8 @@ std::string resolved(const simulate::WorkPrecision& wp, double error, double con
 void print_work_precision(const simulate::WorkPrecision& wp) {
   std::printf("reference: cvode, its change on halving the tolerance %.2g (string force), %.2g (finger force)\n",
               wp.reference_convergence.force, wp.reference_convergence.finger_force);
-  std::printf("%-22s %9s %14s %14s %14s %10s\n", "integrator", "steps/tick", "string force", "finger force", "< 1 kHz",
-              "x realtime");
+  std::printf("%-22s %9s %14s %14s %14s %10s %12s\n", "integrator", "steps/tick", "string force", "finger force",
+              "< 1 kHz", "x realtime", "derivatives");
   for (const simulate::WorkPrecisionPoint& p : wp.points) {
     const std::string name = p.integrator + (p.is_default ? " (default)" : "");
     const std::string steps =
@@ -116,9 +116,10 @@ void print_work_precision(const simulate::WorkPrecision& wp) {
     }
     const simulate::TraceError& c = wp.reference_convergence;
     const std::string band = std::isfinite(p.error.band_force) ? resolved(wp, p.error.band_force, c.band_force) : "";
-    std::printf("%-22s %9s %14s %14s %14s %10.1f\n", name.c_str(), steps.c_str(),
+    std::printf("%-22s %9s %14s %14s %14s %10.1f %12ld\n", name.c_str(), steps.c_str(),
                 resolved(wp, p.error.force, c.force).c_str(),
-                resolved(wp, p.error.finger_force, c.finger_force).c_str(), band.c_str(), p.realtime_factor);
+                resolved(wp, p.error.finger_force, c.finger_force).c_str(), band.c_str(), p.realtime_factor,
+                p.derivatives);
   }
   if (!wp.tick_reference_error.empty())
     std::printf("default over one tick: not measured (the one-tick reference failed: %s)\n",

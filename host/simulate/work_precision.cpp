@@ -90,7 +90,7 @@ PlantTrace run_plant(const PlantScene& scene, plant::Method method, double max_s
     t.tension.push_back(tension);
   }
   t.cpu_s = thread_cpu_seconds() - start;
-  t.steps = static_cast<long>(sim.integrator().evaluations());
+  t.rhs_evals = static_cast<long>(sim.integrator().evaluations());
   if (sim.unstable()) {
     t.ok = false;
     t.error = "unstable";
@@ -143,6 +143,7 @@ WorkPrecision work_precision(const PlantScene& scene, const WorkPrecisionOptions
     std::vector<TickStart> starts;
     PlantTrace t = run_plant(scene, m, tick / n, false, p.is_default ? &starts : nullptr, kTickSampleEvery);
     p.failure = failure_of(t);
+    p.derivatives = t.rhs_evals;
     if (p.ok()) {
       p.error = trace_error(t, wp.reference);
       if (p.is_default) {
@@ -178,6 +179,7 @@ WorkPrecision work_precision(const PlantScene& scene, const WorkPrecisionOptions
     co.atol_factor = rtol;
     PlantTrace t = cvode_reference(scene.params, scene.bias_tension, scene.drive, co);
     p.failure = failure_of(t);
+    p.derivatives = t.rhs_evals;
     if (p.ok()) {
       p.error = trace_error(t, wp.reference);
       p.cpu_s = t.cpu_s;

@@ -39,7 +39,8 @@ struct TraceError {
 TraceError trace_error(const PlantTrace& run, const PlantTrace& reference);
 
 // The scene on our Plant with `method` at internal steps of at most `max_step` seconds (`band`: with the
-// band_force states too); cpu_s is the thread's CPU time and ok false if the plant went unstable. With
+// band_force states too); cpu_s is the thread's CPU time, rhs_evals the integrator's derivative evaluations
+// (Jacobian columns included) and ok false if the plant went unstable. With
 // `starts`: also the state every `every`-th tick starts from, for cvode_ticks().
 PlantTrace run_plant(const PlantScene& scene, sim::plant::Method method, double max_step, bool band = false,
                      std::vector<TickStart>* starts = nullptr, int every = 1);
@@ -66,6 +67,7 @@ struct WorkPrecisionPoint {
   TraceError error;
   TraceError tick_error = {kNaN, kNaN, kNaN};  // the default integrator only
   double cpu_s = 0, realtime_factor = 0;
+  long derivatives = 0;  // the run's derivative evaluations, Jacobian columns included (cvode's likewise)
   bool ok() const { return failure.empty(); }
 };
 

@@ -4,7 +4,7 @@
 # --work-precision refuses a passage over 20 s, and on a short one writes a CSV with a row for every
 # integrator and CVODE whose default row (the exponential integrator) is more accurate than ROS2 at its
 # default step, and which alone carries the error of the string force below 1 kHz and its errors over one
-# tick; a failed row says why.
+# tick; a failed row says why, and every row that ran counts its derivative evaluations.
 set -u
 hmp="$1"
 demo="$2/examples/bach-bwv1050-brandenburg5-mvt3-allegro.mid"
@@ -58,8 +58,15 @@ awk -F, '$1 == "exponential" && $4 == 1 { t = $13; f = $14 } $1 == "rk4" && $2 =
   "$tmp/wp.csv" || fail=1
 # A failed run says why (explicit Euler at one step per tick is unstable on 10⁵ N/m strings); one that
 # ran has an empty failure field.
-awk -F, 'NR > 1 && $5 == 0 { failed++; if ($15 == "") { print "FAIL: row " NR " failed without a reason"; exit 1 } }
-         NR > 1 && $5 == 1 && $15 != "" { print "FAIL: row " NR " ran but has failure " $15; exit 1 }
-         $1 == "explicit_euler" && $2 == 1 && $15 != "unstable" { print "FAIL: explicit_euler 1: " $15; exit 1 }
+awk -F, 'NR > 1 && $5 == 0 { failed++; if ($16 == "") { print "FAIL: row " NR " failed without a reason"; exit 1 } }
+         NR > 1 && $5 == 1 && $16 != "" { print "FAIL: row " NR " ran but has failure " $16; exit 1 }
+         $1 == "explicit_euler" && $2 == 1 && $16 != "unstable" { print "FAIL: explicit_euler 1: " $16; exit 1 }
          END { if (!failed) { print "FAIL: no failed row to check"; exit 1 } }' "$tmp/wp.csv" || fail=1
+# The work done: every row that ran counts its derivatives, one that failed has an empty field, and
+# classical Runge–Kutta takes four a step, so twice the steps take twice the derivatives to the unit.
+awk -F, 'NR > 1 && $5 == 1 && !($15 > 0) { print "FAIL: row " NR " ran with derivatives \"" $15 "\""; exit 1 }
+         NR > 1 && $5 == 0 && $15 != "" { print "FAIL: row " NR " failed with derivatives " $15; exit 1 }
+         $1 == "rk4" { rk[$2] = $15 }
+         END { if (!(rk[8] > 0 && rk[16] == 2 * rk[8])) { print "FAIL: rk4 derivatives " rk[8] ", " rk[16]; exit 1 } }' \
+  "$tmp/wp.csv" || fail=1
 exit $fail

@@ -10,8 +10,9 @@
 // reference_convergence (the finger force's), claimed (the errors are ≥ 10 × the reference's convergence),
 // and for the default integrator the errors over one tick, tick_force_error_rel and
 // tick_finger_force_error_rel, with their reference's convergence tick_reference_convergence_force and
-// tick_reference_convergence (else null); failure: why a point failed (ok false: "unstable", or CVODE's
-// error), else null.
+// tick_reference_convergence (else null); derivatives: the run's derivative evaluations, Jacobian columns
+// included (CVODE's likewise; null where it failed); failure: why a point failed (ok false: "unstable", or
+// CVODE's error), else null.
 // Draws one figure per scene (finger-force error against CPU seconds per simulated second, one panel per
 // stiffness) into DIR/sim-work-precision-SCENE.png.
 //
@@ -78,7 +79,7 @@ void print_point(const std::string& scene, double k, const simulate::WorkPrecisi
       "\"band_force_error_rel\":%s,\"realtime_factor\":%s,\"reference_convergence_force\":%s,"
       "\"reference_convergence\":%s,\"reference_convergence_band\":%s,\"claimed\":%s,"
       "\"tick_force_error_rel\":%s,\"tick_finger_force_error_rel\":%s,\"tick_reference_convergence_force\":%s,"
-      "\"tick_reference_convergence\":%s,\"failure\":%s,\"clock\":\"thread_cpu\"}}\n",
+      "\"tick_reference_convergence\":%s,\"derivatives\":%s,\"failure\":%s,\"clock\":\"thread_cpu\"}}\n",
       force.c_str(), scene.c_str(), k, p.integrator.c_str(), p.steps_per_tick, p.rtol, p.is_default ? "true" : "false",
       p.ok() ? "true" : "false", force.c_str(), finger.c_str(), number(p.ok() ? p.error.band_force : nan).c_str(),
       number(p.ok() ? p.realtime_factor : nan).c_str(), number(c.force, "%.3g").c_str(),
@@ -86,6 +87,7 @@ void print_point(const std::string& scene, double k, const simulate::WorkPrecisi
       number(p.tick_error.force).c_str(), number(p.tick_error.finger_force).c_str(),
       number(p.is_default ? wp.tick_reference_convergence.force : nan, "%.3g").c_str(),
       number(p.is_default ? wp.tick_reference_convergence.finger_force : nan, "%.3g").c_str(),
+      p.ok() ? std::to_string(p.derivatives).c_str() : "null",
       p.ok() ? "null" : nlohmann::json(p.failure).dump().c_str());
   std::fflush(stdout);
 }
