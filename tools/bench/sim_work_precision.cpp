@@ -24,6 +24,7 @@
 #include <map>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
 #include <limits>
 #include <sstream>
 #include <string>
@@ -58,37 +59,47 @@ std::vector<std::string> split(const std::string& s) {
   return out;
 }
 
-// A number for JSON: null where it is not finite (an unstable run has no error).
-std::string number(double v, const char* format = "%.4g") {
-  if (!std::isfinite(v)) return "null";
-  char buf[32];
-  std::snprintf(buf, sizeof buf, format, v);
-  return buf;
-}
+// A number for JSON: null where it is not finite (an unstable run has no error). Written to the last
+// digit that reads back to the same double, so that --replot draws the run's own figures.
+nlohmann::json number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 
 void print_point(const std::string& scene, double k, const simulate::WorkPrecisionPoint& p,
                  const simulate::WorkPrecision& wp) {
   const simulate::TraceError& c = wp.reference_convergence;
-  const bool claimed = p.ok() && wp.claimed(p.error.force, c.force) && wp.claimed(p.error.finger_force, c.finger_force);
+  const simulate::TraceError& tc = wp.tick_reference_convergence;
+  const bool ok = p.ok();
+  const bool claimed = ok && wp.claimed(p.error.force, c.force) && wp.claimed(p.error.finger_force, c.finger_force);
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  const std::string force = number(p.ok() ? p.error.force : nan), finger = number(p.ok() ? p.error.finger_force : nan);
-  std::printf(
-      "{\"bench\":\"sim-work-precision\",\"metric\":\"force_error_rel\",\"value\":%s,\"unit\":\"ratio\","
-      "\"params\":{\"scene\":\"%s\",\"stiffness_n_per_m\":%g,\"integrator\":\"%s\",\"steps_per_tick\":%d,"
-      "\"rtol\":%g,\"default\":%s,\"ok\":%s,\"force_error_rel\":%s,\"finger_force_error_rel\":%s,"
-      "\"band_force_error_rel\":%s,\"realtime_factor\":%s,\"reference_convergence_force\":%s,"
-      "\"reference_convergence\":%s,\"reference_convergence_band\":%s,\"claimed\":%s,"
-      "\"tick_force_error_rel\":%s,\"tick_finger_force_error_rel\":%s,\"tick_reference_convergence_force\":%s,"
-      "\"tick_reference_convergence\":%s,\"derivatives\":%s,\"failure\":%s,\"clock\":\"thread_cpu\"}}\n",
-      force.c_str(), scene.c_str(), k, p.integrator.c_str(), p.steps_per_tick, p.rtol, p.is_default ? "true" : "false",
-      p.ok() ? "true" : "false", force.c_str(), finger.c_str(), number(p.ok() ? p.error.band_force : nan).c_str(),
-      number(p.ok() ? p.realtime_factor : nan).c_str(), number(c.force, "%.3g").c_str(),
-      number(c.finger_force, "%.3g").c_str(), number(c.band_force, "%.3g").c_str(), claimed ? "true" : "false",
-      number(p.tick_error.force).c_str(), number(p.tick_error.finger_force).c_str(),
-      number(p.is_default ? wp.tick_reference_convergence.force : nan, "%.3g").c_str(),
-      number(p.is_default ? wp.tick_reference_convergence.finger_force : nan, "%.3g").c_str(),
-      p.ok() ? std::to_string(p.derivatives).c_str() : "null",
-      p.ok() ? "null" : nlohmann::json(p.failure).dump().c_str());
+  const auto measured = [&](double v) { return number(ok ? v : nan); };
+  const auto of_default = [&](double v) { return number(p.is_default ? v : nan); };
+  const nlohmann::ordered_json params = {{"scene", scene},
+                                         {"stiffness_n_per_m", k},
+                                         {"integrator", p.integrator},
+                                         {"steps_per_tick", p.steps_per_tick},
+                                         {"rtol", p.rtol},
+                                         {"default", p.is_default},
+                                         {"ok", ok},
+                                         {"force_error_rel", measured(p.error.force)},
+                                         {"finger_force_error_rel", measured(p.error.finger_force)},
+                                         {"band_force_error_rel", measured(p.error.band_force)},
+                                         {"realtime_factor", measured(p.realtime_factor)},
+                                         {"reference_convergence_force", number(c.force)},
+                                         {"reference_convergence", number(c.finger_force)},
+                                         {"reference_convergence_band", number(c.band_force)},
+                                         {"claimed", claimed},
+                                         {"tick_force_error_rel", number(p.tick_error.force)},
+                                         {"tick_finger_force_error_rel", number(p.tick_error.finger_force)},
+                                         {"tick_reference_convergence_force", of_default(tc.force)},
+                                         {"tick_reference_convergence", of_default(tc.finger_force)},
+                                         {"derivatives", ok ? nlohmann::json(p.derivatives) : nlohmann::json(nullptr)},
+                                         {"failure", ok ? nlohmann::json(nullptr) : nlohmann::json(p.failure)},
+                                         {"clock", "thread_cpu"}};
+  const nlohmann::ordered_json line = {{"bench", "sim-work-precision"},
+                                       {"metric", "force_error_rel"},
+                                       {"value", measured(p.error.force)},
+                                       {"unit", "ratio"},
+                                       {"params", params}};
+  std::printf("%s\n", line.dump().c_str());
   std::fflush(stdout);
 }
 
@@ -140,43 +151,35 @@ void draw(const std::string& dir, const std::string& scene, const std::vector<ou
   std::fprintf(stderr, "wrote %s\n", path.c_str());
 }
 
-// The text of "key": in a JSON line of ours (flat values: a number, true/false/null or a plain string).
-std::string field(const std::string& line, const std::string& key) {
-  const std::string tag = "\"" + key + "\":";
-  const std::size_t at = line.find(tag);
-  if (at == std::string::npos) return {};
-  std::size_t begin = at + tag.size(), end = begin;
-  if (line[begin] == '"') {
-    end = line.find('"', ++begin);
-  } else {
-    while (end < line.size() && line[end] != ',' && line[end] != '}') ++end;
-  }
-  return line.substr(begin, end - begin);
-}
-
-// --replot FILE: the figures again from a run's JSON lines (no simulation).
+// --replot FILE: the figures again from a run's JSON lines (no simulation). A line that is not one of
+// ours is an error naming it (exit 2).
 int replot(const std::string& jsonl, const std::string& dir) {
-  std::FILE* in = std::fopen(jsonl.c_str(), "r");
-  if (in == nullptr) {
+  std::ifstream in(jsonl);
+  if (!in) {
     std::fprintf(stderr, "error: %s: cannot open\n", jsonl.c_str());
     return 2;
   }
   std::vector<std::string> scenes;
   std::map<std::string, std::map<double, std::vector<FigurePoint>>> points;
-  char buf[4096];
-  while (std::fgets(buf, sizeof buf, in) != nullptr) {
-    const std::string line = buf;
-    const std::string scene = field(line, "scene");
-    if (scene.empty()) continue;
-    if (points.find(scene) == points.end()) scenes.push_back(scene);
-    const double k = std::atof(field(line, "stiffness_n_per_m").c_str());
-    const bool ok = field(line, "ok") == "true";
-    const double rt = std::atof(field(line, "realtime_factor").c_str());
-    const double nan = std::numeric_limits<double>::quiet_NaN();
-    points[scene][k].push_back({field(line, "integrator"), field(line, "default") == "true", ok ? 1.0 / rt : nan,
-                                ok ? std::atof(field(line, "finger_force_error_rel").c_str()) : nan});
+  int number = 0;
+  for (std::string text; std::getline(in, text);) {
+    ++number;
+    if (text.find_first_not_of(" \t\r") == std::string::npos) continue;
+    try {
+      const nlohmann::json p = nlohmann::json::parse(text).at("params");
+      const std::string scene = p.at("scene").get<std::string>();
+      if (points.find(scene) == points.end()) scenes.push_back(scene);
+      const double nan = std::numeric_limits<double>::quiet_NaN();
+      const bool ok = p.at("ok").get<bool>();
+      points[scene][p.at("stiffness_n_per_m").get<double>()].push_back(
+          {p.at("integrator").get<std::string>(), p.at("default").get<bool>(),
+           ok ? 1.0 / p.at("realtime_factor").get<double>() : nan,
+           ok ? p.at("finger_force_error_rel").get<double>() : nan});
+    } catch (const nlohmann::json::exception& e) {
+      std::fprintf(stderr, "error: %s:%d: not a sim-work-precision line (%s)\n", jsonl.c_str(), number, e.what());
+      return 2;
+    }
   }
-  std::fclose(in);
   for (const std::string& scene : scenes) {
     std::vector<output::LogLogPanel> panels;
     for (const auto& [k, p] : points[scene]) panels.push_back(panel_of(k, p));
