@@ -161,9 +161,9 @@ int replot(const std::string& jsonl, const std::string& dir) {
   }
   std::vector<std::string> scenes;
   std::map<std::string, std::map<double, std::vector<FigurePoint>>> points;
-  int number = 0;
+  int line_number = 0;
   for (std::string text; std::getline(in, text);) {
-    ++number;
+    ++line_number;
     if (text.find_first_not_of(" \t\r") == std::string::npos) continue;
     try {
       const nlohmann::json p = nlohmann::json::parse(text).at("params");
@@ -176,7 +176,7 @@ int replot(const std::string& jsonl, const std::string& dir) {
            ok ? 1.0 / p.at("realtime_factor").get<double>() : nan,
            ok ? p.at("finger_force_error_rel").get<double>() : nan});
     } catch (const nlohmann::json::exception& e) {
-      std::fprintf(stderr, "error: %s:%d: not a sim-work-precision line (%s)\n", jsonl.c_str(), number, e.what());
+      std::fprintf(stderr, "error: %s:%d: not a sim-work-precision line (%s)\n", jsonl.c_str(), line_number, e.what());
       return 2;
     }
   }
