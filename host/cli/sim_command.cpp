@@ -48,9 +48,6 @@ struct SimCliOptions {
   HapticCliOptions haptic;
 };
 
-// Longest passage --work-precision replays: the reference takes seconds per simulated second.
-constexpr double kMaxWorkPrecisionSeconds = 20.0;
-
 void write_csv(const SimCliOptions& o, const std::vector<simulate::ForceSample>& samples, double t0,
                std::uint32_t tick_hz) {
   output::FilePtr f = output::open_for_writing(o.out, o.force);
@@ -176,9 +173,9 @@ int run_sim(const SimCliOptions& o) {
   const std::uint64_t first = w.first_tick, end = w.end_tick;
   if (end - first > 600ull * opts.tick_hz) throw BadInput("--from/--to: at most 600 s of simulation at a time");
 
-  if (o.work_precision && static_cast<double>(end - first) > kMaxWorkPrecisionSeconds * opts.tick_hz) {
+  if (o.work_precision && static_cast<double>(end - first) > simulate::kMaxWorkPrecisionSeconds * opts.tick_hz) {
     throw BadInput(fmt::format("--work-precision: the passage is {:.1f} s; pick at most {:g} s with --from/--to",
-                               static_cast<double>(end - first) / opts.tick_hz, kMaxWorkPrecisionSeconds));
+                               static_cast<double>(end - first) / opts.tick_hz, simulate::kMaxWorkPrecisionSeconds));
   }
   so.tick_hz = opts.tick_hz;
   so.drive.compensator.enabled = !o.plain_drive;

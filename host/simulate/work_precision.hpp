@@ -57,6 +57,9 @@ struct WorkPrecisionOptions {
 
 inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 inline constexpr int kTickSampleEvery = 5;
+// The longest passage a work-precision run takes (hmp sim, the benchmark): the reference takes seconds per
+// simulated second.
+inline constexpr double kMaxWorkPrecisionSeconds = 20.0;
 
 struct WorkPrecisionPoint {
   std::string integrator;   // a Method's name, or "cvode"

@@ -3,7 +3,7 @@
 # default integrator, classical Runge–Kutta and CVODE: every line is JSON with the fields
 # docs/performance.md's table and its figures read; Runge–Kutta's derivative count is four a step, the
 # same ticks at every step size; --replot draws the run's own figure again, byte for byte; a file that is
-# not the benchmark's output exits 2 with one line naming the file and the line.
+# not the benchmark's output, and every bad option value, exits 2 with one line naming it, before any run.
 set -u
 bench="$1"
 source "$(dirname "${BASH_SOURCE[0]}")/lib.bash"
@@ -52,4 +52,14 @@ done
 "$bench" --replot "$tmp/none.jsonl" >"$tmp/out" 2>"$tmp/err"
 rc=$?
 { [ $rc -eq 2 ] && grep -q "none.jsonl: cannot open" "$tmp/err"; } || { echo "FAIL: a missing file -> rc=$rc"; fail=1; }
+for args in "--seconds abc" "--seconds 0" "--seconds -1" "--seconds nan" "--seconds 21" "--stiffness 0" \
+  "--stiffness 1e4,x" "--stiffness 1e10" "--stiffness ," "--scenes frame_edge,nope" "--steps 3" \
+  "--integrators exponential,rk5" "--plot-dir $tmp/none"; do
+  word=${args%% *}
+  # shellcheck disable=SC2086  # the option and its value are two words
+  "$bench" $args >"$tmp/out" 2>"$tmp/err"
+  rc=$?
+  { [ $rc -eq 2 ] && [ "$(wc -l <"$tmp/err")" -eq 1 ] && grep -q -- "$word" "$tmp/err" && [ ! -s "$tmp/out" ]; } ||
+    { echo "FAIL: $args -> rc=$rc:"; cat "$tmp/err"; fail=1; }
+done
 exit $fail

@@ -20,7 +20,9 @@
 //   [--integrators a,b (method names or cvode)] [--steps default (the default step only)]
 //   [--quick] (0.2 s, steps 1–32, the default method, rosenbrock2 and cvode only)
 //   [--replot FILE.jsonl] (the figures of an earlier run's output, into --plot-dir, without simulating)
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <map>
 #include <cstdio>
 #include <cstdlib>
@@ -32,6 +34,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "host/config/config.hpp"
 #include "host/output/loglog_plot.hpp"
 #include "host/simulate/work_precision.hpp"
 
@@ -50,6 +53,13 @@ struct Options {
   std::string steps;                     // "default": only each integrator's default step
   std::string replot;                    // a run's JSON lines: draw its figures only
 };
+
+// A number from the command line: the whole text, finite, else NaN.
+double parse_number(const std::string& text) {
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  return !text.empty() && *end == '\0' && std::isfinite(v) ? v : std::numeric_limits<double>::quiet_NaN();
+}
 
 std::vector<std::string> split(const std::string& s) {
   std::vector<std::string> out;
@@ -188,6 +198,18 @@ int replot(const std::string& jsonl, const std::string& dir) {
   return 0;
 }
 
+// One line on stderr; exit status 2.
+int bad_input(const std::string& what) {
+  std::fprintf(stderr, "error: %s\n", what.c_str());
+  return 2;
+}
+
+std::string scene_list() {
+  std::string out;
+  for (std::string_view s : simulate::plant_scene_names()) out += (out.empty() ? "" : ", ") + std::string(s);
+  return out;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -196,20 +218,32 @@ int main(int argc, char** argv) {
     const std::string a = argv[i];
     if (a == "--plot-dir" && i + 1 < argc)
       o.plot_dir = argv[++i];
-    else if (a == "--seconds" && i + 1 < argc)
-      o.seconds = std::atof(argv[++i]);
-    else if (a == "--scenes" && i + 1 < argc)
+    else if (a == "--seconds" && i + 1 < argc) {
+      o.seconds = parse_number(argv[++i]);
+      if (!(o.seconds > 0 && o.seconds <= simulate::kMaxWorkPrecisionSeconds))
+        return bad_input("--seconds " + std::string(argv[i]) + ": a number of seconds above 0, at most 20");
+    } else if (a == "--scenes" && i + 1 < argc) {
       o.scenes = split(argv[++i]);
-    else if (a == "--stiffness" && i + 1 < argc) {
+      const auto& names = simulate::plant_scene_names();
+      for (const std::string& s : o.scenes)
+        if (std::find(names.begin(), names.end(), s) == names.end())
+          return bad_input("--scenes: unknown '" + s + "' (" + scene_list() + ")");
+    } else if (a == "--stiffness" && i + 1 < argc) {
       o.stiffness.clear();
-      for (const std::string& k : split(argv[++i])) o.stiffness.push_back(std::atof(k.c_str()));
+      for (const std::string& k : split(argv[++i])) {
+        o.stiffness.push_back(parse_number(k));
+        if (!(o.stiffness.back() > 0 && o.stiffness.back() <= config::kMaxPlantValue))
+          return bad_input("--stiffness " + k + ": a stiffness in N/m above 0, at most 1e9");
+      }
+      if (o.stiffness.empty()) return bad_input("--stiffness: no value");
     } else if (a == "--integrators" && i + 1 < argc)
       o.integrators = split(argv[++i]);
     else if (a == "--replot" && i + 1 < argc)
       o.replot = argv[++i];
-    else if (a == "--steps" && i + 1 < argc)
+    else if (a == "--steps" && i + 1 < argc) {
       o.steps = argv[++i];
-    else if (a == "--quick")
+      if (o.steps != "default") return bad_input("--steps " + o.steps + ": only 'default' (each default step)");
+    } else if (a == "--quick")
       o.quick = true;
     else {
       std::fprintf(stderr,
@@ -219,6 +253,9 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
+  std::error_code error;
+  if (!o.plot_dir.empty() && !std::filesystem::is_directory(o.plot_dir, error))
+    return bad_input("--plot-dir " + o.plot_dir + ": not a directory");
   if (!o.replot.empty()) {
     try {
       return replot(o.replot, o.plot_dir.empty() ? "." : o.plot_dir);
@@ -247,8 +284,7 @@ int main(int argc, char** argv) {
       else if (plant::parse_method(n, m))
         wo.methods.push_back(m);
       else {
-        std::fprintf(stderr, "error: --integrators: unknown '%s'\n", n.c_str());
-        return 2;
+        return bad_input("--integrators: unknown '" + n + "'");
       }
     }
   }
