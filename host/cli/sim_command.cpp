@@ -133,24 +133,21 @@ void print_work_precision(const simulate::WorkPrecision& wp) {
 }
 
 void draw_work_precision(const SimCliOptions& o, const simulate::WorkPrecision& wp, const std::string& title) {
-  output::LogLogPanel grip{"string force on the grip", {}}, finger{"finger force", {}};
   const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::vector<output::LabelledPoint> grip, finger;
   for (const simulate::WorkPrecisionPoint& p : wp.points) {
-    for (output::LogLogPanel* panel : {&grip, &finger}) {
-      if (panel->series.empty() || panel->series.back().label != p.integrator)
-        panel->series.push_back({p.integrator, {}, -1});
-      output::LogLogSeries& s = panel->series.back();
-      if (p.is_default) s.ringed = static_cast<int>(s.points.size());
-      const double error = panel == &grip ? p.error.force : p.error.finger_force;
-      s.points.emplace_back(p.ok() ? 1.0 / p.realtime_factor : nan, p.ok() ? error : nan);
-    }
+    const double cpu_per_second = p.ok() ? 1.0 / p.realtime_factor : nan;
+    grip.push_back({p.integrator, p.is_default, cpu_per_second, p.ok() ? p.error.force : nan});
+    finger.push_back({p.integrator, p.is_default, cpu_per_second, p.ok() ? p.error.finger_force : nan});
   }
   output::LogLogPlotSpec spec;
   spec.title = title;
   spec.x_label = "CPU seconds per simulated second";
   spec.y_label = "relative error against CVODE (RMS)";
   spec.x_guides = {{1.0, "real time"}};
-  output::write_loglog_png(o.out, {grip, finger}, spec, o.force);
+  output::write_loglog_png(
+      o.out, {{"string force on the grip", output::series_of(grip)}, {"finger force", output::series_of(finger)}}, spec,
+      o.force);
 }
 
 int run_sim(const SimCliOptions& o) {

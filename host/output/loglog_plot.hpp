@@ -14,6 +14,26 @@ struct LogLogSeries {
   int ringed = -1;                                // index of a point to ring (the default setting), or −1
 };
 
+// One measured point: the series it belongs to (by its label; a series' points come one after the
+// other), whether it is the one to ring, and where it lies (NaN where it has no value: left out).
+struct LabelledPoint {
+  std::string label;
+  bool ringed = false;
+  double x = 0, y = 0;
+};
+
+// The points as series, a new one wherever the label changes.
+inline std::vector<LogLogSeries> series_of(const std::vector<LabelledPoint>& points) {
+  std::vector<LogLogSeries> out;
+  for (const LabelledPoint& p : points) {
+    if (out.empty() || out.back().label != p.label) out.push_back({p.label, {}, -1});
+    LogLogSeries& s = out.back();
+    if (p.ringed) s.ringed = static_cast<int>(s.points.size());
+    s.points.emplace_back(p.x, p.y);
+  }
+  return out;
+}
+
 struct LogLogPanel {
   std::string title;
   std::vector<LogLogSeries> series;  // coloured by their index, the same in every panel

@@ -113,39 +113,26 @@ void print_point(const std::string& scene, double k, const simulate::WorkPrecisi
   std::fflush(stdout);
 }
 
-// One point of a figure: who, its cost and its finger-force error (NaN where it has none).
-struct FigurePoint {
-  std::string integrator;
-  bool is_default = false;
-  double cpu_per_second = 0, error = 0;
-};
-
-output::LogLogPanel panel_of(double k, const std::vector<FigurePoint>& points) {
-  char title[64];
-  std::snprintf(title, sizeof title, "k = %.0e N/m", k);
-  output::LogLogPanel panel;
-  panel.title = title;
-  std::string current;
-  for (const FigurePoint& p : points) {
-    if (panel.series.empty() || current != p.integrator) {
-      current = p.integrator;
-      panel.series.push_back({p.integrator, {}, -1});
-      if (p.integrator == std::string(plant::method_name(simulate::default_method())))
-        panel.series.back().label += " (default)";
-    }
-    output::LogLogSeries& s = panel.series.back();
-    if (p.is_default) s.ringed = static_cast<int>(s.points.size());
-    s.points.emplace_back(p.cpu_per_second, p.error);
-  }
-  return panel;
+// One point of a figure: its integrator (the default method's series labelled so), ringed at the default
+// step, its CPU seconds per simulated second and its finger-force error (NaN where it has none).
+output::LabelledPoint figure_point(const std::string& integrator, bool is_default, double cpu_per_second,
+                                   double error) {
+  const bool default_method = integrator == plant::method_name(simulate::default_method());
+  return {default_method ? integrator + " (default)" : integrator, is_default, cpu_per_second, error};
 }
 
-std::vector<FigurePoint> figure_points(const simulate::WorkPrecision& wp) {
+output::LogLogPanel panel_of(double k, const std::vector<output::LabelledPoint>& points) {
+  char title[64];
+  std::snprintf(title, sizeof title, "k = %.0e N/m", k);
+  return {title, output::series_of(points)};
+}
+
+std::vector<output::LabelledPoint> figure_points(const simulate::WorkPrecision& wp) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  std::vector<FigurePoint> out;
+  std::vector<output::LabelledPoint> out;
   for (const simulate::WorkPrecisionPoint& p : wp.points)
-    out.push_back(
-        {p.integrator, p.is_default, p.ok() ? 1.0 / p.realtime_factor : nan, p.ok() ? p.error.finger_force : nan});
+    out.push_back(figure_point(p.integrator, p.is_default, p.ok() ? 1.0 / p.realtime_factor : nan,
+                               p.ok() ? p.error.finger_force : nan));
   return out;
 }
 
@@ -170,7 +157,7 @@ int replot(const std::string& jsonl, const std::string& dir) {
     return 2;
   }
   std::vector<std::string> scenes;
-  std::map<std::string, std::map<double, std::vector<FigurePoint>>> points;
+  std::map<std::string, std::map<double, std::vector<output::LabelledPoint>>> points;
   int line_number = 0;
   for (std::string text; std::getline(in, text);) {
     ++line_number;
@@ -182,9 +169,9 @@ int replot(const std::string& jsonl, const std::string& dir) {
       const double nan = std::numeric_limits<double>::quiet_NaN();
       const bool ok = p.at("ok").get<bool>();
       points[scene][p.at("stiffness_n_per_m").get<double>()].push_back(
-          {p.at("integrator").get<std::string>(), p.at("default").get<bool>(),
-           ok ? 1.0 / p.at("realtime_factor").get<double>() : nan,
-           ok ? p.at("finger_force_error_rel").get<double>() : nan});
+          figure_point(p.at("integrator").get<std::string>(), p.at("default").get<bool>(),
+                       ok ? 1.0 / p.at("realtime_factor").get<double>() : nan,
+                       ok ? p.at("finger_force_error_rel").get<double>() : nan));
     } catch (const nlohmann::json::exception& e) {
       std::fprintf(stderr, "error: %s:%d: not a sim-work-precision line (%s)\n", jsonl.c_str(), line_number, e.what());
       return 2;
