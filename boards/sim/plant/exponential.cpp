@@ -1,5 +1,6 @@
 #include "boards/sim/plant/exponential.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -57,14 +58,17 @@ constexpr double kCorrectionLimit = 0.01;
 // slack rings at ~2.4 kHz and goes slack for less than the 250 µs between checkpoints; the whole steps
 // and quarters that missed it were 34% off in string force over one tick. There, if the fine sub-steps
 // do sample it (turn at most π each), a (sub-)step is also followed along its piece's linear motion to
-// every fine sub-step's end, and a fine sub-step whose end is on another piece is taken again by
-// Runge–Kutta to the switch and on from it (a kink inside a 31 µs ETD2 step on the old piece cost more
-// than the missed switches). The bound on the plant's rate turns, between checkpoints, 2.7 rad at
+// every fine sub-step's end. Wherever the fine sub-steps sample it, a fine sub-step whose end is on
+// another piece is taken again by Runge–Kutta to the switch and on from it. A kink inside a 31 µs ETD2
+// step on the old piece cost more than the missed switches at 10⁶ N/m; at 10⁵ N/m, where the corner's
+// strings snap at 250 Hz, it cost 0.92% of the carried grip's string force against 0.63% located (the
+// 250 Hz, 1 N vibration 0.44% against 0.08%, the slack scene 1.57% against 1.00%), for 20–30% more
+// CPU time where strings snap. The bound on the plant's rate turns, between checkpoints, 2.7 rad at
 // 10⁵ N/m, 8.4 at 10⁶ and 27 at 10⁷ (3.3 between fine sub-steps: there neither would see it).
 constexpr double kNyquistTurn = std::numbers::pi;
-// There the Runge–Kutta parts of a fine sub-step each turn the switch frequency by at most kPartTurn:
-// the rate after a switch, not the piece's before it (a string snapping taut makes it faster), sets
-// their accuracy; classical Runge–Kutta's phase error is turn⁵/120 a part.
+// A located or followed fine sub-step's Runge–Kutta parts each turn the switch frequency by at most
+// kPartTurn (one part at least): the rate after a switch, not the piece's before it (a string snapping
+// taut makes it faster), sets their accuracy; classical Runge–Kutta's phase error is turn⁵/120 a part.
 constexpr double kPartTurn = 0.35;
 // A switch is located to this fraction of the (sub-)step it falls in: Newton's method on its cubic stops
 // there (a 31 µs fine sub-step: 3 × 10⁻¹⁷ s).
@@ -189,8 +193,9 @@ class Exponential final : public Integrator {
     carrying_ = false;
     const double turn = std::ldexp(h, -kCheckpointLevel) * system.switch_frequency();  // between checkpoints
     const double fine_turn = std::ldexp(turn, kCheckpointLevel - kFineLevel);
-    follow_ = turn > kNyquistTurn && fine_turn <= kNyquistTurn;
-    followed_parts_ = static_cast<int>(std::ceil(fine_turn / kPartTurn));
+    locate_ = fine_turn <= kNyquistTurn;
+    follow_ = turn > kNyquistTurn && locate_;
+    followed_parts_ = std::max(1, static_cast<int>(std::ceil(fine_turn / kPartTurn)));
     if (ng > 0 &&
         (switch_within(system, *lin, g, piece, ng) || (follow_ && switch_along(system, *lin, 0, g, piece, ng)))) {
       split_step(system, y, h, lin->chain.norm());
@@ -372,8 +377,8 @@ class Exponential final : public Integrator {
     const int ng = system.switch_functions(y, g);
     const std::uint32_t piece = system.piece_of(g);
     Linearisation* on = sub_step_linearisation(system, y, piece, h, SubStep::fine, parts);
-    if (on == nullptr) return runge_kutta(system, y, fine, follow_ ? followed_parts_ : parts, follow_);
-    if (!follow_) {
+    if (on == nullptr) return runge_kutta(system, y, fine, follow_ ? followed_parts_ : parts, locate_);
+    if (!locate_) {
       etd2(system, *on, kFineLevel, h, y);
       return false;
     }
@@ -669,8 +674,9 @@ class Exponential final : public Integrator {
   std::uint64_t clock_ = 0;
   const Linearisation* stepping_ = nullptr;  // the one the last whole step started on
   bool carrying_ = false;                    // the last whole step went more than kFarStep (saved_ holds its start)
+  bool locate_ = false;                      // a switch in a fine sub-step is located (kNyquistTurn)
   bool follow_ = false;                      // this step is followed to every fine sub-step (kNyquistTurn)
-  int followed_parts_ = 1;                   // then: a fine sub-step's Runge–Kutta parts (kPartTurn)
+  int followed_parts_ = 1;                   // a located or followed fine sub-step's Runge–Kutta parts (kPartTurn)
   std::vector<double> jacobian_, gradient_;
   // Pieces a split step found no linearisation for, where.
   struct Miss {

@@ -110,7 +110,7 @@ TEST(ExponentialRinging, FollowsDipsBetweenCheckpointsWithTheSwitchFrequency) {
   EXPECT_LT(followed.x, 3e-2);
   EXPECT_LT(followed.v, 3e-2);
   // Without it (0: the checkpoints taken to suffice) the steps that miss a dip are on the wrong
-  // sinusoid from then on. Measured: x 157%, v 180%.
+  // sinusoid from then on. Measured: x 171%, v 176%.
   const Miss unfollowed = run(0);
   EXPECT_GT(unfollowed.x, 0.1);
   EXPECT_GT(unfollowed.v, 0.1);
