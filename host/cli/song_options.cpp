@@ -11,6 +11,7 @@
 
 #include "host/common/error.hpp"
 #include "host/common/input_file.hpp"
+#include "host/common/number_text.hpp"
 #include "host/midi/gm.hpp"
 
 namespace hmp::cli {
@@ -27,10 +28,9 @@ void warn_on_stderr(const std::string& message) { std::fprintf(stderr, "warning:
 std::pair<double, double> parse_range(const std::string& option, const std::string& text) {
   const auto colon = text.find(':');
   auto num = [&](const std::string& s) {
-    char* end = nullptr;
-    const double v = std::strtod(s.c_str(), &end);
-    if (s.empty() || *end != '\0' || !std::isfinite(v)) throw BadInput(option + " " + text + ": expected MIN:MAX");
-    return v;
+    const std::optional<double> v = finite_number(s);
+    if (!v) throw BadInput(option + " " + text + ": expected MIN:MAX");
+    return *v;
   };
   if (colon == std::string::npos) throw BadInput(option + " " + text + ": expected MIN:MAX");
   return {num(text.substr(0, colon)), num(text.substr(colon + 1))};

@@ -32,8 +32,10 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "host/common/number_text.hpp"
 #include "host/config/config.hpp"
 #include "host/output/loglog_plot.hpp"
 #include "host/simulate/work_precision.hpp"
@@ -56,9 +58,7 @@ struct Options {
 
 // A number from the command line: the whole text, finite, else NaN.
 double parse_number(const std::string& text) {
-  char* end = nullptr;
-  const double v = std::strtod(text.c_str(), &end);
-  return !text.empty() && *end == '\0' && std::isfinite(v) ? v : std::numeric_limits<double>::quiet_NaN();
+  return finite_number(text).value_or(std::numeric_limits<double>::quiet_NaN());
 }
 
 std::vector<std::string> split(const std::string& s) {
@@ -208,7 +208,8 @@ int main(int argc, char** argv) {
     else if (a == "--seconds" && i + 1 < argc) {
       o.seconds = parse_number(argv[++i]);
       if (!(o.seconds > 0 && o.seconds <= simulate::kMaxWorkPrecisionSeconds))
-        return bad_input("--seconds " + std::string(argv[i]) + ": a number of seconds above 0, at most 20");
+        return bad_input(fmt::format("--seconds {}: a number of seconds above 0, at most {:g}", argv[i],
+                                     simulate::kMaxWorkPrecisionSeconds));
     } else if (a == "--scenes" && i + 1 < argc) {
       o.scenes = split(argv[++i]);
       const auto& names = simulate::plant_scene_names();
@@ -220,7 +221,8 @@ int main(int argc, char** argv) {
       for (const std::string& k : split(argv[++i])) {
         o.stiffness.push_back(parse_number(k));
         if (!(o.stiffness.back() > 0 && o.stiffness.back() <= config::kMaxPlantValue))
-          return bad_input("--stiffness " + k + ": a stiffness in N/m above 0, at most 1e9");
+          return bad_input(
+              fmt::format("--stiffness {}: a stiffness in N/m above 0, at most {:g}", k, config::kMaxPlantValue));
       }
       if (o.stiffness.empty()) return bad_input("--stiffness: no value");
     } else if (a == "--integrators" && i + 1 < argc)
