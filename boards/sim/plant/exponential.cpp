@@ -50,14 +50,14 @@ constexpr double kLeastMotion = 0.05;
 // A whole step that finds no linearisation within reach while the state is carried on steadily (its
 // start moved, over the last kSteadySteps whole steps, at least kSteadiness of kSteadySteps times its
 // last step's motion: a vibration turns back within its period, a carried grip does not) is taken as
-// classical Runge–Kutta parts of at most kCarriedReach / rate each (the rate: the larger of ‖A‖₁ of the
-// last whole step's linearisation and the system's bound on its switch frequency, which a string
-// snapping taut on the way brings and a piece with it slack lacks), located at switches, instead of on a new
-// linearisation: a grip carried at 0.2 mm/ms passes a linearisation's reach in 2–3 steps, and a linearisation costs as
-// much as some 300 derivatives (53 µs). Carried to the frame's corner at 10⁵ N/m, 0.63% / 0.21% of string / finger
-// force became 0.47% / 0.08% at 1.7 times the speed. Only where the parts sample the strings' ringing
-// (the switch frequency turns at most kNyquistTurn between checkpoints, 10³–10⁵ N/m); above, the
-// ringing needs the followed steps below.
+// classical Runge–Kutta parts of at most kCarriedReach / rate each, located at switches, instead of on
+// a new linearisation. The rate: the larger of ‖A‖₁ of the last whole step's linearisation and the
+// system's bound on its switch frequency (a string snapping taut on the way brings that rate, a piece
+// with it slack lacks it). A grip carried at 0.2 mm/ms passes a linearisation's reach in 2–3 steps,
+// and a linearisation costs as much as some 300 derivatives (53 µs): carried to the frame's corner at
+// 10⁵ N/m, 0.63% / 0.21% of string / finger force became 0.47% / 0.08% at 1.7 times the speed. Only
+// where the parts sample the strings' ringing (the switch frequency turns at most kNyquistTurn between
+// checkpoints, 10³–10⁵ N/m); above, the ringing needs the followed steps below.
 constexpr int kSteadySteps = 6;
 constexpr double kSteadiness = 0.75;
 constexpr double kCarriedReach = 1.0;

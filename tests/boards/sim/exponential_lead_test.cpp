@@ -116,10 +116,9 @@ TEST(ExponentialLead, ALinearisationTakenAheadServesTheWayAhead) {
 TEST(ExponentialLead, AStateCarriedOnSteadilyGoesOnWithoutLinearisations) {
   double reference[kSteps];
   reference_path(reference);
-  // The steps before the carry is seen as steady (six steps' starts moved six times one step's motion)
-  // are taken on linearisations as above: with or without the lead the first serves steps 0–4 and the
-  // second, taken at step 5, serves step 6, where no other is needed until a step finds none in reach;
-  // that step and every one after it goes by Runge–Kutta parts: 2 linearisations in all, not 9 or 6.
+  // Until six steps' starts are behind it the motion is not seen as steady: with or without the lead
+  // the first linearisation serves steps 0–4 and step 5 takes a second. From step 6 on, each step that
+  // finds none within reach goes by Runge–Kutta parts: 2 linearisations in all, not 9 or 6.
   const Carried plain = run(0, reference, 0);
   const Carried ahead = run(0.8, reference, 0);
   EXPECT_EQ(plain.linearisations, 2u);
