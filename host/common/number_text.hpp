@@ -11,7 +11,7 @@ namespace hmp {
 inline std::optional<double> finite_number(const std::string& text) {
   char* end = nullptr;
   const double v = std::strtod(text.c_str(), &end);
-  if (text.empty() || *end != '\0' || !std::isfinite(v)) return std::nullopt;
+  if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(v)) return std::nullopt;
   return v;
 }
 

@@ -1,22 +1,19 @@
 #include "host/haptics/adsr_option.hpp"
 
-#include <cmath>
-#include <cstdlib>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include "host/common/error.hpp"
+#include "host/common/number_text.hpp"
 
 namespace hmp::haptics {
 
 namespace {
 double parse_number(const std::string& key, const std::string& value) {
-  char* end = nullptr;
-  const double v = std::strtod(value.c_str(), &end);
-  if (value.empty() || end != value.c_str() + value.size() || !std::isfinite(v)) {
-    throw BadInput("--adsr " + key + "=" + value + ": not a finite number");
-  }
-  return v;
+  const std::optional<double> v = finite_number(value);
+  if (!v) throw BadInput("--adsr " + key + "=" + value + ": not a finite number");
+  return *v;
 }
 }  // namespace
 
