@@ -203,14 +203,14 @@ class Exponential final : public Integrator {
       along_motion(system, saved_.data(), y, 0.5, mid_.data());
       lin = &find_or_new(system, mid_.data(), piece, h);
       stepping_ = nullptr;
-    } else if (turn <= kNyquistTurn && whole_norm_ > 0 && carried_on(system, y) &&
-               find(system, y, piece, h) == nullptr) {
-      stepping_ = nullptr;
-      const double rate = std::fmax(whole_norm_, system.switch_frequency());
-      runge_kutta(system, y, h, static_cast<int>(std::ceil(h * rate / kCarriedReach)), true);
-      return;
     } else {
-      lin = &linearisation(system, y, piece, h);
+      const bool may_go_without = turn <= kNyquistTurn && whole_norm_ > 0 && carried_on(system, y);
+      lin = linearisation(system, y, piece, h, may_go_without);
+      if (lin == nullptr) {
+        const double rate = std::fmax(whole_norm_, system.switch_frequency());
+        runge_kutta(system, y, h, static_cast<int>(std::ceil(h * rate / kCarriedReach)), true);
+        return;
+      }
     }
     whole_norm_ = lin->chain.norm();
     carrying_ = false;
@@ -380,8 +380,8 @@ class Exponential final : public Integrator {
   // The linearisation a sub-step from y on `piece` is taken on: the cached one within reach; else a new
   // one, or none (nullptr) where the sub-step goes without. A fine sub-step goes without if its
   // Runge–Kutta `parts` are at most kExplicitParts; a checkpoint quarter then too (to its fine sub-steps),
-  // until its piece has been missed kMissesToLinearise times near y. (A whole step always linearises:
-  // linearisation(), find_or_new().)
+  // until its piece has been missed kMissesToLinearise times near y. (A whole step goes without only
+  // where the state is carried on steadily: linearisation(); a predicted one never: find_or_new().)
   Linearisation* sub_step_linearisation(OdeSystem& system, const double* y, std::uint32_t piece, double h,
                                         SubStep sub_step, int parts) {
     if (Linearisation* cached = find(system, y, piece, h)) return cached;
@@ -561,16 +561,20 @@ class Exponential final : public Integrator {
     return find(system, y, piece, h, drift);
   }
 
-  // The linearisation for a whole step: the cached one, else a new one in place of the least recently
-  // used. A grip that has settled away from where its linearisation was taken (gravity sagging it onto
-  // the finger, a vibration's mean shifting) is linearised again where it now is, once its drift averaged
-  // over kSettleTime of whole steps on that linearisation is more than kSettledDrift of the reach: a stale
-  // linearisation's error grows with the offset (0.07 mm of sag cost 0.9 % of finger force at 10⁵ N/m).
-  // A grip swinging across several cached linearisations uses each only briefly, and its average starts
-  // again each time.
-  Linearisation& linearisation(OdeSystem& system, const double* y, std::uint32_t piece, double h) {
+  // The linearisation for a whole step: the cached one, else none (nullptr) if the step `may_go_without`
+  // one (kSteadySteps), else a new one in place of the least recently used. A grip that has settled away
+  // from where its linearisation was taken (gravity sagging it onto the finger, a vibration's mean
+  // shifting) is linearised again where it now is, once its drift averaged over kSettleTime of whole
+  // steps on that linearisation is more than kSettledDrift of the reach: a stale linearisation's error
+  // grows with the offset (0.07 mm of sag cost 0.9 % of finger force at 10⁵ N/m). A grip swinging across
+  // several cached linearisations uses each only briefly, and its average starts again each time.
+  Linearisation* linearisation(OdeSystem& system, const double* y, std::uint32_t piece, double h, bool may_go_without) {
     std::array<double, kMaxDrift> drift{};
     Linearisation* lin = find(system, y, piece, h, drift);
+    if (lin == nullptr && may_go_without) {
+      stepping_ = nullptr;
+      return nullptr;
+    }
     if (lin != nullptr) {
       if (lin != stepping_) {
         lin->mean_drift = drift;
@@ -587,7 +591,7 @@ class Exponential final : public Integrator {
     }
     if (lin == nullptr) lin = &new_linearisation(system, ahead(system, y), piece, h);
     stepping_ = lin;
-    return *lin;
+    return lin;
   }
 
   // y's drift from `origin` (into `drift`) and its squared length; infinite once known to be beyond
