@@ -1,5 +1,7 @@
 #pragma once
-// A number the user typed (an option's value): the whole text must be a finite number.
+// A number the user typed (an option's value): the whole text must be a number, finite, and for a count
+// an integer within its range.
+#include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <optional>
@@ -12,6 +14,16 @@ inline std::optional<double> finite_number(const std::string& text) {
   char* end = nullptr;
   const double v = std::strtod(text.c_str(), &end);
   if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(v)) return std::nullopt;
+  return v;
+}
+
+// The decimal integer that is the whole of `text`, if it is one within [least, most]; else nothing.
+inline std::optional<long> whole_number(const std::string& text, long least, long most) {
+  char* end = nullptr;
+  errno = 0;
+  const long v = std::strtol(text.c_str(), &end, 10);
+  if (text.empty() || end != text.c_str() + text.size() || errno == ERANGE || v < least || v > most)
+    return std::nullopt;
   return v;
 }
 

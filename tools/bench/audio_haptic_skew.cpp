@@ -34,6 +34,7 @@
 #include "host/player/player.hpp"
 #include "host/transport/sim_transport.hpp"
 #include "tests/support/audio_onset.hpp"
+#include "tools/bench/arguments.hpp"
 
 namespace {
 
@@ -104,15 +105,15 @@ double seconds_between(std::chrono::steady_clock::time_point a, std::chrono::ste
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 2 || std::atoi(argv[1]) < 1) {
+  if (argc != 2) {
     std::fprintf(stderr, "usage: %s NOTES\n", argv[0]);
     return 2;
   }
+  const auto notes = static_cast<int>(hmp::bench::count_argument("NOTES", argv[1], 1, 100000));
   if (!hmp::audio::find_soundfont()) {
     std::fprintf(stderr, "audio-haptic skew: no GM SoundFont installed (fluid-soundfont-gm): skipped\n");
     return 0;
   }
-  const int notes = std::atoi(argv[1]);
   const bool verbose = std::getenv("HMP_SKEW_VERBOSE") != nullptr;  // one stderr line a note
   const std::string path = write_song(notes, 20261121);
   const hmp::midi::Song song = hmp::midi::load_song(path).song;

@@ -21,6 +21,7 @@
 #include "host/player/device_link.hpp"
 #include "host/player/player.hpp"
 #include "host/transport/sim_transport.hpp"
+#include "tools/bench/arguments.hpp"
 
 namespace {
 
@@ -36,9 +37,9 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "usage: %s SONG TRACK SECONDS\n", argv[0]);
     return 2;
   }
+  const auto track = static_cast<std::uint32_t>(hmp::bench::count_argument("TRACK", argv[2], 0, 65535));
+  const double seconds = hmp::bench::number_argument("SECONDS", argv[3], 0.001, 86400);
   const hmp::midi::Song song = hmp::midi::load_song(argv[1]).song;
-  const auto track = static_cast<std::uint32_t>(std::atoi(argv[2]));
-  const double seconds = std::atof(argv[3]);
 
   hmp::transport::SimTransport sim;
   hmp::player::DeviceLink link(sim);

@@ -25,6 +25,7 @@
 
 #include "host/common/child_process.hpp"
 #include "host/common/percentile.hpp"
+#include "tools/bench/arguments.hpp"
 
 namespace {
 
@@ -91,8 +92,9 @@ int main(int argc, char** argv) {
   }
   const std::string device = argv[1], hmp = argv[3], log = argv[4];
   Sender s;
-  s.notes = std::atoi(argv[2]);
-  const double spacing_s = (argc == 6 ? std::atof(argv[5]) : 8.0) / 1000.0;  // between note-ons
+  s.notes = static_cast<int>(hmp::bench::count_argument("NOTES", argv[2], 1, 1000000));
+  // Between note-ons.
+  const double spacing_s = (argc == 6 ? hmp::bench::number_argument("SPACING_MS", argv[5], 0.01, 60000) : 8.0) / 1000.0;
   s.event_us.resize(static_cast<std::size_t>(s.notes));
   jack_status_t status{};
   s.client = jack_client_open("hmp-bench", JackNoStartServer, &status);

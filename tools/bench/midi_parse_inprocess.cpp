@@ -16,6 +16,7 @@
 #include <exception>
 
 #include "host/midi/smf_reader.hpp"
+#include "tools/bench/arguments.hpp"
 
 namespace {
 
@@ -39,7 +40,7 @@ int main(int argc, char** argv) {
   const char* path = nullptr;
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--repeat") == 0 && i + 1 < argc) {
-      repeat = std::max(1, std::atoi(argv[++i]));
+      repeat = static_cast<int>(hmp::bench::count_argument("--repeat", argv[++i], 1, 1000000));
     } else if (path == nullptr && argv[i][0] != '-') {
       path = argv[i];
     } else {

@@ -17,6 +17,7 @@
 #include "shared/synth/sine.hpp"
 #include "shared/synth/voice.hpp"
 #include "tests/support/reference_envelope.hpp"
+#include "tools/bench/arguments.hpp"
 
 namespace {
 
@@ -119,11 +120,10 @@ int main(int argc, char** argv) {
   std::vector<std::uint32_t> rates;
   for (int i = 1; i < argc; i += 2) {  // every option takes a value
     if (i + 1 >= argc) usage();
-    const double value = std::strtod(argv[i + 1], nullptr);
-    if (std::strcmp(argv[i], "--note-s") == 0 && value > 0.0) {
-      note_s = value;
-    } else if (std::strcmp(argv[i], "--tick-hz") == 0 && value >= 1.0 && value <= 100000.0) {
-      rates.push_back(static_cast<std::uint32_t>(value));
+    if (std::strcmp(argv[i], "--note-s") == 0) {
+      note_s = hmp::bench::number_argument("--note-s", argv[i + 1], 0.001, 1e6);
+    } else if (std::strcmp(argv[i], "--tick-hz") == 0) {
+      rates.push_back(static_cast<std::uint32_t>(hmp::bench::count_argument("--tick-hz", argv[i + 1], 1, 100000)));
     } else {
       usage();
     }

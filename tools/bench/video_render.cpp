@@ -13,6 +13,7 @@
 
 #include "host/haptics/track_window.hpp"
 #include "host/video/video_export.hpp"
+#include "tools/bench/arguments.hpp"
 
 int main(int argc, char** argv) {
   if (argc != 8) {
@@ -20,8 +21,8 @@ int main(int argc, char** argv) {
     return 2;
   }
   const std::string song_path = argv[1], track = argv[2], preset = argv[4], size = argv[5], out = argv[7];
-  const double seconds = std::atof(argv[3]);
-  const int fps = std::atoi(argv[6]);
+  const double seconds = hmp::bench::number_argument("SECONDS", argv[3], 0.001, 86400);
+  const auto fps = static_cast<int>(hmp::bench::count_argument("FPS", argv[6], 1, 1000));
   int width = 0, height = 0;
   if (std::sscanf(size.c_str(), "%dx%d", &width, &height) != 2) return 2;
   try {

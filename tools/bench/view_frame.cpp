@@ -15,6 +15,7 @@
 #include "host/common/percentile.hpp"
 #include "host/midi/smf_reader.hpp"
 #include "host/view/view_backend.hpp"
+#include "tools/bench/arguments.hpp"
 
 int main(int argc, char** argv) {
   if (argc < 4) {
@@ -22,7 +23,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   const std::string path = argv[1], label = argv[2];
-  const int frames = std::atoi(argv[3]);
+  const auto frames = static_cast<int>(hmp::bench::count_argument("FRAMES", argv[3], 1, 10000000));
   const bool all = argc > 4 && std::string(argv[4]) == "--all";
   const hmp::midi::Song song = hmp::midi::load_song(path).song;
   hmp::view::ViewSetup setup;
