@@ -7,6 +7,7 @@
 
 #include "host/common/error.hpp"
 #include "host/common/input_file.hpp"
+#include "host/common/number_text.hpp"
 #include "host/common/printable.hpp"
 
 namespace hmp::config {
@@ -128,12 +129,9 @@ Config load(const std::string& path) {
     if (n == nullptr) return;
     for (const auto& [key, node] : r.table(*n, table)) {
       const std::string k(key.str());
-      char* end = nullptr;
-      const long program = std::strtol(k.c_str(), &end, 10);
-      if (k.empty() || *end != '\0' || program < 0 || program > 127) {
-        r.fail(std::string(table) + ": key '" + k + "' must be a GM program number 0–127");
-      }
-      out[static_cast<std::uint8_t>(program)] = r.text(node, std::string(table) + "." + k);
+      const std::optional<long> program = whole_number(k, 0, 127);
+      if (!program) r.fail(std::string(table) + ": key '" + printable(k) + "' must be a GM program number 0–127");
+      out[static_cast<std::uint8_t>(*program)] = r.text(node, std::string(table) + "." + k);
     }
   };
   program_table("gm", c.gm);
