@@ -70,7 +70,7 @@ inline constexpr double kStretchCoordinatesFrom = 1e6;  // N/m
 // A carried grip's new linearisation is taken ahead of it along its motion (linearisation_lead()), `lead`
 // of the reach, `stretch_lead` in stretch coordinates: at 10⁵ N/m `frame_edge` then takes 138 instead
 // of 183 linearisations for the same errors; at 10⁷ N/m, in stretch coordinates, 0.8 of the reach ahead
-// cost 0.57% of finger force (0.18% without a lead), 0.3 costs none (docs/performance.md).
+// cost 0.57% of finger force (0.18% without a lead), 0.3 costs none (docs/sim-integrator-log.md).
 struct LinearDrift {
   double distance = 0.5e-3;   // m
   double angle = 0.01;        // rad
