@@ -327,7 +327,7 @@ void register_sim(CLI::App& app, Registry& registry) {
   cmd->add_option("--string-stiffness", o->plant.string_stiffness,
                   "String stiffness in N/m (default 1e4, or [plant] string_stiffness)");
   cmd->add_option("--max-step", o->plant.max_step,
-                  "Largest internal step of the integrator in s (default: the integrator's own)");
+                  "Largest internal step of the integrator in s, at least 1e-7 (default: the integrator's own)");
   cmd->add_flag("--work-precision", o->work_precision,
                 "Replay the passage under every integrator and CVODE: error against run time (table, --out "
                 "FILE.csv or FILE.png); at most 20 s, pick it with --from/--to");

@@ -1,5 +1,7 @@
 #include "host/simulate/plant_config.hpp"
 
+#include <cstdio>
+
 #include "host/common/error.hpp"
 
 namespace hmp::simulate {
@@ -8,9 +10,17 @@ namespace plant = sim::plant;
 
 namespace {
 
-double checked(double value, const std::string& what) {
+// A value as a user would have typed it (std::to_string gives 2000000000.000000 for 2e9).
+std::string shown(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", value);
+  return text;
+}
+
+double checked(double value, const std::string& what, double least = 0) {
   if (!(value > 0 && value <= config::kMaxPlantValue))
-    throw BadInput(what + ": must be positive and at most 1e9 (got " + std::to_string(value) + ")");
+    throw BadInput(what + ": must be positive and at most 1e9 (got " + shown(value) + ")");
+  if (value < least) throw BadInput(what + ": must be at least " + shown(least) + " (got " + shown(value) + ")");
   return value;
 }
 
@@ -40,7 +50,7 @@ void apply_plant_settings(const config::PlantConfig& c, const PlantOverrides& o,
   if (c.max_step) p.stepper.max_step = *c.max_step;
   if (c.integrator) p.stepper.method = method_named(*c.integrator, "plant.integrator");
   if (o.string_stiffness) p.string.stiffness = checked(*o.string_stiffness, "--string-stiffness");
-  if (o.max_step) p.stepper.max_step = checked(*o.max_step, "--max-step");
+  if (o.max_step) p.stepper.max_step = checked(*o.max_step, "--max-step", config::kMinMaxStep);
   if (o.integrator) p.stepper.method = method_named(*o.integrator, "--integrator");
 }
 

@@ -17,7 +17,8 @@ struct PlantOverrides {
 };
 
 // Applies the config's [plant] values, then the overrides, to `params`. Throws BadInput naming the option
-// for a value that is not positive and finite or beyond config::kMaxPlantValue, or an unknown integrator.
+// for a value that is not positive and finite or beyond config::kMaxPlantValue, a max step below
+// config::kMinMaxStep, or an unknown integrator.
 void apply_plant_settings(const config::PlantConfig& config, const PlantOverrides& overrides,
                           sim::plant::PlantParams& params);
 

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # hmp sim's plant options: every bad value of --string-stiffness, --max-step, --integrator and [plant]
-# (≤ 0, NaN, infinite, beyond 1e9, unknown) exits 2 with one line on stderr naming it and writes nothing;
+# (≤ 0, NaN, infinite, beyond 1e9, a max step below 1e-7 s, unknown) exits 2 with one line on stderr naming it and writes nothing;
 # --work-precision refuses a passage over 20 s, and on a short one writes a CSV with a row for every
 # integrator and CVODE whose default row (the exponential integrator) is more accurate than ROS2 at its
 # default step, and which alone carries the error of the string force below 1 kHz and its errors over one
@@ -17,6 +17,11 @@ for v in 0 -1 nan inf 1e10; do
   expect_bad "max-step" --max-step "$v"
 done
 expect_bad "string-stiffness" --string-stiffness abc
+# A max step so short that one tick would run for minutes (10⁻¹² s: 10⁹ steps a tick), from either side.
+expect_bad "max-step: must be at least 1e-07 (got 1e-08)" --max-step 1e-8
+printf '[plant]\nmax_step = 1e-12\n' >"$tmp/short.toml"
+expect_bad "plant.max_step' must be at least 1e-7 s" --config "$tmp/short.toml"
+expect_bad "string-stiffness: must be positive and at most 1e9 (got 2e+09)" --string-stiffness 2e9
 expect_bad "integrator" --integrator bogus
 printf '[plant]\nstring_stiffness = -5\n' >"$tmp/neg.toml"
 expect_bad "plant.string_stiffness" --config "$tmp/neg.toml"
