@@ -21,6 +21,7 @@
 #include "host/cli/play_view.hpp"
 #include "host/cli/song_options.hpp"
 #include "host/common/error.hpp"
+#include "host/common/song_window.hpp"
 #include "host/common/process_memory.hpp"
 #include "host/config/config.hpp"
 #include "host/midi/gm.hpp"
@@ -68,13 +69,6 @@ void check_window(const PlayOptions& o, const midi::Song& song) {
   if (o.from_s && *o.from_s >= song.duration_s()) {
     throw BadInput(fmt::format("--from {}: the song ends at {:.3f} s", *o.from_s, song.duration_s()));
   }
-}
-
-void check_window_options(const PlayOptions& o) {
-  for (const auto& t : {o.from_s, o.to_s}) {
-    if (t && !(std::isfinite(*t) && *t >= 0)) throw BadInput("--from/--to: must be seconds ≥ 0");
-  }
-  if (o.to_s && *o.to_s <= o.from_s.value_or(0.0)) throw BadInput("--from/--to: empty window");
 }
 
 // A song read and its haptic track chosen, ready to play.
@@ -247,7 +241,7 @@ int run_play(const PlayOptions& o) {
   haptics::HapticOptions haptic = resolve(o.haptic);
   haptic.speed = o.speed;
   haptics::validate(haptic);
-  check_window_options(o);
+  check_window_times(o.from_s, o.to_s);  // each song's end is checked as it comes
   // Refuse an existing log before any work (design §3: never overwrite without --force).
   player::PlayLog log;
   if (o.log) output::check_writable(*o.log, o.force);
@@ -303,8 +297,8 @@ int run_play(const PlayOptions& o) {
         po.settings.direction[i] = static_cast<float>((*cfg.direction)[static_cast<std::size_t>(i)]);
     }
   }
-  po.from_us = o.from_s ? std::llround(*o.from_s * 1e6) : 0;
-  if (o.to_s) po.to_us = std::llround(*o.to_s * 1e6);
+  po.from_us = o.from_s ? saturated_us(*o.from_s) : 0;
+  if (o.to_s) po.to_us = saturated_us(*o.to_s);
   po.on_message = [&](const std::string& text) { status.message(text); };
   if (!o.exit_on_device_loss) po.find_device = [&] { return transport::reopen_device(opened); };
 

@@ -18,6 +18,7 @@
 #include "host/cli/play_view.hpp"
 #include "host/cli/song_options.hpp"
 #include "host/common/error.hpp"
+#include "host/common/song_window.hpp"
 #include "host/haptics/signal_tail.hpp"
 #include "host/player/live_terminal.hpp"
 
@@ -51,13 +52,7 @@ int run_view(const ViewOptions& o) {
   const midi::ReadResult r = midi::load_song(o.song);
   for (const midi::Warning& w : r.warnings) warn_on_stderr(w.message);
   const midi::Song& song = r.song;
-  for (const auto& t : {o.from_s, o.to_s}) {
-    if (t && !(std::isfinite(*t) && *t >= 0)) throw BadInput("--from/--to: must be seconds ≥ 0");
-  }
-  const std::int64_t begin_us = o.from_s ? std::llround(*o.from_s * 1e6) : 0;
-  const std::int64_t end_us = o.to_s ? std::llround(*o.to_s * 1e6) : std::llround(song.duration_s() * 1e6);
-  if (begin_us >= end_us)
-    throw BadInput(fmt::format("--from/--to: empty window (the song ends at {:.3f} s)", song.duration_s()));
+  const auto [begin_us, end_us] = song_window(o.from_s, o.to_s, song.duration_us);
   std::uint32_t track = o.track ? select_track(song, *o.track) : default_haptic_track(song);
 
   audio::AudioPlayer audio(audio_opts);

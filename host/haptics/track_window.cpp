@@ -1,9 +1,11 @@
 #include "host/haptics/track_window.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 
 #include "host/common/error.hpp"
+#include "host/common/song_window.hpp"
 #include "host/midi/gm.hpp"
 
 namespace hmp::haptics {
@@ -61,9 +63,7 @@ std::uint32_t select_track(const midi::Song& song, const std::string& query) {
 
 TrackWindow load_track_window(const std::string& song, const std::string& track, const HapticOptions& opts,
                               std::optional<double> from_s, std::optional<double> to_s, const WarningSink& warn) {
-  for (const auto& t : {from_s, to_s}) {
-    if (t && !(std::isfinite(*t) && *t >= 0)) throw BadInput("--from/--to: must be seconds ≥ 0");
-  }
+  check_window_times(from_s, to_s);  // before the song is read
   TrackWindow w;
   w.read = midi::load_song(song);
   for (const midi::Warning& warning : w.read.warnings) warn(warning.message);
@@ -73,10 +73,13 @@ TrackWindow load_track_window(const std::string& song, const std::string& track,
   for (const HapticNote& n : w.haptic.notes) {
     song_end = std::max(song_end, n.note.start_tick + n.note.duration_ticks);
   }
-  const auto to_tick = [&](double s) { return seconds_to_tick(std::llround(s * 1e6), opts.tick_hz); };
-  w.first_tick = from_s ? to_tick(*from_s) : 0;
-  w.end_tick = to_s ? to_tick(*to_s) : song_end;
-  if (w.end_tick <= w.first_tick) throw BadInput("--from/--to: empty window");
+  // The song's end in µs, rounded up, so that the window's end comes back to song_end in ticks.
+  const auto song_end_us = static_cast<std::int64_t>(
+      (static_cast<unsigned __int128>(song_end) * 1000000u + opts.tick_hz - 1) / opts.tick_hz);
+  const SongWindowUs window = song_window(from_s, to_s, song_end_us);
+  w.first_tick = seconds_to_tick(window.begin_us, opts.tick_hz);
+  w.end_tick = std::min(seconds_to_tick(window.end_us, opts.tick_hz), song_end);
+  if (w.end_tick <= w.first_tick) throw BadInput("--from/--to: empty window (shorter than a tick)");
   return w;
 }
 

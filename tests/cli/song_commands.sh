@@ -51,6 +51,13 @@ expect_bad ".csv, .wav or .png" render "$demo" --track flute --out "$tmp/a.mp3"
 expect_bad "audible" render "$demo" --track flute --audible --out "$tmp/a.csv"
 expect_bad "empty window" render "$demo" --track flute --from 5 --to 4 --out "$tmp/a.csv"
 expect_bad "from" render "$demo" --track flute --from -1 --out "$tmp/a.csv"
+# Times past the song (310 s): a start there is refused, an end there is the song's end, however large.
+expect_bad "the song ends at 310.000 s" render "$demo" --track flute --from 1e300 --out "$tmp/a.csv"
+expect_bad "to inf" render "$demo" --track flute --to inf --out "$tmp/a.csv"
+expect_ok render "$demo" --track flute --from 305 --to 1e300 --out "$tmp/tail.csv"
+expect_ok render "$demo" --track flute --from 305 --out "$tmp/tail_default.csv"
+cmp -s "$tmp/tail.csv" "$tmp/tail_default.csv" && [ "$(wc -l <"$tmp/tail.csv")" -gt 5000 ] ||
+  { echo "FAIL: --to past the song is not the song's end ($(wc -l <"$tmp/tail.csv") lines)"; fail=1; }
 expect_ok render "$demo" --track flute --from 2 --to 3 --out "$tmp/w.csv"
 [ "$(head -1 "$tmp/w.csv")" = "t_s,value" ] && [ "$(($(wc -l <"$tmp/w.csv") - 1))" = 1000 ] \
   || { echo "FAIL: window CSV has $(wc -l <"$tmp/w.csv") lines"; fail=1; }
