@@ -4,6 +4,7 @@
 #include <cerrno>  // program_invocation_short_name (glibc)
 #include <cstdio>
 #include <cstdlib>
+#include <optional>
 
 #include "host/common/number_text.hpp"
 #include "host/common/printable.hpp"
