@@ -52,7 +52,8 @@ int run_view(const ViewOptions& o) {
   const midi::ReadResult r = midi::load_song(o.song);
   for (const midi::Warning& w : r.warnings) warn_on_stderr(w.message);
   const midi::Song& song = r.song;
-  const auto [begin_us, end_us] = song_window(o.from_s, o.to_s, song.duration_us);
+  const SongWindowUs passage = song_window(o.from_s, o.to_s, song.duration_us);
+  const std::int64_t begin_us = passage.begin_us, end_us = passage.end_us;  // lambdas below capture them
   std::uint32_t track = o.track ? select_track(song, *o.track) : default_haptic_track(song);
 
   audio::AudioPlayer audio(audio_opts);
