@@ -65,12 +65,6 @@ std::unique_ptr<live::MidiOutput> open_midi_out(const std::string& port) {
   return out;
 }
 
-void check_window(const PlayOptions& o, const midi::Song& song) {
-  if (o.from_s && *o.from_s >= song.duration_s()) {
-    throw BadInput(fmt::format("--from {}: the song ends at {:.3f} s", *o.from_s, song.duration_s()));
-  }
-}
-
 // A song read and its haptic track chosen, ready to play.
 struct ReadySong {
   midi::Song song;
@@ -85,7 +79,7 @@ ReadySong ready_song(const PlayOptions& o, const std::string& path, bool alone) 
   midi::ReadResult r = midi::load_song(path);
   for (const midi::Warning& w : r.warnings) warn_on_stderr(w.message);
   out.song = std::move(r.song);
-  check_window(o, out.song);
+  check_start_in_song(o.from_s, out.song.duration_us);
   std::optional<std::uint32_t> chosen;
   if (o.track) {
     try {

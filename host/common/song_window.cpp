@@ -18,10 +18,15 @@ void check_window_times(std::optional<double> from_s, std::optional<double> to_s
     throw BadInput(fmt::format("--from {} --to {}: empty window", from_s.value_or(0.0), *to_s));
 }
 
-SongWindowUs song_window(std::optional<double> from_s, std::optional<double> to_s, std::int64_t song_end_us) {
-  check_window_times(from_s, to_s);
+void check_start_in_song(std::optional<double> from_s, std::int64_t song_end_us) {
   const double end_s = static_cast<double>(song_end_us) * 1e-6;
   if (from_s && *from_s >= end_s) throw BadInput(fmt::format("--from {}: the song ends at {:.3f} s", *from_s, end_s));
+}
+
+SongWindowUs song_window(std::optional<double> from_s, std::optional<double> to_s, std::int64_t song_end_us) {
+  check_window_times(from_s, to_s);
+  check_start_in_song(from_s, song_end_us);
+  const double end_s = static_cast<double>(song_end_us) * 1e-6;
   SongWindowUs w;
   w.begin_us = from_s ? saturated_us(*from_s) : 0;
   w.end_us = to_s && *to_s < end_s ? saturated_us(*to_s) : song_end_us;

@@ -16,6 +16,9 @@ struct SongWindowUs {
 // the start (where the song's end is not known yet, as for a playlist's songs).
 void check_window_times(std::optional<double> from_s, std::optional<double> to_s);
 
+// Throws BadInput when --from is at or past the end of a song that ends at `song_end_us`.
+void check_start_in_song(std::optional<double> from_s, std::int64_t song_end_us);
+
 // The window within a song that ends at `song_end_us` (> 0): the checks above, then BadInput when --from is
 // at or past the song's end; no --to, or one past the song's end, is the song's end.
 SongWindowUs song_window(std::optional<double> from_s, std::optional<double> to_s, std::int64_t song_end_us);

@@ -1,6 +1,6 @@
 #include "host/simulate/plant_config.hpp"
 
-#include <cstdio>
+#include <fmt/format.h>
 
 #include "host/common/error.hpp"
 
@@ -10,17 +10,10 @@ namespace plant = sim::plant;
 
 namespace {
 
-// A value as a user would have typed it (std::to_string gives 2000000000.000000 for 2e9).
-std::string shown(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%g", value);
-  return text;
-}
-
 double checked(double value, const std::string& what, double least = 0) {
   if (!(value > 0 && value <= config::kMaxPlantValue))
-    throw BadInput(what + ": must be positive and at most 1e9 (got " + shown(value) + ")");
-  if (value < least) throw BadInput(what + ": must be at least " + shown(least) + " (got " + shown(value) + ")");
+    throw BadInput(fmt::format("{}: must be positive and at most 1e9 (got {:g})", what, value));
+  if (value < least) throw BadInput(fmt::format("{}: must be at least {:g} (got {:g})", what, least, value));
   return value;
 }
 
