@@ -39,7 +39,7 @@ struct LiveOptions {
   bool list = false;
   std::string input;  // empty: a port of our own named "hmp"
   std::optional<std::string> api;
-  int channel = 0;                        // 1–16; 0: every channel
+  std::optional<int> channel;             // 1–16; none: every channel
   std::optional<std::string> key_range;   // default: the instrument's range, else the piano's
   std::optional<std::string> instrument;  // a GM program: the sound, and the envelope unless --envelope
   std::optional<std::string> envelope;    // default: the instrument's `auto` preset (the piano's: harpsichord)
@@ -116,8 +116,9 @@ std::optional<std::uint8_t> instrument(const LiveOptions& o) {
 // `program`: --instrument, parsed once by the caller.
 live::MapperOptions mapper_options(const LiveOptions& o, std::optional<std::uint8_t> program) {
   live::MapperOptions m;
-  if (o.channel < 0 || o.channel > 16) throw BadInput(fmt::format("--channel {}: use 1–16", o.channel));
-  m.channel = o.channel - 1;
+  if (o.channel && (*o.channel < 1 || *o.channel > 16))
+    throw BadInput(fmt::format("--channel {}: use 1–16 (without --channel: every channel)", *o.channel));
+  m.channel = o.channel ? *o.channel - 1 : -1;
   if (o.key_range) {
     m.keys = live::parse_key_range(*o.key_range);
   } else if (program) {
@@ -279,7 +280,7 @@ int run_live(const LiveOptions& o) {
   std::unique_ptr<live::MidiInput> in = open_port(b, api, o, session, true);
   std::fprintf(
       stderr, "live: input %s, %s, %s, keys %s, envelope %s, mapping %s; Ctrl-C stops\n", in->name().c_str(),
-      o.channel == 0 ? "every channel" : fmt::format("channel {}", o.channel).c_str(),
+      o.channel ? fmt::format("channel {}", *o.channel).c_str() : "every channel",
       program ? midi::gm_program_name(*program) : "the input's programs",
       (live::to_string(mo.keys) + (o.key_range ? ""
                                    : program   ? fmt::format(" (the {}'s range)", midi::gm_program_name(*program))

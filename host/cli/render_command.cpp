@@ -46,6 +46,7 @@ int run_render(const RenderOptions& o) {
   const bool haptic_file = exporting::is_haptic_export(o.out);  // .ahap / .haptic (host/export/)
   if (is_video_export(o.out)) {                                 // .mp4 (host/video/)
     if (o.audible) throw BadInput("--audible: only with --out FILE.wav (a video takes --haptic-audio)");
+    check_video_options(o.video);
     output::check_writable(o.out, o.force);
     const TrackWindow w = load_track_window(o.song, o.track, opts, o.from_s, o.to_s, warn_on_stderr);
     run_video_export(o.song, w, opts, o.video, o.out, o.force);

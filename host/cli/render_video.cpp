@@ -3,6 +3,7 @@
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
+#include <tuple>
 
 #include <fmt/format.h>
 
@@ -52,7 +53,19 @@ std::pair<int, int> parse_size(const std::string& text) {
   return {w, h};
 }
 
+// The file's size, rate and encoder settings as the options give them.
+video::VideoSetup encoding_of(const VideoCliOptions& o) {
+  video::VideoSetup e;
+  std::tie(e.width, e.height) = parse_size(o.size);
+  e.fps = o.fps;
+  e.preset = o.preset;
+  e.crf = o.crf;
+  return e;
+}
+
 }  // namespace
+
+void check_video_options(const VideoCliOptions& o) { video::check_video_encoding(encoding_of(o)); }
 
 void run_video_export(const std::string& song_path, const TrackWindow& w, const haptics::HapticOptions& opts,
                       const VideoCliOptions& o, const std::string& out, bool force) {
@@ -64,14 +77,11 @@ void run_video_export(const std::string& song_path, const TrackWindow& w, const 
   spec.haptic_options = opts;
   spec.from_us = static_cast<std::int64_t>(static_cast<double>(w.first_tick) * 1e6 / opts.tick_hz + 0.5);
   spec.to_us = static_cast<std::int64_t>(static_cast<double>(w.end_tick) * 1e6 / opts.tick_hz + 0.5);
-  std::tie(spec.encoding.width, spec.encoding.height) = parse_size(o.size);
-  spec.encoding.fps = o.fps;
+  spec.encoding = encoding_of(o);
   spec.seconds_across = o.zoom_s;
   spec.song_audio = !o.no_audio;
   spec.haptic_audio = o.haptic_audio;
   if (o.soundfont) spec.audio.soundfont = *o.soundfont;
-  spec.encoding.preset = o.preset;
-  spec.encoding.crf = o.crf;
   spec.legend_labels = legend_labels(song);
   const std::string name = std::filesystem::path(song_path).filename().string();
   spec.overlay_prefix = fmt::format("{}   track {} \"{}\"   envelope {}   mapping {}", name, w.track, t.name,

@@ -22,6 +22,8 @@ struct VideoCliOptions {
 
 void add_video_options(CLI::App* cmd, VideoCliOptions& o);
 bool is_video_export(const std::string& path);  // .mp4
+// Throws BadInput for a size, rate or encoder setting that cannot work (before the output file is looked at).
+void check_video_options(const VideoCliOptions& o);
 
 // The song and track window are loaded; writes `out` (checked writable before any work).
 void run_video_export(const std::string& song_path, const TrackWindow& w, const haptics::HapticOptions& opts,

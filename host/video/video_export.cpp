@@ -118,27 +118,28 @@ std::uint64_t frame_count(std::int64_t from_us, std::int64_t to_us, int fps) {
   return std::max<std::uint64_t>(1, (span * f + 999'999) / 1'000'000);
 }
 
-void check_video_spec(const VideoExportSpec& spec) {
-  if (spec.encoding.fps < 1 || spec.encoding.fps > 240)
-    throw BadInput(fmt::format("--fps {}: out of 1..240", spec.encoding.fps));
-  if (spec.encoding.sample_rate % spec.encoding.fps != 0) {
+void check_video_encoding(const VideoSetup& encoding) {
+  if (encoding.fps < 1 || encoding.fps > 240) throw BadInput(fmt::format("--fps {}: out of 1..240", encoding.fps));
+  if (encoding.sample_rate % encoding.fps != 0) {
     throw BadInput(
         fmt::format("--fps {}: {} Hz audio does not divide into whole samples per frame (try 25, 30, 50 or 60)",
-                    spec.encoding.fps, spec.encoding.sample_rate));
+                    encoding.fps, encoding.sample_rate));
   }
-  if (spec.encoding.width < 16 || spec.encoding.height < 16 || spec.encoding.width > 7680 ||
-      spec.encoding.height > 4320 || spec.encoding.width % 2 != 0 || spec.encoding.height % 2 != 0) {
-    throw BadInput(
-        fmt::format("--size {}x{}: from 16x16 to 7680x4320, both even", spec.encoding.width, spec.encoding.height));
+  if (encoding.width < 16 || encoding.height < 16 || encoding.width > 7680 || encoding.height > 4320 ||
+      encoding.width % 2 != 0 || encoding.height % 2 != 0) {
+    throw BadInput(fmt::format("--size {}x{}: from 16x16 to 7680x4320, both even", encoding.width, encoding.height));
   }
-  if (spec.encoding.crf < 0 || spec.encoding.crf > 51)
-    throw BadInput(fmt::format("--crf {}: out of 0..51", spec.encoding.crf));
+  if (encoding.crf < 0 || encoding.crf > 51) throw BadInput(fmt::format("--crf {}: out of 0..51", encoding.crf));
   static const char* const kPresets[] = {"ultrafast", "superfast", "veryfast", "faster",  "fast",
                                          "medium",    "slow",      "slower",   "veryslow"};
-  if (std::find(std::begin(kPresets), std::end(kPresets), spec.encoding.preset) == std::end(kPresets)) {
-    throw BadInput("--video-preset " + spec.encoding.preset +
+  if (std::find(std::begin(kPresets), std::end(kPresets), encoding.preset) == std::end(kPresets)) {
+    throw BadInput("--video-preset " + encoding.preset +
                    ": one of ultrafast, superfast, veryfast, faster, fast, medium, slow, slower, veryslow");
   }
+}
+
+void check_video_spec(const VideoExportSpec& spec) {
+  check_video_encoding(spec.encoding);
   if (spec.song == nullptr || !spec.haptic) throw BadInput("video export: no song");
   if (spec.to_us <= spec.from_us) throw BadInput("video export: empty passage");
 }

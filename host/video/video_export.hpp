@@ -63,6 +63,9 @@ VideoExportResult export_video(const std::string& path, const VideoExportSpec& s
 
 // The checks of export_video that need no work (the command calls it before loading modules).
 void check_video_spec(const VideoExportSpec& spec);
+// The part of them on the file's size, rate and encoder settings alone (a command checks its options with
+// it before it looks at the output file or reads the song).
+void check_video_encoding(const VideoSetup& encoding);
 
 // What the frame at `song_us` shows (overlay, legend, strip; the bars come from the song): the state the
 // off-screen painter draws. `tail` is the haptic track's (SignalTail(spec.haptic, spec.haptic_options)).

@@ -8,6 +8,7 @@ source "$(dirname "${BASH_SOURCE[0]}")/lib.bash"
 bad_prefix=(live)
 expect_bad "--channel 17: use 1–16" --channel 17
 expect_bad "--channel -1: use 1–16" --channel -1
+expect_bad "--channel 0: use 1–16 (without --channel: every channel)" --channel 0
 expect_bad "the low key is above the high one" --key-range 70:60
 expect_bad "expected LOW:HIGH" --key-range 60
 expect_bad "each end is a key" --key-range C4:C10

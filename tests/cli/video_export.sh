@@ -36,6 +36,11 @@ echo "precious" >"$tmp/keep.mp4"
 run render "$demo" --track flute --to 1 --out "$tmp/keep.mp4"
 check "existing file: rc" 2 "$rc"
 check "existing file: untouched" "precious" "$(<"$tmp/keep.mp4")"
+# A setting that cannot work is named first, even onto an existing file (-f would not help there).
+run render "$demo" --track flute --to 1 --out "$tmp/keep.mp4" --crf 99
+check "existing file, --crf 99: rc" 2 "$rc"
+check "existing file, --crf 99: names --crf" 1 "$(grep -c -- '--crf 99: out of 0..51' <<<"$err")"
+check "existing file, --crf 99: untouched" "precious" "$(<"$tmp/keep.mp4")"
 run render "$demo" --track flute --to 1 --out "$tmp/keep.mp4" -f
 check "-f replaces: rc" 0 "$rc"
 check "-f replaces: a video now" "h264" "$(probe "$tmp/keep.mp4" stream=codec_name v:0)"
