@@ -9,29 +9,44 @@
 #include "host/cli/song_options.hpp"
 #include "host/common/error.hpp"
 #include "host/common/progress.hpp"
+#include "host/common/song_window.hpp"
 #include "host/midi/smf_reader.hpp"
 #include "host/output/output_file.hpp"
 
 namespace hmp::cli {
 
+namespace {
+// The longest sound rendered at once: 6 h of 44.1 kHz stereo float samples are 7.6 GB.
+constexpr double kLongestSoundS = 6 * 3600.0;
+}  // namespace
+
 void run_sound_render(const SoundRenderRequest& r) {
   if (output::extension_of(r.out) != "wav") throw BadInput("--sound: the output is a .wav file (--out FILE.wav)");
-  if (r.from_s && !(*r.from_s >= 0)) throw BadInput(fmt::format("--from {}: must be ≥ 0", *r.from_s));
+  check_window_times(r.from_s, r.to_s);  // before the output and the song, as every window
   output::check_writable(r.out, r.force);
   const midi::ReadResult read = midi::load_song(r.song);
   for (const midi::Warning& w : read.warnings) warn_on_stderr(w.message);
-  const double from = r.from_s.value_or(0.0);
-  const double to = r.to_s.value_or(read.song.duration_s() + kSoundTailS);
-  if (!(to > from)) throw BadInput(fmt::format("--from {} --to {}: the passage is empty", from, to));
-  if (to - from > 6 * 3600.0) throw BadInput(fmt::format("--from {} --to {}: longer than 6 hours", from, to));
+  // The sound goes on for kSoundTailS after the song's last event (its notes' release); a window past
+  // that holds nothing to hear: a --from there is refused, a --to there is that end.
+  const std::int64_t sound_end_us = read.song.duration_us + saturated_us(kSoundTailS);
+  if (r.from_s && *r.from_s >= static_cast<double>(sound_end_us) * 1e-6) {
+    throw BadInput(fmt::format("--from {}: the song's sound ends at {:.3f} s ({:g} s after its last event)", *r.from_s,
+                               static_cast<double>(sound_end_us) * 1e-6, kSoundTailS));
+  }
+  const SongWindowUs w = song_window(r.from_s, r.to_s, sound_end_us);
+  const double from = static_cast<double>(w.begin_us) * 1e-6, to = static_cast<double>(w.end_us) * 1e-6;
+  if (to - from > kLongestSoundS) {
+    throw BadInput(
+        fmt::format("--from {} --to {}: longer than {:g} hours (render it in parts)", from, to, kLongestSoundS / 3600));
+  }
 
   audio::AudioOptions options;
   options.synth.sample_rate = 44100;
   if (r.soundfont) options.soundfont = *r.soundfont;
   ProgressBar bar("rendering sound");
-  const audio::RenderedAudio sound = audio::render_offline(
-      audio::audio_events(read.song), static_cast<std::int64_t>(from * 1e6), static_cast<std::int64_t>(to * 1e6),
-      options, warn_on_stderr, [&](std::uint64_t done, std::uint64_t total) { bar.update(done, total); });
+  const audio::RenderedAudio sound =
+      audio::render_offline(audio::audio_events(read.song), w.begin_us, w.end_us, options, warn_on_stderr,
+                            [&](std::uint64_t done, std::uint64_t total) { bar.update(done, total); });
   output::StagedOutput staged(r.out);  // written as OUT.part, renamed once whole
   audio::write_wav(staged.part(), sound);
   staged.commit();

@@ -17,7 +17,8 @@ struct SoundRenderRequest {
 // Renders and writes the WAV; BadInput (exit 2) for what cannot work, checked before any work.
 void run_sound_render(const SoundRenderRequest& r);
 
-// Seconds of sound kept after the song's last note when --to is not given: releases and reverb tails.
+// Seconds of sound kept after the song's last event, without --to or with one past them: releases and
+// reverb tails.
 inline constexpr double kSoundTailS = 2.0;
 
 }  // namespace hmp::cli

@@ -20,11 +20,23 @@ song_s=$("$hmp" info "$demo" --json | python3 -c 'import json,sys; print(json.lo
 run render "$demo" --sound --from 300 --out "$tmp/end.wav"
 check "to the end plus 2 s" "$(python3 -c "print(f'{$song_s + 2 - 300:.2f}')")" "$(python3 -c "print(f'{float(\"$(probe "$tmp/end.wav" duration)\"):.2f}')")"
 
-for bad in "--out $tmp/x.csv" "--out $tmp/x.wav --audible" "--out $tmp/x.wav --from 5 --to 5" "--out $tmp/x.wav --from -1"; do
+# A --to past the sound's end is that end, however large; within the 2 s after the last event it is kept.
+run render "$demo" --sound --from 300 --to 1e300 --out "$tmp/far.wav"
+check "--to 1e300: to the end plus 2 s" "$(python3 -c "print(f'{$song_s + 2 - 300:.2f}')")" "$(python3 -c "print(f'{float(\"$(probe "$tmp/far.wav" duration)\"):.2f}')")"
+run render "$demo" --sound --from "$(python3 -c "print($song_s + 0.5)")" --out "$tmp/tail.wav"
+check "--from in the tail: rc" 0 "$rc"
+check "--from in the tail: 1.5 s" "1.50" "$(python3 -c "print(f'{float(\"$(probe "$tmp/tail.wav" duration)\"):.2f}')")"
+
+for bad in "--out $tmp/x.csv" "--out $tmp/x.wav --audible" "--out $tmp/x.wav --from 5 --to 5" "--out $tmp/x.wav --from -1" \
+  "--out $tmp/x.wav --to nan" "--out $tmp/x.wav --to inf" "--out $tmp/x.wav --from 1e300"; do
   run render "$demo" --sound $bad
   check "$bad: rc" 2 "$rc"
   check "$bad: one line" 1 "$(wc -l <<<"$err")"
+  check "$bad: no file" no "$([ -e "$tmp/x.wav" ] && echo yes || echo no)"
 done
+run render "$demo" --sound --from 1e300 --out "$tmp/x.wav"
+check "--from 1e300: says where the sound ends" 1 "$(grep -c -- "--from 1e+300: the song's sound ends at" <<<"$err")"
+
 run render "$demo" --out "$tmp/x.csv"
 check "no --track, no --sound: rc" 2 "$rc"
 check "no --track, no --sound: says what" 1 "$(grep -c -- '--track' <<<"$err")"
