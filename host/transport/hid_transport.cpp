@@ -1,8 +1,14 @@
 // Our HID device's ids, and the entry points that open it through the usb module (usb_backend.hpp).
 #include "host/transport/hid_transport.hpp"
 
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
+#include <unistd.h>
+
 #include <charconv>
 #include <cstdio>
+#include <filesystem>
+#include <system_error>
 
 #include "host/common/error.hpp"
 #include "host/modules/module_loader.hpp"
@@ -27,6 +33,24 @@ const UsbBackend& backend_or_throw() {
   const UsbBackend* backend = usb_backend(&why);
   if (backend == nullptr) throw TransportError("USB HID needs the usb module, which is not available (" + why + ")");
   return *backend;
+}
+
+// Throws BadInput when `path` exists but is not a hidraw device node: hidapi's hidraw backend does not
+// check, and crashes on a regular file or another device (Debian 12's libhidapi-hidraw0 0.13). The kernel
+// names a character device's subsystem under /sys/dev/char. A path that cannot be opened is left to the
+// backend, which says why (a missing udev rule, for one) without opening it.
+void check_hidraw_node(const std::string& path) {
+  struct stat st {};
+  if (::access(path.c_str(), R_OK | W_OK) != 0 || ::stat(path.c_str(), &st) != 0) return;
+  const char* const kWhat = " (a /dev/hidrawN node: hmp devices lists them)";
+  if (!S_ISCHR(st.st_mode)) {
+    throw BadInput("HID device " + path + ": " + (S_ISDIR(st.st_mode) ? "a folder" : "not a device node") + kWhat);
+  }
+  const std::string sys =
+      "/sys/dev/char/" + std::to_string(major(st.st_rdev)) + ":" + std::to_string(minor(st.st_rdev));
+  std::error_code ec;
+  const std::filesystem::path subsystem = std::filesystem::read_symlink(sys + "/subsystem", ec);
+  if (ec || subsystem.filename() != "hidraw") throw BadInput("HID device " + path + ": not a hidraw node" + kWhat);
 }
 
 }  // namespace
@@ -59,6 +83,7 @@ std::unique_ptr<Transport> open_hid(const HidId& id) {
 }
 
 std::unique_ptr<Transport> open_hid_path(const std::string& path) {
+  check_hidraw_node(path);
   std::string error;
   std::unique_ptr<Transport> link = backend_or_throw().open_hid_path(path, error);
   if (!link) throw TransportError(error);

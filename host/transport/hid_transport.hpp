@@ -45,6 +45,7 @@ std::vector<HidDeviceInfo> enumerate_hid(const HidId& id = {});
 // "no HID device 1209:0001 found", "permission denied on /dev/hidrawN: install the udev rule
 // (docs/host.md)", "USB HID needs the usb module, which is not available (…)", …
 std::unique_ptr<Transport> open_hid(const HidId& id = {});
+// A path that exists but is not a hidraw node (a file, a folder, another device): BadInput.
 std::unique_ptr<Transport> open_hid_path(const std::string& path);
 
 }  // namespace hmp::transport

@@ -14,6 +14,7 @@
 #include <cstring>
 #include <utility>
 
+#include "host/common/error.hpp"
 #include "host/transport/fd_wait.hpp"
 
 namespace hmp::transport {
@@ -84,6 +85,12 @@ std::unique_ptr<SerialTransport> SerialTransport::open(const std::string& path, 
     throw TransportError("cannot open serial link " + path + ": " + os_error(errno));
   }
   if (S_ISSOCK(st.st_mode)) return adopt(connect_unix_socket(path), "serial:" + path, options);
+  // A serial link is a character device (a tty) or a pipe; anything else would be a user's file that the
+  // protocol's frames would be written into.
+  if (!S_ISCHR(st.st_mode) && !S_ISFIFO(st.st_mode)) {
+    throw BadInput("serial link " + path + ": " + (S_ISDIR(st.st_mode) ? "a folder" : "not a serial port") +
+                   " (a tty such as /dev/ttyACM0, a pipe or a socket)");
+  }
   const int fd = ::open(path.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
   if (fd < 0) {
     const int err = errno;

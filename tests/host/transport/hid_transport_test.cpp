@@ -97,6 +97,24 @@ TEST(TransportHid, UnreadableNodeNamesTheUdevRule) {
   EXPECT_EQ(said, "permission denied on " + path.string() + ": install the udev rule (docs/host.md)");
 }
 
+// hidapi's hidraw backend crashes on a node that is not hidraw's: a regular file, a folder or another
+// device is refused first, with the path named, and a file is left as it was.
+TEST(TransportHid, APathThatIsNotAHidrawNodeIsRefused) {
+  const auto path = std::filesystem::temp_directory_path() / ("hmp-not-hidraw-" + std::to_string(::getpid()));
+  std::ofstream(path) << "MThd precious";
+  for (const std::string& p : {path.string(), std::string("/dev/null"), path.parent_path().string()}) {
+    try {
+      open_hid_path(p);
+      ADD_FAILURE() << p << ": no exception";
+    } catch (const hmp::BadInput& e) {
+      EXPECT_NE(std::string(e.what()).find("HID device " + p + ": "), std::string::npos) << e.what();
+    }
+  }
+  std::ifstream in(path);
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), {}), "MThd precious");
+  std::filesystem::remove(path);
+}
+
 TEST(TransportHid, IdsParseAndPrint) {
   EXPECT_EQ(hmp::transport::parse_hid_id("1209:0001"), HidId{});
   EXPECT_EQ(hmp::transport::parse_hid_id("0x1209:0xBEEF"), (HidId{0x1209, 0xBEEF}));

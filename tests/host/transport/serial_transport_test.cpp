@@ -15,11 +15,13 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <random>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "host/common/error.hpp"
 #include "host/transport/serial_transport.hpp"
 #include "shared/framing/framing.hpp"
 
@@ -233,6 +235,21 @@ TEST(TransportSerial, OpensAUnixSocketPathAsQemuChardevSocketGives) {
   EXPECT_EQ(receive_one(*host), up);
   EXPECT_EQ(host->name(), "serial:" + path);
   ::close(listener);
+  std::filesystem::remove_all(dir);
+}
+
+// A path that is neither a tty, a pipe nor a socket is refused, and a file there is left as it was: the
+// protocol's frames must not be written into a user's file given by mistake.
+TEST(TransportSerial, ARegularFileOrAFolderIsRefusedAndLeftAlone) {
+  const auto dir = std::filesystem::temp_directory_path() / ("hmp-serial-file-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string file = (dir / "song.mid").string();
+  std::ofstream(file) << "MThd precious";
+  EXPECT_THROW(SerialTransport::open(file), hmp::BadInput);
+  EXPECT_THROW(SerialTransport::open(dir.string()), hmp::BadInput);
+  std::ifstream in(file);
+  const std::string kept((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(kept, "MThd precious");
   std::filesystem::remove_all(dir);
 }
 
