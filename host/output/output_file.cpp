@@ -1,5 +1,6 @@
 #include "host/output/output_file.hpp"
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -54,6 +55,31 @@ void remove_part(const std::string& path) {
   std::error_code ignored;
   fs::remove(part_path(path), ignored);
 }
+
+// Creates PATH.part, only if nothing is there: neither a file of that name (the user's, or another run's)
+// nor a link (it would be written through) is taken over. Returns its descriptor.
+int create_part(const std::string& path) {
+  const std::string part = part_path(path);
+  const int fd = ::open(part.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+  if (fd >= 0) return fd;
+  if (errno == EEXIST) throw BadInput(printable(part) + ": exists; it is not overwritten (--force replaces it)");
+  throw BadInput(printable(part) + ": cannot open for writing (" + std::strerror(errno) + ")");
+}
+
+// A PATH.part already there (a write cut short by a crash or a power cut, or a file of the user's) is
+// replaced only with `force` or a "yes", like PATH itself; a folder never.
+void check_part(const std::string& path, bool force) {
+  const fs::path part(part_path(path));
+  const std::string shown = printable(part.string());
+  std::error_code ec;
+  const fs::file_status status = fs::symlink_status(part, ec);
+  if (!fs::exists(status)) return;
+  if (fs::is_directory(status)) throw BadInput(shown + ": is a directory, the temporary name of " + printable(path));
+  if (!force && !ask_yes(part.string(), shown + " exists (a write cut short?). Replace it?")) {
+    throw BadInput(shown + ": exists, the temporary name of " + printable(path) + " (use --force to replace it)");
+  }
+  if (!fs::remove(part, ec)) throw BadInput(shown + ": cannot remove (" + ec.message() + ")");
+}
 }  // namespace
 
 std::string part_path(const std::string& path) { return path + ".part"; }
@@ -78,6 +104,7 @@ void check_writable(const std::string& path, bool force) {
   if (fs::exists(p, ec) && !force && !ask_yes(path, shown + " exists. Overwrite?")) {
     throw BadInput(shown + ": file exists (use --force to overwrite)");
   }
+  check_part(path, force);
 }
 
 void FileCloser::operator()(std::FILE* f) const {
@@ -95,8 +122,14 @@ void FileCloser::operator()(std::FILE* f) const {
 FilePtr open_for_writing(const std::string& path, bool force) {
   if (path == "-") return FilePtr(stdout);
   check_writable(path, force);
-  std::FILE* f = std::fopen(part_path(path).c_str(), "wb");
-  if (!f) throw BadInput(printable(part_path(path)) + ": cannot open for writing (" + std::strerror(errno) + ")");
+  const int fd = create_part(path);
+  std::FILE* f = ::fdopen(fd, "wb");
+  if (!f) {
+    const int err = errno;
+    ::close(fd);
+    remove_part(path);
+    throw BadInput(printable(part_path(path)) + ": cannot open for writing (" + std::strerror(err) + ")");
+  }
   return FilePtr(f, FileCloser{path, std::uncaught_exceptions()});
 }
 
@@ -117,7 +150,9 @@ void close_output(FilePtr& f) {
   if (const std::string error = rename_into_place(path); !error.empty()) throw std::runtime_error(error);
 }
 
-StagedOutput::StagedOutput(std::string path) : path_(std::move(path)), part_(part_path(path_)) {}
+StagedOutput::StagedOutput(std::string path) : path_(std::move(path)), part_(part_path(path_)) {
+  ::close(create_part(path_));  // the writer opens it again by name; it is ours now
+}
 
 StagedOutput::~StagedOutput() {
   if (!committed_) remove_part(path_);

@@ -2,7 +2,8 @@
 // Files the user named for output. Never overwritten silently: an existing file is replaced only with
 // --force, or after a "yes" when we can ask on a terminal. Never left half-written: the writing goes to
 // PATH.part, renamed to PATH once complete, so an interrupted or failed write leaves the user's name as
-// it was (the old file, or none).
+// it was (the old file, or none). PATH.part is created afresh, never written through: one already there
+// is replaced only as PATH would be (--force or a "yes").
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -20,7 +21,8 @@ struct FileCloser {
 using FilePtr = std::unique_ptr<std::FILE, FileCloser>;
 
 // Checks that `path` may be written (throws BadInput otherwise): not a directory, its folder exists, and
-// an existing file only with `force` (or a "yes"). "-" means standard output. Call it before any work.
+// an existing file, or PATH.part, only with `force` (or a "yes"; PATH.part is then removed). "-" means
+// standard output. Call it before any work.
 void check_writable(const std::string& path, bool force);
 // check_writable + fopen of PATH.part in binary mode. "-" returns stdout.
 FilePtr open_for_writing(const std::string& path, bool force);
@@ -33,7 +35,7 @@ std::string part_path(const std::string& path);
 
 // For writers that take a path (cairo, libsndfile, ffmpeg): they write part(), commit() renames it to
 // path(). Not committed (an exception, an error), the destructor removes part(). The path must have
-// passed check_writable.
+// passed check_writable. The constructor creates part() (BadInput if something is there by then).
 class StagedOutput {
  public:
   explicit StagedOutput(std::string path);

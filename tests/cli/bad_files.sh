@@ -118,6 +118,21 @@ expect_exact_error "error: $out: file exists (use --force to overwrite)" render 
 expect_ok render "$demo" --sound --to 1 --out "$out" --force
 [ "$(head -c 4 "$out")" = RIFF ] || { echo "FAIL: render --sound --force did not write a WAV"; fail=1; }
 no_part "$out"
+# --- a FILE.part already there (a run cut short, or the user's): kept, and a link there not written
+# through, without --force; replaced by our own file with it
+echo victim >"$tmp/victim.txt"
+for ext in csv wav png haptic; do
+  out="$tmp/staged.$ext"
+  echo precious >"$out.part"
+  expect_exact_error "error: $out.part: exists, the temporary name of $out (use --force to replace it)" render "$demo" --track flute --to 8 --out "$out" </dev/null
+  [ "$(cat "$out.part")" = precious ] || { echo "FAIL: $out.part overwritten without --force"; fail=1; }
+  rm "$out.part"; ln -s "$tmp/victim.txt" "$out.part"
+  expect_ok render "$demo" --track flute --to 8 --out "$out" --force
+  [ "$(cat "$tmp/victim.txt")" = victim ] || { echo "FAIL: $out written through a link at $out.part"; fail=1; }
+  [ -f "$out" ] && [ ! -L "$out" ] || { echo "FAIL: $out is not a file of its own"; fail=1; }
+  no_part "$out"
+done
+rm "$tmp/victim.txt"
 ls "$tmp" | grep -q '\.part$' && { echo "FAIL: .part files left: $(ls "$tmp" | grep '\.part$')"; fail=1; }
 
 exit $fail

@@ -114,6 +114,37 @@ TEST_F(OutputFileTest, StagedOutputCommitsOrRemovesItsPart) {
   EXPECT_FALSE(fs::exists(p + ".part"));
 }
 
+// PATH.part already there, as a file or as a link to one: kept (and the link's target untouched) without
+// --force; with it, replaced by a file of our own, never written through. Created under a writer's feet,
+// it stops the writer and is left as it is.
+TEST_F(OutputFileTest, APartAlreadyThereIsNeitherTakenOverNorWrittenThrough) {
+  const std::string p = path("a.csv"), victim = path("victim.txt");
+  std::ofstream(victim) << "victim";
+  std::ofstream(part_path(p)) << "precious";
+  EXPECT_EQ(error_of(p, false), part_path(p) + ": exists, the temporary name of " + p + " (use --force to replace it)");
+  EXPECT_EQ(text_of(part_path(p)), "precious");
+  fs::remove(part_path(p));
+  fs::create_symlink(victim, part_path(p));
+  EXPECT_NE(error_of(p, false), "");
+  EXPECT_TRUE(fs::is_symlink(part_path(p)));
+  EXPECT_EQ(error_of(p, true), "");
+  EXPECT_EQ(text_of(victim), "victim");
+  EXPECT_EQ(text_of(p), "new");
+  EXPECT_FALSE(fs::is_symlink(p));
+  EXPECT_FALSE(fs::exists(fs::symlink_status(part_path(p))));
+
+  const std::string q = path("fig.png");
+  check_writable(q, false);
+  fs::create_symlink(victim, part_path(q));  // between the check and the writing
+  EXPECT_THROW(StagedOutput staged(q), hmp::BadInput);
+  EXPECT_TRUE(fs::is_symlink(part_path(q)));
+  EXPECT_EQ(text_of(victim), "victim");
+  fs::remove(part_path(q));
+  fs::create_directory(part_path(q));
+  EXPECT_EQ(error_of(q, true), part_path(q) + ": is a directory, the temporary name of " + q);
+  EXPECT_TRUE(fs::is_directory(part_path(q)));
+}
+
 TEST_F(OutputFileTest, BadNamesAreRefusedBeforeAnyWriting) {
   EXPECT_EQ(error_of(path("no/such/folder/a.csv"), true),
             path("no/such/folder/a.csv") + ": folder " + path("no/such/folder") + " does not exist");
