@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <thread>
+#include <utility>
 
 #include "host/audio/soundfont.hpp"
 
@@ -60,13 +61,13 @@ AudioPlayer::~AudioPlayer() {
   output_.reset();  // likewise the driver's
 }
 
-void AudioPlayer::go_silent(const std::string& reason, bool warn_user) {
+void AudioPlayer::go_silent(std::string reason, bool warn_user) {
   card_.reset();
   output_.reset();
   synth_.reset();
   driver_name_ = "none";
-  silence_reason_ = reason;
-  if (warn_user && warn_) warn_("audio: " + reason + ": playing without sound");
+  silence_reason_ = std::move(reason);
+  if (warn_user && warn_) warn_("audio: " + silence_reason_ + ": playing without sound");
 }
 
 bool AudioPlayer::open_driver() {

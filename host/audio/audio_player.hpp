@@ -83,7 +83,8 @@ class AudioPlayer {
   static void on_audio(void* self, int len, int nout, float* out[]);
   void render(int len, int nout, float* out[]);
   bool open_driver();
-  void go_silent(const std::string& reason, bool warn_user);
+  // `reason` by value: it may be the synthesizer's own text (load_error()), which goes with it.
+  void go_silent(std::string reason, bool warn_user);
   TimePoint now() const { return std::chrono::steady_clock::now(); }
   std::chrono::steady_clock::duration latency() const;
 

@@ -15,6 +15,7 @@
 
 #include "host/audio/soundfont.hpp"
 #include "host/cli/commands.hpp"
+#include "host/cli/song_options.hpp"
 #include "host/common/error.hpp"
 #include "host/common/input_file.hpp"
 #include "host/measure/measure.hpp"
@@ -41,10 +42,7 @@ std::string seconds(double s) { return std::isnan(s) ? "    -" : fmt::format("{:
 
 std::string soundfont_path(const EnvelopeOptions& o) {
   if (o.soundfont) {
-    check_input_file(*o.soundfont);
-    if (const std::string why = audio::soundfont_format_problem(*o.soundfont); !why.empty()) {
-      throw BadInput("--soundfont " + *o.soundfont + ": " + why);
-    }
+    check_soundfont_option(*o.soundfont);
     return *o.soundfont;
   }
   const auto found = audio::find_soundfont();

@@ -34,7 +34,7 @@ struct RenderOptions {
 };
 
 int run_render(const RenderOptions& o) {
-  if (o.video.soundfont) check_input_file(*o.video.soundfont);  // before any work, as --out's check
+  if (o.video.soundfont) check_soundfont_option(*o.video.soundfont);  // before any work, as --out's check
   if (o.sound) {  // the song's own sound, all tracks: no haptic track involved
     if (o.audible) throw BadInput("--sound and --audible: one or the other (--audible is a track's haptic signal)");
     run_sound_render({o.song, o.out, o.from_s, o.to_s, o.video.soundfont, o.force});

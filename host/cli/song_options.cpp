@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "host/audio/soundfont.hpp"
 #include "host/common/error.hpp"
 #include "host/common/input_file.hpp"
 #include "host/common/number_text.hpp"
@@ -124,7 +125,23 @@ void add_audio_options(CLI::App* cmd, AudioCliOptions& o) {
   cmd->add_option("--audio-buffer-ms", o.buffer_ms,
                   "Audio output buffer in ms, rounded to whole 256-frame periods (default 21); raise it if "
                   "the sound drops out on a busy machine")
-      ->check(CLI::Range(10.0, 1000.0));
+      ->check(finite_range(10.0, 1000.0));
+}
+
+CLI::Validator finite_range(double least, double most) {
+  return CLI::Validator(
+      [least, most](std::string& text) {
+        const std::optional<double> v = finite_number(text);
+        if (v && *v >= least && *v <= most) return std::string();
+        return fmt::format("{} is not a number from {:g} to {:g}", text, least, most);
+      },
+      fmt::format("FLOAT in [{:g} - {:g}]", least, most));
+}
+
+void check_soundfont_option(const std::string& path) {
+  check_input_file(path);
+  if (const std::string why = audio::soundfont_format_problem(path); !why.empty())
+    throw BadInput("--soundfont " + path + ": " + why);
 }
 
 audio::AudioOptions audio_options(const AudioCliOptions& o) {
@@ -136,7 +153,7 @@ audio::AudioOptions audio_options(const AudioCliOptions& o) {
     a.periods = std::max(2, static_cast<int>(std::lround(*o.buffer_ms / period_ms)));
   }
   if (o.soundfont) {
-    check_input_file(*o.soundfont);  // a bad --soundfont is an error, not a silent song
+    check_soundfont_option(*o.soundfont);  // a bad --soundfont is an error, not a silent song
     a.soundfont = *o.soundfont;
   }
   return a;

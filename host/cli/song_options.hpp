@@ -40,6 +40,13 @@ std::uint32_t default_haptic_track(const midi::Song& song);
 // `2 "Flute" (Flute)`
 std::string describe_track(const midi::Song& song, std::uint32_t index);
 
+// CLI::Range for a real number that also refuses NaN and infinities (CLI11's lets NaN through: every
+// comparison with it is false).
+CLI::Validator finite_range(double least, double most);
+// The SoundFont a user named: a readable file that starts like a SoundFont 2/3; BadInput naming --soundfont
+// otherwise (FluidSynth would play on silently).
+void check_soundfont_option(const std::string& path);
+
 // The song's audio on the command line (play, view, study): --no-audio, --audio-driver, --soundfont,
 // --audio-buffer-ms.
 struct AudioCliOptions {

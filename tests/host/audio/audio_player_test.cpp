@@ -5,8 +5,11 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <filesystem>
+#include <fstream>
 #include <string>
 #include <thread>
+#include <unistd.h>
 #include <vector>
 
 #include "host/audio/audio_player.hpp"
@@ -108,6 +111,26 @@ TEST(AudioPlayer, MissingSoundFontWarnsOnceAndTriesNoDriver) {
   EXPECT_FALSE(player.audible());
   EXPECT_EQ(hmp::audio::audio_driver_attempts(), attempts);
   EXPECT_FALSE(player.silence_reason().empty());
+}
+
+// A file FluidSynth cannot load: the warning says so in full. Its text was the synthesizer's own, and was
+// read after the synthesizer had gone (bytes of freed memory, different every run).
+TEST(AudioPlayer, ABrokenSoundFontIsNamedInItsWarning) {
+  const auto path = std::filesystem::temp_directory_path() / ("hmp-broken-" + std::to_string(::getpid()) + ".sf2");
+  std::ofstream(path) << "RIFF this is not a SoundFont";
+  AudioOptions options;
+  options.soundfont = path.string();
+  options.drivers = {"virtual"};
+  Warnings w;
+  {
+    AudioPlayer player(options, w.sink());
+    EXPECT_FALSE(player.audible());
+    EXPECT_EQ(player.silence_reason(), "cannot load SoundFont " + path.string() + " (not a SoundFont 2 file)");
+  }
+  std::filesystem::remove(path);
+  ASSERT_EQ(w.list.size(), 1u);
+  EXPECT_EQ(w.list[0],
+            "audio: cannot load SoundFont " + path.string() + " (not a SoundFont 2 file): playing without sound");
 }
 
 TEST(AudioPlayer, SilentClockRunsPausesResumesAndSeeks) {
