@@ -25,7 +25,7 @@ void add_video_options(CLI::App* cmd, VideoCliOptions& o) {
       ->group(group);
   cmd->add_option("--zoom", o.zoom_s, "Seconds of song across the frame, as the window's + and - keys")
       ->capture_default_str()
-      ->check(CLI::Range(1.0, 120.0))
+      ->check(finite_range(1.0, 120.0))
       ->group(group);
   cmd->add_flag("--haptic-audio", o.haptic_audio, "A second audio stream: the haptic track's signal, listenable")
       ->group(group);

@@ -107,5 +107,25 @@ expect_ok render "$demo" --track flute --to 4 --out "$tmp/auto.csv"
 cmp -s "$tmp/plain.csv" "$tmp/square.csv" || { echo "FAIL: user preset 'plain' should equal square"; fail=1; }
 cmp -s "$tmp/plain.csv" "$tmp/auto.csv" && { echo "FAIL: config preset had no effect"; fail=1; }
 
+# --- an empty value is no value, for every command: CLI11 alone took it as 0 or as not given
+expect_bad "--crf: an empty value" render "$demo" --track 1 --to 1 --out "$tmp/empty.mp4" --crf ''
+expect_bad "--to: an empty value" render "$demo" --track 1 --to '' --out "$tmp/empty.csv"
+expect_bad "--ms: an empty value" tone --freq 100 --amp 0.5 --ms '' --instrument flute --out "$tmp/empty.csv"
+expect_bad "--end-fade-ms: an empty value" tone --freq 100 --amp 0.5 --ms 50 --end-fade-ms '' --instrument flute --out "$tmp/empty.csv"
+expect_bad "--to: an empty value" play "$demo" --track 1 --to '' --device sim --no-audio --no-view
+expect_bad "--log: an empty value" play "$demo" --track 1 --to 1 --device sim --no-audio --no-view --log ''
+expect_bad "--max-step: an empty value" sim "$demo" --track 1 --to 1 --max-step ''
+expect_bad "--channel: an empty value" live --channel '' --no-audio --no-view
+expect_bad "--seed: an empty value" study --out "$tmp" --participant p --seed '' --no-audio --no-view
+[ -e "$tmp/empty.csv" ] || [ -e "$tmp/empty.mp4" ] && { echo "FAIL: an output written for an empty value"; fail=1; }
+# NaN passes CLI11's own range checks
+expect_bad "--zoom: nan is not a number from 1 to 120" render "$demo" --track 1 --to 1 --out "$tmp/nan.mp4" --zoom nan
+expect_bad "--audio-buffer-ms: nan is not a number from 10 to 1000" play "$demo" --track 1 --to 1 --device sim --no-view --audio-buffer-ms nan
+# A --soundfont that is not one is refused before any work, not played or rendered as silence
+printf 'not a soundfont' >"$tmp/junk.sf2"
+expect_bad "--soundfont $tmp/junk.sf2: not a SoundFont 2 file" play "$demo" --track 1 --to 1 --device sim --no-view --soundfont "$tmp/junk.sf2"
+expect_bad "--soundfont $tmp/junk.sf2: not a SoundFont 2 file" render "$demo" --sound --to 1 --out "$tmp/junk.wav" --soundfont "$tmp/junk.sf2"
+[ -e "$tmp/nan.mp4" ] || [ -e "$tmp/junk.wav" ] && { echo "FAIL: an output written for a bad value"; fail=1; }
+
 [ $fail -eq 0 ] && echo "song_commands: all passed"
 exit $fail
