@@ -56,7 +56,9 @@ std::uint32_t select_track(const midi::Song& song, const std::string& query) {
     for (const midi::Track& t : song.tracks) {
       if (t.note_count > 0) list += "; " + describe(t);
     }
-    throw BadInput("--track '" + query + "': no track matches (tracks with notes: " + list.substr(2) + ")");
+    throw BadInput("--track '" + query + "': no track matches (" +
+                   (list.empty() ? std::string("the song has no notes") : "tracks with notes: " + list.substr(2)) +
+                   ")");
   }
   throw BadInput("--track '" + query + "' is ambiguous (candidates: " + list.substr(2) + ")");
 }

@@ -39,6 +39,9 @@ PY
 # --- render: track selection and options
 expect_bad "ambiguous" render "$demo" --track violin --out "$tmp/a.csv"
 expect_bad "no track matches" render "$demo" --track kazoo --out "$tmp/a.csv"
+# A song without a note (a header and one empty track): said so, not an internal error
+printf 'MThd\0\0\0\6\0\1\0\1\1\340MTrk\0\0\0\4\0\377\57\0' >"$tmp/silent.mid"
+expect_bad "no track matches (the song has no notes)" render "$tmp/silent.mid" --track flute --out "$tmp/a.csv"
 expect_bad "no such track" render "$demo" --track 42 --out "$tmp/a.csv"
 expect_bad "alias" render "$demo" --track flute --freq-range 50:500 --out "$tmp/a.csv"
 expect_bad "freq-range" render "$demo" --track flute --freq-range 300:50 --out "$tmp/a.csv"
