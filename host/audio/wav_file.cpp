@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include <fmt/format.h>
+
 #include "host/audio/audio_backend.hpp"
 #include "host/common/error.hpp"
 #include "host/output/output_file.hpp"
@@ -22,6 +24,10 @@ const AudioBackend& backend_for(const std::string& what) {
 
 void write_wav(const std::string& path, std::span<const float> samples, int rate_hz, bool force) {
   output::check_writable(path, force);
+  if (samples.size() > kMaxWavSamples) {
+    throw BadInput(fmt::format("{}: {} samples at {} Hz, more than a WAV file holds ({})", path, samples.size(),
+                               rate_hz, kMaxWavSamples));
+  }
   const std::span<const float> channels[] = {samples};
   const AudioBackend& backend = backend_for(path);
   output::StagedOutput staged(path);  // libsndfile writes PATH.part, renamed to PATH once whole

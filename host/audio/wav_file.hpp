@@ -9,7 +9,10 @@
 namespace hmp::audio {
 
 inline constexpr int kAudibleRateHz = 44100;
+// The most 32-bit float samples a WAV file's 32-bit chunk sizes hold (4 GiB, less room for the header).
+inline constexpr std::uint64_t kMaxWavSamples = (0xFFFF'FFFFull - 4096) / 4;
 
+// BadInput (naming the file) for more than kMaxWavSamples samples.
 void write_wav(const std::string& path, std::span<const float> samples, int rate_hz, bool force);
 // Band-limited resampling; the result stays within [−1, 1] (the few-percent Gibbs overshoot of the
 // sinc filter at steps is clamped so a player never clips).

@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "host/audio/wav_file.hpp"
 #include "host/cli/commands.hpp"
 #include "host/common/error.hpp"
 #include "host/haptics/adsr_option.hpp"
@@ -49,8 +50,15 @@ int run_tone(const ToneOptions& o) {
   haptics::UserPreset preset;
   preset.adsr = o.instrument ? haptics::builtin_by_name(*o.instrument) : haptics::parse_adsr(*o.adsr);
 
-  // design §6 ticks: N = max(1, round(D/T)).
-  const auto n_ticks = static_cast<std::uint32_t>(std::max(1.0, std::round(o.ms * o.tick_hz / 1000.0)));
+  // design §6 ticks: N = max(1, round(D/T)), one sample each: at most what one WAV file holds.
+  const double ticks = std::max(1.0, std::round(o.ms * o.tick_hz / 1000.0));
+  if (ticks > static_cast<double>(audio::kMaxWavSamples)) {
+    throw BadInput(
+        fmt::format("--ms {:g} at --tick-hz {}: {:.0f} samples, more than the {} of one export (a WAV file's "
+                    "limit)",
+                    o.ms, o.tick_hz, ticks, audio::kMaxWavSamples));
+  }
+  const auto n_ticks = static_cast<std::uint32_t>(ticks);
   synth::Note note;
   note.start_tick = 0;
   note.duration_ticks = n_ticks;

@@ -17,6 +17,10 @@ expect_bad "amp" --freq 100 --amp 0 --ms 100 --instrument organ
 expect_bad "amp" --freq 100 --amp nan --ms 100 --instrument organ
 expect_bad "ms" --freq 100 --amp 0.5 --ms -1 --instrument organ
 expect_bad "ms" --freq 100 --amp 0.5 --ms inf --instrument organ
+# A day at 50 kHz is 4.32·10⁹ samples: more than one WAV holds (and than a note's 32-bit tick count), refused
+# before any work instead of wrapping to 500 s
+expect_bad "--ms 86400000 at --tick-hz 50000: 4320000000 samples, more than the 1073740799" --freq 100 --amp 0.5 --ms 86400000 --tick-hz 50000 --instrument organ --out "$tmp/day.wav"
+[ -e "$tmp/day.wav" ] && { echo "FAIL: a WAV written for a day at 50 kHz"; fail=1; }
 expect_bad "kazoo" --freq 100 --amp 0.5 --ms 100 --instrument kazoo
 expect_bad "instrument" --freq 100 --amp 0.5 --ms 100
 expect_bad "excludes" --freq 100 --amp 0.5 --ms 100 --instrument organ --adsr attack=1
