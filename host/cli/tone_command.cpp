@@ -54,7 +54,7 @@ int run_tone(const ToneOptions& o) {
   const double ticks = std::max(1.0, std::round(o.ms * o.tick_hz / 1000.0));
   if (ticks > static_cast<double>(audio::kMaxWavSamples)) {
     throw BadInput(
-        fmt::format("--ms {:g} at --tick-hz {}: {:.0f} samples, more than the {} of one export (a WAV file's "
+        fmt::format("--ms {:.15g} at --tick-hz {}: {:.0f} samples, more than the {} of one export (a WAV file's "
                     "limit)",
                     o.ms, o.tick_hz, ticks, audio::kMaxWavSamples));
   }
