@@ -42,7 +42,8 @@ void add_haptic_options(CLI::App* cmd, HapticCliOptions& o) {
   cmd->add_option("--key-scope", o.key_scope,
                   "Keys that set the range: song (paper's reading, default) or track (legacy2013's default)");
   cmd->add_option("--freq-range", o.freq_range, "Haptic frequency range MIN:MAX in Hz (default 50:250)");
-  cmd->add_option("--amp-range-db", o.amp_range_db, "Amplitude range MIN:MAX in dB, MAX = full scale (default 7.5:30)");
+  cmd->add_option("--amp-range-db", o.amp_range_db,
+                  "Amplitude range MIN:MAX in dB, MAX = full scale, at most 96 dB apart (default 7.5:30)");
   cmd->add_option("--envelope", o.envelope,
                   "auto (the instrument's own, = analogue), measured (fitted to the SoundFont by hmp envelope "
                   "measure), square, triangle, or any preset name");

@@ -54,6 +54,10 @@ class SlotTable {
   std::uint8_t next_user_ = envelope::kFirstUserSlot;
 };
 
+// --amp-range-db: MAX is full scale and only the span counts.
+constexpr double kMaxAmpSpanDb = 96;  // 20·log10(2^16): the device's amplitude steps
+constexpr double kMaxLevelDb = 1000;  // beyond, a level's last digits are lost under the span
+
 }  // namespace
 
 const char* name(KeyScope s) { return s == KeyScope::song ? "song" : "track"; }
@@ -129,6 +133,15 @@ void validate(const HapticOptions& o) {
   if (r.f_max_hz > synth::kFreqMaxHz) throw BadInput("--freq-range: above the device's top frequency 4096 Hz");
   if (!std::isfinite(r.a_min_db) || !std::isfinite(r.a_max_db) || r.a_min_db > r.a_max_db) {
     throw BadInput("--amp-range-db: need finite min ≤ max");
+  }
+  // MAX is full scale and only the span counts; one wider than the device's 16-bit amplitude (96 dB)
+  // puts the quietest notes below its smallest step: silent.
+  if (std::fabs(r.a_min_db) > kMaxLevelDb || std::fabs(r.a_max_db) > kMaxLevelDb ||
+      r.a_max_db - r.a_min_db > kMaxAmpSpanDb) {
+    throw BadInput(
+        fmt::format("--amp-range-db {:g}:{:g}: need levels within ±{:g} dB at most {:g} dB apart (the "
+                    "device's 16-bit amplitude)",
+                    r.a_min_db, r.a_max_db, kMaxLevelDb, kMaxAmpSpanDb));
   }
   if (!(o.end_fade_ms >= 0 && o.end_fade_ms <= 1000)) throw BadInput("--end-fade-ms: must be in [0, 1000]");
   if (!(o.speed >= 0.5 && o.speed <= 2.0))

@@ -47,6 +47,10 @@ expect_bad "alias" render "$demo" --track flute --freq-range 50:500 --out "$tmp/
 expect_bad "freq-range" render "$demo" --track flute --freq-range 300:50 --out "$tmp/a.csv"
 expect_bad "freq-range" render "$demo" --track flute --freq-range abc --out "$tmp/a.csv"
 expect_bad "amp-range" render "$demo" --track flute --amp-range-db 30:7.5 --out "$tmp/a.csv"
+# wider than the device's 16-bit amplitude: every note but the loudest below its smallest step (all zeros)
+expect_bad "at most 96 dB apart" render "$demo" --track flute --amp-range-db 7.5:1e5 --out "$tmp/a.csv"
+expect_bad "at most 96 dB apart" render "$demo" --track flute --amp-range-db -1e300:30 --out "$tmp/a.csv"
+expect_ok render "$demo" --track flute --to 2 --amp-range-db -66:30 --out "$tmp/wide.csv"
 expect_bad "mapping" render "$demo" --track flute --mapping loud --out "$tmp/a.csv"
 expect_bad "envelope" render "$demo" --track flute --envelope kazoo --out "$tmp/a.csv"
 expect_bad "polyphony" render "$demo" --track flute --polyphony all --out "$tmp/a.csv"
