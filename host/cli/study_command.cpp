@@ -10,6 +10,7 @@
 
 #include <array>
 #include <cerrno>
+#include <charconv>
 #include <chrono>
 #include <cstdio>
 #include <map>
@@ -449,7 +450,18 @@ void register_study(CLI::App& app, Registry& registry) {
         kParticipantOptions[i], o->participant_data[i],
         fmt::format("{}: {} (optional; kept in every row of the results)", what[i], study::participant_allowed(i)));
   }
-  cmd->add_option("--seed", o->seed, "Seed of the random orders (default: random; stored with the results)");
+  cmd->add_option("--seed", o->seed, "Seed of the random orders (default: random; stored with the results)")
+      ->check(CLI::Validator(
+          [](std::string& text) {
+            // Digits alone: CLI11 takes "-1" for an unsigned number as its wrap-around, 2^64 − 1.
+            std::uint64_t value = 0;
+            const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+            const bool digits = !text.empty() && text.find_first_not_of("0123456789") == std::string::npos;
+            return digits && ec == std::errc{} && end == text.data() + text.size()
+                       ? std::string()
+                       : text + " is not a whole number from 0 to 18446744073709551615";
+          },
+          "UINT"));
   cmd->add_option("--song", o->song, "The song of the main rounds (default: the demo)")->capture_default_str();
   cmd->add_option("--practice-song", o->practice_song,
                   "The song of the practice rounds, with a violin and a contrabass track (default: BWV 1079's Largo)")

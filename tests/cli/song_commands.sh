@@ -124,6 +124,10 @@ expect_bad "--log: an empty value" play "$demo" --track 1 --to 1 --device sim --
 expect_bad "--max-step: an empty value" sim "$demo" --track 1 --to 1 --max-step ''
 expect_bad "--channel: an empty value" live --channel '' --no-audio --no-view
 expect_bad "--seed: an empty value" study --out "$tmp" --participant p --seed '' --no-audio --no-view
+# a seed is digits alone: CLI11 took -1 as 2^64 − 1 and wrote that into the session's journal
+expect_bad "--seed: -1 is not a whole number from 0 to 18446744073709551615" study --out "$tmp" --participant p --seed -1 --no-audio --no-view
+expect_bad "--seed: 18446744073709551616 is not a whole number" study --out "$tmp" --participant p --seed 18446744073709551616 --no-audio --no-view
+[ -e "$tmp/study-p.journal" ] && { echo "FAIL: a journal written for a bad seed"; fail=1; }
 [ -e "$tmp/empty.csv" ] || [ -e "$tmp/empty.mp4" ] && { echo "FAIL: an output written for an empty value"; fail=1; }
 # NaN passes CLI11's own range checks
 expect_bad "--zoom: nan is not a number from 1 to 120" render "$demo" --track 1 --to 1 --out "$tmp/nan.mp4" --zoom nan
