@@ -453,11 +453,12 @@ void register_study(CLI::App& app, Registry& registry) {
   cmd->add_option("--seed", o->seed, "Seed of the random orders (default: random; stored with the results)")
       ->check(CLI::Validator(
           [](std::string& text) {
-            // Digits alone: CLI11 takes "-1" for an unsigned number as its wrap-around, 2^64 − 1.
+            // Digits alone: CLI11 takes "-1" for an unsigned number as its wrap-around, 2^64 − 1. An empty
+            // value is left to the check every option has (commands.cpp).
             std::uint64_t value = 0;
             const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-            const bool digits = !text.empty() && text.find_first_not_of("0123456789") == std::string::npos;
-            return digits && ec == std::errc{} && end == text.data() + text.size()
+            const bool digits = text.find_first_not_of("0123456789") == std::string::npos;
+            return text.empty() || (digits && ec == std::errc{} && end == text.data() + text.size())
                        ? std::string()
                        : text + " is not a whole number from 0 to 18446744073709551615";
           },
