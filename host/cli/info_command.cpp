@@ -10,8 +10,8 @@ void register_info(CLI::App& app, Registry& registry) {
   auto o = std::make_shared<InfoOptions>();
   CLI::App* cmd = app.add_subcommand("info", "Show a song's tracks, instruments, key ranges, tempo and warnings");
   cmd->add_option("SONG", o->song, "MIDI file (.mid, RMID)")->required();
-  cmd->add_flag(kInfoJsonFlag, o->json, "Print one JSON object");
-  cmd->add_flag(kInfoNotesFlag, o->notes, "With --json: include every note of every track");
+  CLI::Option* json = cmd->add_flag(kInfoJsonFlag, o->json, "Print one JSON object");
+  cmd->add_flag(kInfoNotesFlag, o->notes, "With --json: include every note of every track")->needs(json);
   add_haptic_options(cmd, o->haptic);
   cmd->callback([o, &registry] { registry.set([o] { return run_info(*o); }); });
 }

@@ -378,11 +378,11 @@ void register_play(CLI::App& app, Registry& registry) {
       "Haptic track: index, or part of its name or instrument (default: the first with a Table 1 instrument)");
   cmd->add_option("--device", o->device, kDeviceHelp)->capture_default_str();
   add_audio_options(cmd, o->audio);
-  cmd->add_flag("--no-view", o->no_view, "No animation window");
+  CLI::Option* no_view = cmd->add_flag("--no-view", o->no_view, "No animation window");
   cmd->add_option("--midi-out", o->midi_out,
                   "Also send the song as MIDI, on the device's clock, to the output port whose name contains PORT "
                   "(`hmp live` with its list option shows them; - for a port of our own, hmp, to connect to)");
-  cmd->add_flag("--fullscreen", o->fullscreen, "The animation window fills the screen (f toggles)");
+  cmd->add_flag("--fullscreen", o->fullscreen, "The animation window fills the screen (f toggles)")->excludes(no_view);
   cmd->add_option("--speed", o->speed,
                   "Playback speed 0.5–2 (sound and device follow; [ and ] change it while playing)")
       ->capture_default_str();

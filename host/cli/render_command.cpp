@@ -106,8 +106,8 @@ void register_render(CLI::App& app, Registry& registry) {
                                      "Render one track's haptic signal (CSV, WAV, PNG plot, AHAP, .haptic), the song's "
                                      "sound (--sound) or the animation as MP4 video");
   cmd->add_option("SONG", o->song, "MIDI file")->required();
-  cmd->add_option("--track", o->track,
-                  "Track index, or part of its name or instrument (see hmp info); not with --sound");
+  CLI::Option* track = cmd->add_option(
+      "--track", o->track, "Track index, or part of its name or instrument (see hmp info); not with --sound");
   cmd->add_option("--out", o->out,
                   "Output: FILE.csv (t_s,value), FILE.wav (float, tick rate), FILE.png, FILE.ahap, FILE.haptic, "
                   "FILE.mp4 (the animation with sound), '-' = CSV to stdout")
@@ -116,11 +116,20 @@ void register_render(CLI::App& app, Registry& registry) {
   cmd->add_option("--to", o->to_s, "End of the window in seconds of the song");
   cmd->add_flag("--audible", o->audible, "WAV resampled to 44.1 kHz so you can listen to it");
   cmd->add_flag("--sound", o->sound,
-                "The song's own sound instead (all tracks, controllers; FluidSynth, 44.1 kHz stereo WAV)");
+                "The song's own sound instead (all tracks, controllers; FluidSynth, 44.1 kHz stereo WAV)")
+      ->excludes(track);
   cmd->add_flag("-f,--force", o->force, "Overwrite an existing output file");
   add_haptic_options(cmd, o->haptic);
-  add_video_options(cmd, o->video);
-  cmd->callback([o, &registry] { registry.set([o] { return run_render(*o); }); });
+  const std::vector<const CLI::Option*> video_only = add_video_options(cmd, o->video);
+  cmd->callback([o, video_only, &registry] {
+    registry.set([o, video_only] {
+      // A video's settings with another output would be silently ignored.
+      if (!is_video_export(o->out))
+        for (const CLI::Option* option : video_only)
+          if (option->count() > 0) throw BadInput(option->get_name() + ": only with --out FILE.mp4");
+      return run_render(*o);
+    });
+  });
 }
 
 }  // namespace hmp::cli

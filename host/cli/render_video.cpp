@@ -15,29 +15,34 @@
 
 namespace hmp::cli {
 
-void add_video_options(CLI::App* cmd, VideoCliOptions& o) {
+std::vector<const CLI::Option*> add_video_options(CLI::App* cmd, VideoCliOptions& o) {
   const char* group = "Video (--out FILE.mp4)";
-  cmd->add_option("--fps", o.fps, "Frames per second; must divide 44100 (25, 30, 50, 60 …)")
-      ->capture_default_str()
-      ->group(group);
-  cmd->add_option("--size", o.size, "Frame size WIDTHxHEIGHT in pixels (even numbers)")
-      ->capture_default_str()
-      ->group(group);
-  cmd->add_option("--zoom", o.zoom_s, "Seconds of song across the frame, as the window's + and - keys")
-      ->capture_default_str()
-      ->check(finite_range(1.0, 120.0))
-      ->group(group);
-  cmd->add_flag("--haptic-audio", o.haptic_audio, "A second audio stream: the haptic track's signal, listenable")
-      ->group(group);
-  cmd->add_flag("--no-audio", o.no_audio, "The song's audio stream silent (no SoundFont loaded)")->group(group);
+  std::vector<const CLI::Option*> video_only;
+  video_only.push_back(cmd->add_option("--fps", o.fps, "Frames per second; must divide 44100 (25, 30, 50, 60 …)")
+                           ->capture_default_str()
+                           ->group(group));
+  video_only.push_back(cmd->add_option("--size", o.size, "Frame size WIDTHxHEIGHT in pixels (even numbers)")
+                           ->capture_default_str()
+                           ->group(group));
+  video_only.push_back(
+      cmd->add_option("--zoom", o.zoom_s, "Seconds of song across the frame, as the window's + and - keys")
+          ->capture_default_str()
+          ->check(finite_range(1.0, 120.0))
+          ->group(group));
+  video_only.push_back(
+      cmd->add_flag("--haptic-audio", o.haptic_audio, "A second audio stream: the haptic track's signal, listenable")
+          ->group(group));
+  video_only.push_back(
+      cmd->add_flag("--no-audio", o.no_audio, "The song's audio stream silent (no SoundFont loaded)")->group(group));
   cmd->add_option("--soundfont", o.soundfont,
                   "SoundFont (.sf2/.sf3) for the song's sound (--sound, .mp4; default: the GM one installed)");
-  cmd->add_option("--video-preset", o.preset, "libx264 speed preset: ultrafast … veryslow")
-      ->capture_default_str()
-      ->group(group);
-  cmd->add_option("--crf", o.crf, "libx264 constant quality, 0..51 (lower: better and bigger)")
-      ->capture_default_str()
-      ->group(group);
+  video_only.push_back(cmd->add_option("--video-preset", o.preset, "libx264 speed preset: ultrafast … veryslow")
+                           ->capture_default_str()
+                           ->group(group));
+  video_only.push_back(cmd->add_option("--crf", o.crf, "libx264 constant quality, 0..51 (lower: better and bigger)")
+                           ->capture_default_str()
+                           ->group(group));
+  return video_only;
 }
 
 bool is_video_export(const std::string& path) { return output::extension_of(path) == "mp4"; }

@@ -2,6 +2,7 @@
 // `hmp render SONG --out FILE.mp4`: the options of the video export and its run (host/video/).
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -20,7 +21,8 @@ struct VideoCliOptions {
   int crf = 20;
 };
 
-void add_video_options(CLI::App* cmd, VideoCliOptions& o);
+// Returns the options that only a video takes (all but --soundfont, which --sound takes too).
+std::vector<const CLI::Option*> add_video_options(CLI::App* cmd, VideoCliOptions& o);
 bool is_video_export(const std::string& path);  // .mp4
 // Throws BadInput for a size, rate or encoder setting that cannot work (before the output file is looked at).
 void check_video_options(const VideoCliOptions& o);

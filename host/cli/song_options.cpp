@@ -111,13 +111,14 @@ std::uint32_t default_haptic_track(const midi::Song& song) {
 }
 
 void add_audio_options(CLI::App* cmd, AudioCliOptions& o) {
-  cmd->add_flag("--no-audio", o.no_audio, "No sound: no audio device is opened");
+  CLI::Option* no_audio = cmd->add_flag("--no-audio", o.no_audio, "No sound: no audio device is opened");
   // FluidSynth's drivers that take a callback (its `file` driver does not); `virtual` is the simulated
   // sound card the skew benchmark measures with: it plays to nowhere, in real time.
   cmd->add_option("--audio-driver", o.driver,
                   "Audio output: pulseaudio, alsa, sdl2, jack, oss, pipewire or virtual (default: the first of "
                   "pulseaudio, alsa, sdl2 that opens)")
-      ->check(CLI::IsMember({"pulseaudio", "alsa", "sdl2", "jack", "oss", "pipewire", "virtual"}));
+      ->check(CLI::IsMember({"pulseaudio", "alsa", "sdl2", "jack", "oss", "pipewire", "virtual"}))
+      ->excludes(no_audio);
   cmd->add_option("--soundfont", o.soundfont,
                   "SoundFont (.sf2/.sf3) for the song's audio (default: the GM one installed)");
   // A busy machine can hold even a real-time audio thread off its core for tens of milliseconds; a
@@ -126,7 +127,8 @@ void add_audio_options(CLI::App* cmd, AudioCliOptions& o) {
   cmd->add_option("--audio-buffer-ms", o.buffer_ms,
                   "Audio output buffer in ms, rounded to whole 256-frame periods (default 21); raise it if "
                   "the sound drops out on a busy machine")
-      ->check(finite_range(10.0, 1000.0));
+      ->check(finite_range(10.0, 1000.0))
+      ->excludes(no_audio);
 }
 
 CLI::Validator finite_range(double least, double most) {

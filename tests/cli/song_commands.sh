@@ -129,6 +129,16 @@ expect_bad "--seed: -1 is not a whole number from 0 to 18446744073709551615" stu
 expect_bad "--seed: 18446744073709551616 is not a whole number" study --out "$tmp" --participant p --seed 18446744073709551616 --no-audio --no-view
 [ -e "$tmp/study-p.journal" ] && { echo "FAIL: a journal written for a bad seed"; fail=1; }
 [ -e "$tmp/empty.csv" ] || [ -e "$tmp/empty.mp4" ] && { echo "FAIL: an output written for an empty value"; fail=1; }
+# Options that contradict each other, or that the output would ignore, are refused instead of ignored
+expect_bad "--track excludes --sound" render "$demo" --sound --track 1 --to 1 --out "$tmp/both.wav"
+for video in "--crf 30" "--size 640x360" "--fps 30" "--zoom 5" "--video-preset slow" "--haptic-audio" "--no-audio"; do
+  expect_bad "${video%% *}: only with --out FILE.mp4" render "$demo" --track 1 --to 1 --out "$tmp/video-only.csv" $video
+done
+[ -e "$tmp/both.wav" ] || [ -e "$tmp/video-only.csv" ] && { echo "FAIL: an output written for contradicting options"; fail=1; }
+expect_bad "--notes requires --json" info "$demo" --notes
+expect_bad "--no-view excludes --fullscreen" play "$demo" --track 1 --to 1 --device sim --no-audio --no-view --fullscreen
+expect_bad "--no-audio excludes --audio-driver" play "$demo" --track 1 --to 1 --device sim --no-view --no-audio --audio-driver alsa
+expect_bad "--no-audio excludes --audio-buffer-ms" view "$demo" --no-audio --audio-buffer-ms 50
 # NaN passes CLI11's own range checks
 expect_bad "--zoom: nan is not a number from 1 to 120" render "$demo" --track 1 --to 1 --out "$tmp/nan.mp4" --zoom nan
 expect_bad "--audio-buffer-ms: nan is not a number from 10 to 1000" play "$demo" --track 1 --to 1 --device sim --no-view --audio-buffer-ms nan
