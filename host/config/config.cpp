@@ -1,5 +1,6 @@
 #include "host/config/config.hpp"
 
+#include <fmt/format.h>
 #include <toml++/toml.h>
 
 #include <cmath>
@@ -9,6 +10,7 @@
 #include "host/common/input_file.hpp"
 #include "host/common/number_text.hpp"
 #include "host/common/printable.hpp"
+#include "shared/protocol/protocol.hpp"
 
 namespace hmp::config {
 
@@ -145,8 +147,20 @@ Config load(const std::string& path) {
         r.fail("'device.tick_hz' must be an integer in [100, 100000]");
       c.tick_hz = static_cast<std::uint32_t>(hz);
     }
-    if (auto* v = t.get("peak_force_n")) c.peak_force_n = r.number(*v, "device.peak_force_n");
-    if (auto* v = t.get("direction")) c.direction = r.numbers<3>(*v, "device.direction");
+    if (auto* v = t.get("peak_force_n")) {
+      c.peak_force_n = r.number(*v, "device.peak_force_n");
+      const auto most = static_cast<double>(protocol::kMaxPeakForceN);
+      if (!(*c.peak_force_n > 0 && *c.peak_force_n <= most))
+        r.fail(fmt::format("'device.peak_force_n' must be in (0, {:g}] N", most));
+    }
+    if (auto* v = t.get("direction")) {
+      // Any direction, as a unit vector (the device takes nothing else).
+      std::array<double, 3> d = r.numbers<3>(*v, "device.direction");
+      const double length = std::hypot(d[0], d[1], d[2]);
+      if (!(length > 1e-9 && std::isfinite(length))) r.fail("'device.direction' must be a finite, non-zero vector");
+      for (double& x : d) x /= length;
+      c.direction = d;
+    }
   }
   if (const toml::node* n = root.get("plant")) {
     const auto& t = r.table(*n, "plant");

@@ -296,7 +296,7 @@ ErrorCode check(const Preset& p) {
 
 ErrorCode check(const Settings& s) {
   const bool ok = static_cast<std::uint8_t>(s.policy) <= static_cast<std::uint8_t>(PolicyCode::latest) &&
-                  within(s.gain, 0.0f, 1.0f) && s.peak_force_n > 0.0f && s.peak_force_n <= 20.0f &&
+                  within(s.gain, 0.0f, 1.0f) && s.peak_force_n > 0.0f && s.peak_force_n <= kMaxPeakForceN &&
                   unit_vector(s.direction) && within(s.end_fade_ms, 0.0f, 1000.0f) && s.watchdog_ms >= 10 &&
                   within(s.t_min_n, 0.0f, 20.0f) && s.t_max_n > s.t_min_n && s.t_max_n <= 20.0f;
   return ok ? ErrorCode::none : ErrorCode::bad_value;

@@ -96,6 +96,15 @@ printf '[mapping\nmode = "paper"\n' >"$tmp/broken.toml"
 expect_bad "broken.toml:" render "$demo" --track flute --config "$tmp/broken.toml" --out "$tmp/c.csv"
 printf '[presets.soft]\nattack_ms = 10\nsustain_pct = 150\n' >"$tmp/range.toml"
 expect_bad "sustain_pct" render "$demo" --track flute --config "$tmp/range.toml" --out "$tmp/c.csv"
+# [device]: checked when the config is read, before any device (play told only after it had connected)
+for bad in "peak_force_n = -5|'device.peak_force_n' must be in (0, 20] N" "peak_force_n = 1e300|'device.peak_force_n' must be in (0, 20] N" \
+  "direction = [0.0, 0.0, 0.0]|'device.direction' must be a finite, non-zero vector"; do
+  printf '[device]\n%s\n' "${bad%%|*}" >"$tmp/device.toml"
+  expect_bad "device.toml: ${bad#*|}" play "$demo" --track flute --to 1 --device sim --no-audio --no-view --config "$tmp/device.toml"
+  expect_bad "device.toml: ${bad#*|}" sim "$demo" --track flute --to 1 --config "$tmp/device.toml"
+done
+printf '[device]\ndirection = [0.0, 2.0, 0.0]\n' >"$tmp/device.toml"  # any length: the unit vector along it
+expect_ok play "$demo" --track flute --from 2 --to 2.5 --device sim --no-audio --no-view --config "$tmp/device.toml"
 printf '[gm]\n"73" = "nothing"\n' >"$tmp/gm.toml"
 expect_bad "nothing" render "$demo" --track flute --config "$tmp/gm.toml" --out "$tmp/c.csv"
 # A [gm] key is the whole of a program number 0–127: a NUL (TOML's \u0000) does not end it.
