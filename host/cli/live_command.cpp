@@ -134,14 +134,23 @@ live::MapperOptions mapper_options(const LiveOptions& o, std::optional<std::uint
   return m;
 }
 
-// The port, opened; with --wait, tried again every half second until it is there (or a stop signal).
+using SteadyClock = std::chrono::steady_clock;
+
+// Whether --seconds have gone by since `started` (the command's start: waiting for a port counts).
+bool time_up(const LiveOptions& o, SteadyClock::time_point started) {
+  return o.seconds > 0 && std::chrono::duration<double>(SteadyClock::now() - started).count() >= o.seconds;
+}
+
+// The port, opened; with --wait, tried again every half second until it is there (or a stop signal, or
+// the end of --seconds: nullptr).
 std::unique_ptr<live::MidiInput> open_port(const live::MidiPortBackend& b, live::MidiApi api, const LiveOptions& o,
-                                           live::LiveSession& session, bool first) {
+                                           live::LiveSession& session, bool first, SteadyClock::time_point started) {
   bool said = false;
   for (;;) {
     std::string error;
     std::unique_ptr<live::MidiInput> in = b.open(api, o.input, &live::LiveSession::receive, &session, error);
     if (in) return in;
+    if (o.wait && time_up(o, started)) return nullptr;
     // A port that is not there, or no server to ask, is the user's to fix: bad input, unless we wait.
     if (!o.wait || player::stop_signal() != 0) {
       if (first) throw BadInput(fmt::format("{} MIDI input: {}", live::name(api), error));
@@ -223,12 +232,14 @@ std::unique_ptr<view::LiveView> open_live_view(const midi::Song& channels, live:
 }
 
 int run_live(const LiveOptions& o) {
+  const SteadyClock::time_point started = SteadyClock::now();
   if (o.list) return list_ports();
   const std::optional<std::uint8_t> program = instrument(o);
   const live::MapperOptions mo = mapper_options(o, program);
   const audio::AudioOptions audio_opts = audio_options(o.audio);  // checks --soundfont
   if (o.log) output::check_writable(*o.log, o.force);
   if (o.api) parse_api(*o.api);  // bad input before any port or device is opened
+  const transport::DeviceSpec device = transport::parse_device_spec(o.device);
   check_vibration_delay(o);
   const live::MidiPortBackend& b = backend();
   const live::MidiApi api = choose_api(o, b);
@@ -242,7 +253,7 @@ int run_live(const LiveOptions& o) {
     if (!named) throw BadInput(live::no_port_named(api, true, o.input));
   }
 
-  transport::OpenedDevice opened = transport::open_device(transport::parse_device_spec(o.device));
+  transport::OpenedDevice opened = transport::open_device(device);
   if (!opened.note.empty()) std::fprintf(stderr, "%s\n", opened.note.c_str());
   player::DeviceLink link(*opened.transport, link_options_for(opened));
   connect_and_describe(link, opened);
@@ -277,7 +288,12 @@ int run_live(const LiveOptions& o) {
     });
   }
   player::install_stop_signals();
-  std::unique_ptr<live::MidiInput> in = open_port(b, api, o, session, true);
+  std::unique_ptr<live::MidiInput> in = open_port(b, api, o, session, true, started);
+  if (!in) {
+    std::fprintf(stderr, "live: no MIDI input came within --seconds %g\n", o.seconds);
+    session.finish();
+    return kExitOk;
+  }
   std::fprintf(
       stderr, "live: input %s, %s, %s, keys %s, envelope %s, mapping %s; Ctrl-C stops\n", in->name().c_str(),
       o.channel ? fmt::format("channel {}", *o.channel).c_str() : "every channel",
@@ -313,10 +329,9 @@ int run_live(const LiveOptions& o) {
                    why.c_str());
   }
   const auto stop = [&] { return player::stop_signal() != 0 || quit.load() || (window && window->closed()); };
-  const auto started = std::chrono::steady_clock::now();
   int code = kExitOk;
   for (;;) {
-    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    const double elapsed = std::chrono::duration<double>(SteadyClock::now() - started).count();
     const double left = o.seconds > 0 ? std::max(1e-3, o.seconds - elapsed) : 0;
     const live::LiveEnd end = session.run(*in, left, stop, show);
     if (end != live::LiveEnd::port_gone) break;
@@ -324,7 +339,7 @@ int run_live(const LiveOptions& o) {
     std::fprintf(stderr, "live: the MIDI input %s is gone%s\n", in->name().c_str(),
                  o.wait ? "; waiting for it to come back" : "");
     in.reset();
-    if (!o.wait || !(in = open_port(b, api, o, session, false))) {
+    if (!o.wait || !(in = open_port(b, api, o, session, false, started))) {
       code = o.wait ? kExitOk : kExitFailure;
       break;
     }
@@ -370,7 +385,8 @@ void register_live(CLI::App& app, Registry& registry) {
   add_audio_options(cmd, o->audio);
   cmd->add_option("--mapping", o->mapping, "Pitch mapping: paper (default), rank, constant, legacy2013");
   cmd->add_option("--device", o->device, kDeviceHelp);
-  cmd->add_option("--seconds", o->seconds, "Stop after this many seconds (default: at Ctrl-C)");
+  cmd->add_option("--seconds", o->seconds,
+                  "Stop after this many seconds, waiting for the port (--wait) included (default: at Ctrl-C)");
   cmd->add_flag("--wait", o->wait, "A port that is not there (yet, or any more) is waited for");
   cmd->add_flag("--no-view", o->no_view, "No window (by default the notes scroll by in one as they are played)");
   cmd->add_option("--log", o->log,

@@ -27,6 +27,11 @@ expect_bad "--vibration-delay-ms nan: a delay from 0 to 1000 ms" --vibration-del
 expect_bad "--vibration-delay-ms inf: a delay from 0 to 1000 ms" --vibration-delay-ms inf
 expect_bad "no sound to wait for" --sync-sound --no-audio
 expect_bad "--sync-sound excludes --vibration-delay-ms" --sync-sound --vibration-delay-ms 20
+expect_bad "bad --device 'bogus'" --device bogus --no-audio --no-view --seconds 1
+# --seconds bounds the wait for a port too (it waited until killed): whatever the machine's MIDI, exit 0 soon
+timeout 20 "$hmp" live --no-audio --no-view --seconds 1 --wait --device sim >"$tmp/out" 2>"$tmp/err" </dev/null
+rc=$?
+[ $rc -eq 0 ] || { echo "FAIL: live --wait --seconds 1 -> rc=$rc (124: still running after 20 s)"; cat "$tmp/err"; fail=1; }
 # The log's name is checked first too: an existing file is kept without --force.
 echo keep >"$tmp/log.jsonl"
 expect_bad "exists" --log "$tmp/log.jsonl"
