@@ -57,7 +57,7 @@ void write_presets(const std::string& path, bool force, const std::vector<measur
       "# Envelopes measured by `hmp envelope measure` from {} (key {}, velocity {}):\n"
       "# each preset is the paper's Eq. 9-10 fitted to one note's sound. Use with --config {} and\n"
       "# --envelope measured (or auto: instruments Table 1 lacks get theirs).\n",
-      mo.soundfont, mo.key, mo.velocity, path);
+      mo.soundfont, mo.key, mo.velocity, path == "-" ? std::string("THIS_FILE") : path);
   for (const measure::Measured& m : ms) {
     if (!m.stages.sounded) continue;
     const envelope::Adsr& a = m.preset;
@@ -144,31 +144,34 @@ int run_measure(const EnvelopeOptions& o) {
     throw BadInput(fmt::format("program {}: the note (key {}, velocity {}) never sounds in {}", silent, mo.key,
                                o.velocity, mo.soundfont));
   }
-  fmt::print("{}: key {} ({:.1f} Hz), velocity {}, held {:g} s\n", mo.soundfont, mo.key, measure::key_hz(mo.key),
+  // The table is for people; with --out - the presets go to standard output alone, for a program to read.
+  std::FILE* const table = o.out && *o.out == "-" ? stderr : stdout;
+  fmt::print(table, "{}: key {} ({:.1f} Hz), velocity {}, held {:g} s\n", mo.soundfont, mo.key, measure::key_hz(mo.key),
              o.velocity, mo.hold_s);
-  fmt::print("{:>4}  {:<20} {:>3} {:>6} {:>6} {:>6} {:>6} {:>6} {:>6} | {:>6} {:>6} {:>5} {:>6} {:>4} {:>6}\n", "#",
-             "program", "key", "delay", "attack", "hold", "decay", "sust.", "rel.", "A ms", "Dc ms", "s %", "R ms",
+  fmt::print(table, "{:>4}  {:<20} {:>3} {:>6} {:>6} {:>6} {:>6} {:>6} {:>6} | {:>6} {:>6} {:>5} {:>6} {:>4} {:>6}\n",
+             "#", "program", "key", "delay", "attack", "hold", "decay", "sust.", "rel.", "A ms", "Dc ms", "s %", "R ms",
              "r %", "RMS");
   for (const measure::Measured& m : ms) {
     if (!m.stages.sounded) continue;
     const measure::Stages& s = m.stages;
     const envelope::Adsr& a = m.preset;
     fmt::print(
+        table,
         "{:>4}  {:<20.20} {:>3} {:>6} {:>6} {:>6} {:>6} {:>6.3f} {:>6} | {:>6.1f} {:>6.1f} {:>5.1f} {:>6.1f} {:>4.1f} "
         "{:>6.3f}\n",
         m.program, midi::gm_program_name(m.program), m.key, seconds(s.delay_s), seconds(s.attack_s), seconds(s.hold_s),
         seconds(s.decay_s), s.sustain, seconds(s.release_s), a.attack_ms, a.decay_ms, 100.0 * double(a.sustain),
         a.release_ms, 100.0 * double(a.final_ratio), m.rms_error);
   }
-  fmt::print(
-      "Left: FluidSynth's stages in s (decay, release: the time to fall 96 dB; sustain: level/peak).\n"
-      "Right: the paper's Eq. 9-10 fitted; RMS: its error against the sound, full scale = the peak.\n");
+  fmt::print(table,
+             "Left: FluidSynth's stages in s (decay, release: the time to fall 96 dB; sustain: level/peak).\n"
+             "Right: the paper's Eq. 9-10 fitted; RMS: its error against the sound, full scale = the peak.\n");
   if (!absent.empty()) std::fprintf(stderr, "warning: not in this SoundFont, left out: program %s\n", absent.c_str());
   if (!silent.empty())
     std::fprintf(stderr, "warning: never sounds in this SoundFont, left out: program %s\n", silent.c_str());
   if (o.out) {
     write_presets(*o.out, o.force, ms, mo);
-    std::fprintf(stderr, "wrote %s (%d preset(s))\n", o.out->c_str(), sounded);
+    std::fprintf(stderr, "wrote %s (%d preset(s))\n", *o.out == "-" ? "standard output" : o.out->c_str(), sounded);
   }
   if (o.plot_dir) {
     for (const measure::Measured& m : ms) {

@@ -176,6 +176,16 @@ TEST_F(MeasureTest, TheCommandRefusesBadInputAndWritesNothing) {
                            "/examples/bach-bwv1050-brandenburg5-mvt3-allegro.mid --config " + out + " >/dev/null";
   EXPECT_EQ(std::system(tone.c_str()), 0);
   EXPECT_EQ(hmp("--soundfont " + *path_ + " --program 0 --key 69 --out " + out), 2) << "exists: needs --force";
+  // --out -: the presets alone on standard output (the table goes to stderr), a config as they stand.
+  const std::string piped = (dir / "piped.toml").string();
+  EXPECT_EQ(std::system((std::string(HMP_BIN_DIR) + "/hmp envelope measure --soundfont " + *path_ +
+                         " --program 0 --key 69 --out - >" + piped + " 2>/dev/null")
+                            .c_str()),
+            0);
+  EXPECT_EQ(std::system((std::string(HMP_BIN_DIR) + "/hmp info " + HMP_REPO_DIR +
+                         "/examples/bach-bwv1050-brandenburg5-mvt3-allegro.mid --config " + piped + " >/dev/null")
+                            .c_str()),
+            0);
   std::filesystem::remove_all(dir);
 }
 
