@@ -138,6 +138,8 @@ expect_bad "--seed: -1 is not a whole number from 0 to 18446744073709551615" stu
 expect_bad "--seed: 18446744073709551616 is not a whole number" study --out "$tmp" --participant p --seed 18446744073709551616 --no-audio --no-view
 [ -e "$tmp/study-p.journal" ] && { echo "FAIL: a journal written for a bad seed"; fail=1; }
 [ -e "$tmp/empty.csv" ] || [ -e "$tmp/empty.mp4" ] && { echo "FAIL: an output written for an empty value"; fail=1; }
+# An output render cannot write: every kind it can is named (the message was tone's, .csv .wav .png only)
+expect_bad "--out $tmp/a.txt: use a .csv, .wav, .png, .ahap, .haptic or .mp4 file" render "$demo" --track 1 --to 1 --out "$tmp/a.txt"
 # Options that contradict each other, or that the output would ignore, are refused instead of ignored
 expect_bad "--track excludes --sound" render "$demo" --sound --track 1 --to 1 --out "$tmp/both.wav"
 for video in "--crf 30" "--size 640x360" "--fps 30" "--zoom 5" "--video-preset slow" "--haptic-audio" "--no-audio"; do
