@@ -54,7 +54,7 @@ expect_ok render "$demo" --track flute --to 2 --amp-range-db -66:30 --out "$tmp/
 expect_bad "mapping" render "$demo" --track flute --mapping loud --out "$tmp/a.csv"
 expect_bad "envelope" render "$demo" --track flute --envelope kazoo --out "$tmp/a.csv"
 expect_bad "polyphony" render "$demo" --track flute --polyphony all --out "$tmp/a.csv"
-expect_bad ".csv, .wav or .png" render "$demo" --track flute --out "$tmp/a.mp3"
+expect_bad ".png, .ahap, .haptic or .mp4" render "$demo" --track flute --out "$tmp/a.mp3"
 expect_bad "audible" render "$demo" --track flute --audible --out "$tmp/a.csv"
 expect_bad "empty window" render "$demo" --track flute --from 5 --to 4 --out "$tmp/a.csv"
 expect_bad "from" render "$demo" --track flute --from -1 --out "$tmp/a.csv"
