@@ -17,8 +17,12 @@ inline std::optional<double> finite_number(const std::string& text) {
   return v;
 }
 
-// The decimal integer that is the whole of `text`, if it is one within [least, most]; else nothing.
+// The decimal integer that is the whole of `text`, if it is one within [least, most]; else nothing. Digits
+// alone, after an optional '-': no space or '+' before them (which strtol would skip), so that one number
+// has few spellings.
 inline std::optional<long> whole_number(const std::string& text, long least, long most) {
+  const std::size_t first = text.starts_with('-') ? 1 : 0;
+  if (text.size() == first || text[first] < '0' || text[first] > '9') return std::nullopt;
   char* end = nullptr;
   errno = 0;
   const long v = std::strtol(text.c_str(), &end, 10);

@@ -118,10 +118,10 @@ Config load(const std::string& path) {
     for (const auto& [key, node] : r.table(*n, "presets")) {
       std::string name(key.str());
       for (char& ch : name) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-      envelope::Preset builtin;
-      if (envelope::find_builtin(name.c_str(), builtin)) {
-        // Overriding a built-in by name is allowed: the user's measurement replaces Table 1's.
-      }
+      // A built-in's name is allowed (the user's measurement replaces Table 1's); names are not case-sensitive,
+      // so two that differ only in case would be one preset, the last silently.
+      if (c.presets.count(name) != 0)
+        r.fail("presets." + printable(std::string(key.str())) + ": another preset has this name (case does not count)");
       c.presets[name] = read_preset(r, r.table(node, "presets." + name), "presets." + name);
     }
   }
@@ -133,7 +133,9 @@ Config load(const std::string& path) {
       const std::string k(key.str());
       const std::optional<long> program = whole_number(k, 0, 127);
       if (!program) r.fail(std::string(table) + ": key '" + printable(k) + "' must be a GM program number 0–127");
-      out[static_cast<std::uint8_t>(*program)] = r.text(node, std::string(table) + "." + k);
+      const auto p = static_cast<std::uint8_t>(*program);
+      if (out.count(p) != 0) r.fail(fmt::format("{}: program {} is given twice (key '{}')", table, p, printable(k)));
+      out[p] = r.text(node, std::string(table) + "." + k);
     }
   };
   program_table("gm", c.gm);

@@ -108,13 +108,18 @@ expect_ok play "$demo" --track flute --from 2 --to 2.5 --device sim --no-audio -
 printf '[gm]\n"73" = "nothing"\n' >"$tmp/gm.toml"
 expect_bad "nothing" render "$demo" --track flute --config "$tmp/gm.toml" --out "$tmp/c.csv"
 # A [gm] key is the whole of a program number 0–127: a NUL (TOML's \u0000) does not end it.
-for key in 128 -1 7x 1e1 "" '5\u0000'; do
+for key in 128 -1 7x 1e1 "" '5\u0000' ' 5' +5; do
   printf '[gm]\n"%s" = "organ"\n' "$key" >"$tmp/gm_key.toml"
   shown=${key%\\u0000}  # the message shows the NUL as \0 (a pattern for grep: \\0)
   [ "$shown" = "$key" ] || shown="$shown\\\\0"
   expect_bad "gm: key '$shown' must be a GM program number" render "$demo" --track flute \
     --config "$tmp/gm_key.toml" --out "$tmp/c.csv"
 done
+# One program, or one preset name, given twice in other spellings: refused, not the last one silently
+printf '[gm]\n"5" = "organ"\n"05" = "flute"\n' >"$tmp/gm_twice.toml"
+expect_bad "gm: program 5 is given twice" info "$demo" --config "$tmp/gm_twice.toml"
+printf '[presets.Mine]\nattack_ms = 5\n[presets.mine]\nattack_ms = 50\n' >"$tmp/case.toml"
+expect_bad "presets.mine: another preset has this name (case does not count)" info "$demo" --config "$tmp/case.toml"
 # A user preset mapped to the flute's program changes the render; square via the config equals --envelope square.
 printf '[presets.plain]\nsustain_pct = 100\nfinal_pct = 100\n[gm]\n"73" = "plain"\n' >"$tmp/plain.toml"
 expect_ok render "$demo" --track flute --to 4 --config "$tmp/plain.toml" --out "$tmp/plain.csv"

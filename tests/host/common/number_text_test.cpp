@@ -52,6 +52,10 @@ TEST(WholeNumber, RefusesAnythingElse) {
       whole_number("7\0"
                    "0"s,
                    1, 100));
+  EXPECT_FALSE(whole_number(" 5", 1, 100));  // strtol would skip the space
+  EXPECT_FALSE(whole_number("+5", 1, 100));
+  EXPECT_FALSE(whole_number("-", -5, 5));
+  EXPECT_FALSE(whole_number("- 5", -5, 5));
   EXPECT_FALSE(whole_number("99999999999999999999999", 0, LONG_MAX));  // beyond a long
   EXPECT_FALSE(whole_number("-99999999999999999999999", LONG_MIN, 0));
 }
