@@ -187,6 +187,10 @@ int run_flash(const FlashOptions& o) {
 
   std::string build;  // why the image is built first; empty: it is not
   const fs::path image = choose_image(o, *method, build);
+  if (build.empty()) {
+    if (const std::string why = flash::image_problem(image); !why.empty())
+      throw BadInput(fmt::format("{}: {}: not a firmware image for the stm32f407", image.string(), why));
+  }
   const std::vector<std::string> argv = flash::command_line(*method, image.string());
   if (o.dry_run) {
     if (!build.empty()) {

@@ -27,4 +27,10 @@ struct Freshness {
 // modified after it. Folders that do not exist are skipped.
 Freshness image_freshness(const std::filesystem::path& image, const std::filesystem::path& source_dir);
 
+// Empty when `image` looks like an stm32f407 image of its kind; otherwise why not, for the user. A .bin
+// must fit the 1 MiB of flash and begin with the vector table the boards/stm32f407 linker script puts
+// there (the initial stack pointer in SRAM or CCM, a Thumb reset address in flash); an .elf must be a 32-bit
+// ARM ELF. Cheap (reads 20 bytes), and what a flasher would otherwise write as given.
+std::string image_problem(const std::filesystem::path& image);
+
 }  // namespace hmp::flash

@@ -10,8 +10,12 @@ set -u
 hmp="$1"; repo="$2"
 source "$(dirname "${BASH_SOURCE[0]}")/lib.bash"
 
+# The least that passes hmp's look at an image: a .bin's vector table (the stack pointer 0x20020000 in SRAM,
+# the Thumb reset address 0x08000101 in flash), a 32-bit ARM ELF header.
+fake_bin() { printf '\000\000\002\040\001\001\000\010' >"$1"; }
+fake_elf() { printf '\177ELF\001\001\001\000\000\000\000\000\000\000\000\000\002\000\050\000' >"$1"; }
 img="$tmp/my fw"  # a space: the printed command must quote it
-: >"$img.elf"; : >"$img.bin"
+fake_elf "$img.elf"; fake_bin "$img.bin"
 run flash --dry-run --method dfu --firmware "$img.elf"
 check "dfu dry run" "dfu-util -d 0483:df11 -a 0 -s 0x08000000:leave -D '$img.bin'" "$out"; check "dfu rc" 0 "$rc"
 run flash --dry-run --method stlink --firmware "$img.bin"
@@ -34,9 +38,17 @@ run flash --firmware "$tmp/fw.hex"
 check "wrong kind rc" 2 "$rc"
 run flash --timeout-s -1 --firmware "$img.bin"
 check "bad timeout rc" 2 "$rc"
+# Not an image for the board: refused before any tool runs (a flasher would write it as given).
+: >"$tmp/empty.bin"; truncate -s 1025K "$tmp/big.bin"; printf 'MThd\0\0\0\6' >"$tmp/song.bin"; cp /bin/sh "$tmp/host.elf"
+for bad in "empty.bin|empty" "big.bin|larger than the board's 1 MiB of flash" \
+  "song.bin|does not begin with an stm32f407 vector table" "host.elf|not a 32-bit ARM ELF file"; do
+  run flash --dry-run --firmware "$tmp/${bad%%|*}" --method "$([ "${bad%%|*}" = host.elf ] && echo openocd || echo dfu)"
+  check "${bad%%|*}: rc" 2 "$rc"
+  check "${bad%%|*}: message" "error: $tmp/${bad%%|*}: ${bad#*|}: not a firmware image for the stm32f407" "$err"
+done
 
 # No tool on PATH: the package to install.
-: >"$img.elf"
+fake_elf "$img.elf"
 PATH="$tmp/empty" run flash --method stlink --firmware "$img.bin"
 check "no st-flash rc" 1 "$rc"
 check "no st-flash message" "error: st-flash not found — install it: sudo apt install stlink-tools" "$err"
@@ -65,7 +77,7 @@ if ! "$hmp" devices --json | grep -q '"kind":"stlink"'; then
   PATH="$tmp/bin:$PATH" run flash --method openocd --firmware "$img.bin"
   # (openocd wants the .elf, which is gone: bad input first)
   check "openocd no elf rc" 2 "$rc"
-  : >"$img.elf"
+  fake_elf "$img.elf"
   PATH="$tmp/bin:$PATH" run flash --method stlink --firmware "$img.bin"
   check "no ST-LINK rc" 1 "$rc"
   grep -q "no ST-LINK probe found" <<<"$err" || { echo "FAIL: no-probe hint: [$err]"; fail=1; }
@@ -84,7 +96,8 @@ echo "FAKE CMAKE \$* in \$(pwd)" | tee -a "\$CMAKE_LOG"
 if [ "\$1" = --preset ]; then mkdir -p build/stm32f407 && : >build/stm32f407/CMakeCache.txt; fi
 if [ "\$1" = --build ]; then
   mkdir -p build/stm32f407/boards/stm32f407
-  : >build/stm32f407/boards/stm32f407/$image.bin && : >build/stm32f407/boards/stm32f407/$image.elf
+  printf '\000\000\002\040\001\001\000\010' >build/stm32f407/boards/stm32f407/$image.bin
+  printf '\177ELF\001\001\001\000\000\000\000\000\000\000\000\000\002\000\050\000' >build/stm32f407/boards/stm32f407/$image.elf
 fi
 FAKE
 chmod +x "$tmp/bin/cmake"
