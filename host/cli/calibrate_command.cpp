@@ -18,6 +18,7 @@
 #include "host/output/output_file.hpp"
 #include "host/config/config_edit.hpp"
 #include "host/simulate/calibration.hpp"
+#include "host/simulate/plant_config.hpp"
 #include "host/transport/device_spec.hpp"
 
 namespace hmp::cli {
@@ -50,11 +51,13 @@ void check_options(const CalibrateOptions& o) {
   }
 }
 
-// The setup the player would use: the config's direction and tick rate.
+// The setup the player would use: the config's direction and tick rate, and its [plant] (the device the
+// user simulates; hmp sim takes the same).
 simulate::CalibrationSetup setup_from(const config::Config& cfg) {
   simulate::CalibrationSetup s;
   if (cfg.tick_hz) s.tick_hz = *cfg.tick_hz;
   if (cfg.direction) s.direction = *cfg.direction;
+  simulate::apply_plant_settings(cfg.plant, {}, s.plant);
   return s;
 }
 

@@ -30,6 +30,7 @@
 #include "host/simulate/plant_config.hpp"
 #include "host/simulate/work_precision.hpp"
 #include "host/simulate/sim_host.hpp"
+#include "shared/protocol/protocol.hpp"
 
 namespace hmp::cli {
 
@@ -153,7 +154,9 @@ void draw_work_precision(const SimCliOptions& o, const simulate::WorkPrecision& 
 int run_sim(const SimCliOptions& o) {
   const std::string fmt_out = o.out == "-" ? "csv" : output::extension_of(o.out);
   if (fmt_out != "csv" && fmt_out != "png") throw BadInput("--out " + o.out + ": use a .csv or .png file");
-  if (!(o.peak_force_n > 0 && o.peak_force_n <= 20)) throw BadInput("--peak-force: must be in (0, 20] N");
+  const auto most_n = static_cast<double>(protocol::kMaxPeakForceN);
+  if (!(o.peak_force_n > 0 && o.peak_force_n <= most_n))
+    throw BadInput(fmt::format("--peak-force: must be in (0, {:g}] N", most_n));
   sim::SimOptions so;
   so.plant = sim::PlantOptions{};
   // Each config's [plant] in turn (later files override earlier ones), then the command line's options.

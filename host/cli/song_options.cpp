@@ -14,6 +14,7 @@
 #include "host/common/input_file.hpp"
 #include "host/common/number_text.hpp"
 #include "host/midi/gm.hpp"
+#include "host/simulate/plant_config.hpp"
 
 namespace hmp::cli {
 
@@ -68,7 +69,20 @@ mapping::Mode parse_mapping_mode(const std::string& text) {
 
 haptics::HapticOptions resolve(const HapticCliOptions& o) {
   haptics::HapticOptions h;
-  for (const std::string& path : o.config_paths) haptics::apply_config(config::load(path), h);
+  for (const std::string& path : o.config_paths) {
+    const config::Config c = config::load(path);
+    try {
+      haptics::apply_config(c, h);
+      // [plant] is hmp sim's and calibrate's; a value they would refuse is refused by every command, so
+      // that one config is good or bad everywhere.
+      sim::plant::PlantParams unused;
+      simulate::apply_plant_settings(c.plant, {}, unused);
+    } catch (const BadInput& e) {
+      std::string what = e.what();  // which of several configs, in place of a bare "config: "
+      if (what.starts_with("config: ")) what.erase(0, 8);
+      throw BadInput(path + ": " + what);
+    }
+  }
   if (o.mapping) h.mapping = parse_mapping_mode(*o.mapping);
   if (o.key_scope) {
     haptics::KeyScope scope;

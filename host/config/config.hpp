@@ -10,7 +10,7 @@
 //   [measured]  "33" = "NAME"             (program → preset `hmp envelope measure` fitted to its sound)
 //   [device]    tick_hz = 1000            peak_force_n = 1.0 (0–20 N)   direction = [0, 1, 0] (any length:
 //               the unit vector along it)
-//   [plant]     the simulated device's physics (`hmp sim`, `hmp play --device sim`): string_stiffness
+//   [plant]     the simulated plant's physics (`hmp sim`, `hmp calibrate`; checked by every command): string_stiffness
 //               (N/m), string_damping (N·s/m), grip_mass (kg), motor_inertia (kg·m²), motor_inductance (H),
 //               finger_stiffness (N/m), finger_damping (N·s/m), integrator = "exponential", max_step (s)
 #include <array>

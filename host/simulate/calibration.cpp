@@ -74,6 +74,7 @@ GripMotion measure_grip(const CalibrationSetup& setup, double hz, double peak_fo
   sim::SimOptions so;
   so.tick_hz = setup.tick_hz;
   so.plant = sim::PlantOptions{};
+  so.plant->params = setup.plant;
   so.plant->observe_substeps = 4;  // the grip sampled between ticks too
   sim::SimDevice dev(so);
   SimHost host(dev);

@@ -12,16 +12,20 @@
 #include <string>
 #include <vector>
 
+#include "boards/sim/sim_device.hpp"
+#include "shared/protocol/protocol.hpp"
+
 namespace hmp::simulate {
 
 inline constexpr double kBandLowHz = 50.0, kBandHighHz = 250.0;  // the paper's vibration band
-inline constexpr double kMaxPeakForceN = 20.0;                   // protocol Settings: (0, 20] N
+inline constexpr auto kMaxPeakForceN = static_cast<double>(protocol::kMaxPeakForceN);
 
 struct CalibrationSetup {
   std::uint32_t tick_hz = 1000;
-  std::array<double, 3> direction{0.0, 1.0, 0.0};  // the config's [device] direction
-  double settle_s = 0.2;                           // from the note's start until the transients died down
-  double window_s = 0.2;                           // the measured stretch after it
+  std::array<double, 3> direction{0.0, 1.0, 0.0};      // the config's [device] direction
+  sim::plant::PlantParams plant = sim::drive_scene();  // the simulated device's, with the config's [plant]
+  double settle_s = 0.2;                               // from the note's start until the transients died down
+  double window_s = 0.2;                               // the measured stretch after it
 };
 
 // The grip's steady motion under a full-scale sine.

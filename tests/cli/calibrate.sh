@@ -26,6 +26,16 @@ grep -q "250 Hz" "$tmp/out" && grep -q " 50 Hz" "$tmp/out" || { echo "FAIL: no b
 "$hmp" calibrate --frequency 100 --config "$cfg" >"$tmp/out" 2>"$tmp/err" || { echo "FAIL: good run"; cat "$tmp/err"; fail=1; }
 grep -q '^peak_force_n = 1[01]\.' "$cfg" || { echo "FAIL: new config:"; cat "$cfg"; fail=1; }
 
+# The config's [plant] is the device measured: a lighter grip needs less force for the same 1 mm (the
+# default plant's 10–11 N above), a bad [plant] value is refused like hmp sim refuses it.
+printf '[plant]\ngrip_mass = 0.02\n' >"$tmp/light.toml"
+"$hmp" calibrate --frequency 100 --config "$tmp/light.toml" --force >"$tmp/out" 2>"$tmp/err" || { echo "FAIL: light grip"; cat "$tmp/err"; fail=1; }
+grep -q '^peak_force_n = 9\.' "$tmp/light.toml" || { echo "FAIL: [plant] not measured:"; cat "$tmp/light.toml"; fail=1; }
+printf '[plant]\nintegrator = "cvode"\n' >"$tmp/badplant.toml"
+expect_bad "plant.integrator cvode: unknown" --frequency 100 --config "$tmp/badplant.toml" --force
+grep -q peak_force_n "$tmp/badplant.toml" && { echo "FAIL: a bad [plant] was calibrated"; fail=1; }
+rm -f "$tmp/light.toml" "$tmp/badplant.toml"
+
 # An existing file: refused without --force (no terminal to ask), kept as it was.
 printf '# my settings\n[mapping]\nmode = "paper"\n\n[device]\ntick_hz = 1000\npeak_force_n = 2.0  # old\n' >"$cfg"
 before=$(md5sum <"$cfg")

@@ -96,6 +96,12 @@ printf '[mapping\nmode = "paper"\n' >"$tmp/broken.toml"
 expect_bad "broken.toml:" render "$demo" --track flute --config "$tmp/broken.toml" --out "$tmp/c.csv"
 printf '[presets.soft]\nattack_ms = 10\nsustain_pct = 150\n' >"$tmp/range.toml"
 expect_bad "sustain_pct" render "$demo" --track flute --config "$tmp/range.toml" --out "$tmp/c.csv"
+# A config is good or bad for every command: [plant] (hmp sim's) refused by play too; a bad value named with
+# the file it is in
+printf '[plant]\nintegrator = "cvode"\n' >"$tmp/plant.toml"
+expect_bad "plant.toml: plant.integrator cvode: unknown" play "$demo" --track flute --to 1 --device sim --no-audio --no-view --config "$tmp/plant.toml"
+printf '[mapping]\nmode = "papr"\n' >"$tmp/papr.toml"
+expect_bad "papr.toml: unknown mapping mode 'papr'" render "$demo" --track flute --to 1 --config "$tmp/papr.toml" --out "$tmp/c.csv"
 # [device]: checked when the config is read, before any device (play told only after it had connected)
 for bad in "peak_force_n = -5|'device.peak_force_n' must be in (0, 20] N" "peak_force_n = 1e300|'device.peak_force_n' must be in (0, 20] N" \
   "direction = [0.0, 0.0, 0.0]|'device.direction' must be a finite, non-zero vector"; do
