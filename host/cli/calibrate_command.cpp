@@ -17,6 +17,7 @@
 #include "host/config/config.hpp"
 #include "host/output/output_file.hpp"
 #include "host/config/config_edit.hpp"
+#include "host/haptics/haptic_track.hpp"
 #include "host/simulate/calibration.hpp"
 #include "host/simulate/plant_config.hpp"
 #include "host/transport/device_spec.hpp"
@@ -111,6 +112,11 @@ int run_calibrate(const CalibrateOptions& o) {
   const bool can_ask = isatty(STDIN_FILENO) && isatty(STDERR_FILENO);
   if (o.config_path) output::check_writable(*o.config_path, o.force || can_ask);
   const simulate::CalibrationSetup setup = setup_from(cfg);
+  if (simulate::kBandHighHz >= haptics::kHighestFreqFraction * setup.tick_hz) {
+    throw BadInput(fmt::format("{}: [device] tick_hz {}: the band's {:g} Hz is above {:g} × the tick rate (aliasing)",
+                               o.config_path.value_or("config"), setup.tick_hz, simulate::kBandHighHz,
+                               haptics::kHighestFreqFraction));
+  }
 
   std::printf("reference: %g Hz sine at full scale on the simulated plant, target %g mm peak\n", hz, o.target_mm);
   const simulate::Calibration c = simulate::calibrate(setup, hz, target_m);

@@ -11,6 +11,7 @@
 #include "host/cli/commands.hpp"
 #include "host/common/error.hpp"
 #include "host/haptics/adsr_option.hpp"
+#include "host/haptics/haptic_track.hpp"
 #include "host/haptics/signal_renderer.hpp"
 #include "host/export/signal_export.hpp"
 #include "shared/synth/frequency.hpp"
@@ -34,10 +35,10 @@ struct ToneOptions {
 
 int run_tone(const ToneOptions& o) {
   if (!std::isfinite(o.freq_hz) || o.freq_hz <= 0) throw BadInput("--freq: must be a positive number of Hz");
-  const double alias_limit = 0.45 * o.tick_hz;
+  const double alias_limit = haptics::kHighestFreqFraction * o.tick_hz;
   if (o.freq_hz >= alias_limit) {
-    throw BadInput(
-        fmt::format("--freq {:g}: must be below 0.45 × tick rate = {:g} Hz (aliasing)", o.freq_hz, alias_limit));
+    throw BadInput(fmt::format("--freq {:g}: must be below {:g} × tick rate = {:g} Hz (aliasing)", o.freq_hz,
+                               haptics::kHighestFreqFraction, alias_limit));
   }
   if (o.freq_hz > synth::kFreqMaxHz) throw BadInput("--freq: above the device's top frequency 4096 Hz");
   if (!std::isfinite(o.amp) || o.amp <= 0 || o.amp > 1) throw BadInput("--amp: must be in (0, 1]");

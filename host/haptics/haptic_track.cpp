@@ -125,10 +125,10 @@ void validate(const HapticOptions& o) {
   if (!(r.f_min_hz > 0) || !(r.f_max_hz >= r.f_min_hz) || !std::isfinite(r.f_max_hz)) {
     throw BadInput(fmt::format("--freq-range: need 0 < min ≤ max (got {:g}:{:g})", r.f_min_hz, r.f_max_hz));
   }
-  const double alias = 0.45 * o.tick_hz;
+  const double alias = kHighestFreqFraction * o.tick_hz;
   if (r.f_max_hz >= alias) {
-    throw BadInput(fmt::format("--freq-range: top {:g} Hz must be below 0.45 × tick rate = {:g} Hz (aliasing)",
-                               r.f_max_hz, alias));
+    throw BadInput(fmt::format("--freq-range: top {:g} Hz must be below {:g} × tick rate = {:g} Hz (aliasing)",
+                               r.f_max_hz, kHighestFreqFraction, alias));
   }
   if (r.f_max_hz > synth::kFreqMaxHz) throw BadInput("--freq-range: above the device's top frequency 4096 Hz");
   if (!std::isfinite(r.a_min_db) || !std::isfinite(r.a_max_db) || r.a_min_db > r.a_max_db) {

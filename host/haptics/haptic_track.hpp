@@ -47,8 +47,12 @@ struct HapticOptions {
 // Applies a loaded config (values the command line did not set explicitly are taken from it; the caller
 // applies the config first and the command line after).
 void apply_config(const config::Config& cfg, HapticOptions& opts);
-// Throws BadInput when the options cannot work: empty/inverted ranges, f_max ≥ 0.45 × tick rate,
-// unknown envelope name.
+// The highest vibration frequency, as a fraction of the tick rate: the device's sine is one sample a
+// tick, and above this its alias is as loud as it.
+inline constexpr double kHighestFreqFraction = 0.45;
+
+// Throws BadInput when the options cannot work: empty/inverted ranges, f_max ≥ kHighestFreqFraction ×
+// tick rate, unknown envelope name.
 void validate(const HapticOptions& opts);
 
 // One note on its way to the device, with where it came from.

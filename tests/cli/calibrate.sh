@@ -34,7 +34,11 @@ grep -q '^peak_force_n = 9\.' "$tmp/light.toml" || { echo "FAIL: [plant] not mea
 printf '[plant]\nintegrator = "cvode"\n' >"$tmp/badplant.toml"
 expect_bad "plant.integrator cvode: unknown" --frequency 100 --config "$tmp/badplant.toml" --force
 grep -q peak_force_n "$tmp/badplant.toml" && { echo "FAIL: a bad [plant] was calibrated"; fail=1; }
-rm -f "$tmp/light.toml" "$tmp/badplant.toml"
+# A tick rate the config allows but the band aliases at: refused, not "323643 mm at 200 Hz"
+printf '[device]\ntick_hz = 100\n' >"$tmp/slow.toml"
+expect_bad "slow.toml: \[device\] tick_hz 100: the band's 250 Hz is above 0.45 × the tick rate" --config "$tmp/slow.toml" --force
+grep -q peak_force_n "$tmp/slow.toml" && { echo "FAIL: calibrated at 100 Hz ticks"; fail=1; }
+rm -f "$tmp/light.toml" "$tmp/badplant.toml" "$tmp/slow.toml"
 
 # An existing file: refused without --force (no terminal to ask), kept as it was.
 printf '# my settings\n[mapping]\nmode = "paper"\n\n[device]\ntick_hz = 1000\npeak_force_n = 2.0  # old\n' >"$cfg"
