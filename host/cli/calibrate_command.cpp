@@ -93,7 +93,13 @@ void write_config(const std::string& path, bool exists, double newtons) {
     throw std::runtime_error(path + ": write failed");
   }
   // The edited file must read back with the new value before it replaces the old one.
-  const config::Config back = config::load(output::part_path(path));
+  config::Config back;
+  try {
+    back = config::load(output::part_path(path));
+  } catch (const BadInput& e) {  // our edit's fault, not the user's file: the file stays as it was
+    throw std::runtime_error(path + ": the edited config would not read back, so it is left as it was (" + e.what() +
+                             ")");
+  }
   if (!back.peak_force_n || std::fabs(*back.peak_force_n - newtons) > 1e-3 * newtons) {
     throw std::runtime_error(path + ": the edited config does not read back peak_force_n");
   }

@@ -11,13 +11,20 @@ std::string with_peak_force(std::string_view toml, double newtons) {
   std::string out;
   std::string_view table;  // the current [table] header's name
   bool in_device = false, done = false, seen_device = false;
+  std::size_t last_end = 1;  // what the last line's end added to out
   std::size_t device_header_end = std::string::npos;
   auto trim = [](std::string_view s) {
     const auto b = s.find_first_not_of(" \t\r");
     if (b == std::string_view::npos) return std::string_view{};
     return s.substr(b, s.find_last_not_of(" \t\r") - b + 1);
   };
-  std::size_t pos = 0;
+  // A UTF-8 byte-order mark (TOML readers skip it) is kept, and not taken as part of the first line.
+  constexpr std::string_view kBom = "\xEF\xBB\xBF";
+  const std::size_t bom = toml.starts_with(kBom) ? kBom.size() : 0;
+  out.append(toml.substr(0, bom));
+  std::size_t pos = bom;
+  // The lines written here end as the file's do (CRLF or LF).
+  const std::string_view eol_text = toml.find("\r\n") != std::string_view::npos ? "\r\n" : "\n";
   while (pos < toml.size()) {
     std::size_t eol = toml.find('\n', pos);
     if (eol == std::string_view::npos) eol = toml.size();
@@ -29,6 +36,7 @@ std::string with_peak_force(std::string_view toml, double newtons) {
       table = trim(s.substr(1, close == std::string_view::npos ? 0 : close - 1));
       in_device = table == "device";
       out.append(raw).append("\n");
+      last_end = 1;
       if (in_device) {
         seen_device = true;
         device_header_end = out.size();
@@ -45,17 +53,25 @@ std::string with_peak_force(std::string_view toml, double newtons) {
       const std::size_t hash = s.find('#');
       out.append(line);
       if (hash != std::string_view::npos) out.append("  ").append(s.substr(hash));
-      out.append("\n");
+      out.append(eol_text);
+      last_end = eol_text.size();
       done = true;
       continue;
     }
     out.append(raw).append("\n");
+    last_end = 1;
   }
-  if (!toml.empty() && !toml.ends_with('\n')) out.pop_back();  // the file's last line as it was
+  if (toml.size() > bom && !toml.ends_with('\n')) out.resize(out.size() - last_end);  // the last line as it was
   if (done) return out;
-  if (seen_device) return out.insert(device_header_end, line + "\n");
-  if (!out.empty() && !out.ends_with('\n')) out.append("\n");
-  return out.append(out.empty() ? "" : "\n").append("[device]\n").append(line).append("\n");
+  const std::string eol(eol_text);
+  if (seen_device) return out.insert(device_header_end, line + eol);
+  if (out.size() > bom && !out.ends_with('\n')) out.append(eol);
+  return out
+      .append(out.size() > bom ? eol : "")  // a blank line after what the file had
+      .append("[device]")
+      .append(eol)
+      .append(line)
+      .append(eol);
 }
 
 }  // namespace hmp::config
