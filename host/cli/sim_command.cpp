@@ -42,7 +42,7 @@ struct SimCliOptions {
   std::string out = "-";
   std::optional<double> from_s, to_s;
   bool force = false;
-  double peak_force_n = 1.0;
+  std::optional<double> peak_force_n;  // default: the config's [device] peak_force_n, else 1 N
   bool plain_drive = false;
   bool work_precision = false;
   simulate::PlantOverrides plant;
@@ -155,14 +155,21 @@ int run_sim(const SimCliOptions& o) {
   const std::string fmt_out = o.out == "-" ? "csv" : output::extension_of(o.out);
   if (fmt_out != "csv" && fmt_out != "png") throw BadInput("--out " + o.out + ": use a .csv or .png file");
   const auto most_n = static_cast<double>(protocol::kMaxPeakForceN);
-  if (!(o.peak_force_n > 0 && o.peak_force_n <= most_n))
+  if (o.peak_force_n && !(*o.peak_force_n > 0 && *o.peak_force_n <= most_n))
     throw BadInput(fmt::format("--peak-force: must be in (0, {:g}] N", most_n));
   sim::SimOptions so;
   so.plant = sim::PlantOptions{};
-  // Each config's [plant] in turn (later files override earlier ones), then the command line's options.
-  for (const std::string& path : o.haptic.config_paths)
-    simulate::apply_plant_settings(config::load(path).plant, {}, so.plant->params);
+  // Each config's [plant] and [device] in turn (later files override earlier ones), then the command line.
+  protocol::Settings settings;
+  for (const std::string& path : o.haptic.config_paths) {
+    const config::Config c = config::load(path);
+    simulate::apply_plant_settings(c.plant, {}, so.plant->params);
+    if (c.peak_force_n) settings.peak_force_n = static_cast<float>(*c.peak_force_n);
+    if (c.direction)
+      for (std::size_t i = 0; i < 3; ++i) settings.direction[i] = static_cast<float>((*c.direction)[i]);
+  }
   simulate::apply_plant_settings({}, o.plant, so.plant->params);
+  if (o.peak_force_n) settings.peak_force_n = static_cast<float>(*o.peak_force_n);
   const haptics::HapticOptions opts = resolve(o.haptic);
   output::check_writable(o.out, o.force);
 
@@ -181,10 +188,8 @@ int run_sim(const SimCliOptions& o) {
   so.drive.compensator.enabled = !o.plain_drive;
   sim::SimDevice dev(so);
   simulate::SimHost host(dev);
-  protocol::Settings settings;
   settings.policy = static_cast<protocol::PolicyCode>(opts.polyphony);
   settings.end_fade_ms = static_cast<float>(opts.end_fade_ms);
-  settings.peak_force_n = static_cast<float>(o.peak_force_n);
   host.send(protocol::make(protocol::Type::hello, 0));
   protocol::Message m = protocol::make(protocol::Type::settings, 0);
   m.settings = settings;
@@ -202,7 +207,9 @@ int run_sim(const SimCliOptions& o) {
   const std::uint64_t base = dev.tick() + (static_cast<std::uint64_t>(settings.ramp_in_ms) + 100) * opts.tick_hz / 1000;
   const std::vector<synth::Note> notes = simulate::window_notes(ht, first, end, base);
   const std::uint64_t lookahead = opts.tick_hz / 5, sync_period = opts.tick_hz / 10;
-  const double dir_y = static_cast<double>(settings.direction[1]);  // the direction is (0, 1, 0) unless configured
+  const sim::plant::Vec3d direction{static_cast<double>(settings.direction[0]),
+                                    static_cast<double>(settings.direction[1]),
+                                    static_cast<double>(settings.direction[2])};  // (0, 1, 0) unless configured
 
   simulate::PlantScene replay;  // --work-precision: the passage's input, from the plant's reset on
   replay.name = "passage";
@@ -235,7 +242,7 @@ int run_sim(const SimCliOptions& o) {
     if (dev.tick() < base) continue;
     simulate::ForceSample s;
     s.commanded = dev.last_output() * settings.peak_force_n;
-    s.actual = static_cast<float>(before.string_force.y * dir_y);
+    s.actual = static_cast<float>(spidar::dot(before.string_force, direction));
     s.reported = dev.core().status().force_n;
     s.min_tension = static_cast<float>(*std::min_element(std::begin(before.tension), std::end(before.tension)));
     s.max_tension = static_cast<float>(*std::max_element(std::begin(before.tension), std::end(before.tension)));
@@ -280,7 +287,8 @@ int run_sim(const SimCliOptions& o) {
     std::fprintf(stderr, "warning: the device latched faults 0x%x (see docs/spidar.md, Firmware drive)\n",
                  dev.core().faults());
   }
-  const simulate::Fidelity fid = simulate::measure_fidelity(samples, opts.tick_hz, o.peak_force_n);
+  const simulate::Fidelity fid =
+      simulate::measure_fidelity(samples, opts.tick_hz, static_cast<double>(settings.peak_force_n));
   std::fprintf(stderr,
                "fidelity: actual/commanded RMS over %zu windows of 20 ms: mean |error| %.1f%%, worst %.1f%%; "
                "delay %.2f ms\n",
@@ -322,7 +330,8 @@ void register_sim(CLI::App& app, Registry& registry) {
       ->capture_default_str();
   cmd->add_option("--from", o->from_s, "Start of the window in seconds of the song");
   cmd->add_option("--to", o->to_s, "End of the window in seconds of the song");
-  cmd->add_option("--peak-force", o->peak_force_n, "Force at full scale in N (device setting, default 1)");
+  cmd->add_option("--peak-force", o->peak_force_n,
+                  "Force at full scale in N (device setting; default: the config's [device] peak_force_n, else 1)");
   cmd->add_flag("--plain-drive", o->plain_drive, "Stall duties without the dynamics compensation (to compare)");
   cmd->add_option("--integrator", o->plant.integrator,
                   "Plant integrator: " + simulate::integrator_names() + " (default " +

@@ -12,6 +12,15 @@ source "$(dirname "${BASH_SOURCE[0]}")/lib.bash"
 
 bad_prefix=(sim "$demo" --track flute --from 10 --to 10.2)
 
+# The config's [device] is the device simulated: its peak_force_n is --peak-force's default (it was ignored)
+printf '[device]\npeak_force_n = 5\n' >"$tmp/peak.toml"
+"$hmp" sim "$demo" --track flute --from 2 --to 2.5 --out "$tmp/default.csv" 2>/dev/null
+"$hmp" sim "$demo" --track flute --from 2 --to 2.5 --config "$tmp/peak.toml" --out "$tmp/config.csv" 2>/dev/null
+"$hmp" sim "$demo" --track flute --from 2 --to 2.5 --peak-force 5 --out "$tmp/option.csv" 2>/dev/null
+cmp -s "$tmp/config.csv" "$tmp/option.csv" || { echo "FAIL: [device] peak_force_n = 5 is not --peak-force 5"; fail=1; }
+cmp -s "$tmp/config.csv" "$tmp/default.csv" && { echo "FAIL: [device] peak_force_n had no effect"; fail=1; }
+rm -f "$tmp/default.csv" "$tmp/config.csv" "$tmp/option.csv" "$tmp/peak.toml"
+
 for v in 0 -1 nan inf 1e10; do
   expect_bad "string-stiffness" --string-stiffness "$v"
   expect_bad "max-step" --max-step "$v"
