@@ -252,11 +252,20 @@ int run_sim(const SimCliOptions& o) {
   }
   host.collect();
   if (dev.plant_unstable()) {
-    throw std::runtime_error(fmt::format(
-        "the plant simulation went unstable at {:.3f} s: integrator {} is past its "
-        "stable step (use {})",
-        static_cast<double>(samples.size()) / opts.tick_hz, sim::plant::method_name(so.plant->params.stepper.method),
-        sim::plant::method_name(simulate::default_method())));
+    const double at_s = static_cast<double>(samples.size()) / opts.tick_hz;
+    const sim::plant::Method method = so.plant->params.stepper.method;
+    // The default integrator is stable on any plant it can represent: there the values are at fault.
+    if (method == simulate::default_method()) {
+      throw BadInput(
+          fmt::format("the plant went unstable at {:.3f} s under the default integrator: its values "
+                      "([plant], --string-stiffness) are beyond what can be simulated (a mass or inertia "
+                      "near zero?)",
+                      at_s));
+    }
+    throw std::runtime_error(
+        fmt::format("the plant simulation went unstable at {:.3f} s: integrator {} is past its "
+                    "stable step (use {})",
+                    at_s, sim::plant::method_name(method), sim::plant::method_name(simulate::default_method())));
   }
   const midi::Track& t = r.song.tracks[track];
   if (o.work_precision) {

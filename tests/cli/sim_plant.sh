@@ -12,6 +12,10 @@ source "$(dirname "${BASH_SOURCE[0]}")/lib.bash"
 
 bad_prefix=(sim "$demo" --track flute --from 10 --to 10.2)
 
+# A plant no integrator can carry (a grip of 10⁻³⁰⁰ kg): the values are at fault, exit 2, not "use exponential"
+printf '[plant]\ngrip_mass = 1e-300\n' >"$tmp/tiny.toml"
+expect_bad "unstable at 0.001 s under the default integrator: its values" --config "$tmp/tiny.toml"
+rm -f "$tmp/tiny.toml"
 # The config's [device] is the device simulated: its peak_force_n is --peak-force's default (it was ignored)
 printf '[device]\npeak_force_n = 5\n' >"$tmp/peak.toml"
 "$hmp" sim "$demo" --track flute --from 2 --to 2.5 --out "$tmp/default.csv" 2>/dev/null
