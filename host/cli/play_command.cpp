@@ -4,6 +4,7 @@
 #include <malloc.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -79,6 +80,10 @@ ReadySong ready_song(const PlayOptions& o, const std::string& path, bool alone) 
   midi::ReadResult r = midi::load_song(path);
   for (const midi::Warning& w : r.warnings) warn_on_stderr(w.message);
   out.song = std::move(r.song);
+  // Nothing to feel or hear, whichever --track: refused alone, skipped in a playlist.
+  if (std::none_of(out.song.tracks.begin(), out.song.tracks.end(),
+                   [](const midi::Track& t) { return t.note_count > 0; }))
+    throw BadInput("the song has no notes to play");
   check_start_in_song(o.from_s, out.song.duration_us);
   std::optional<std::uint32_t> chosen;
   if (o.track) {
