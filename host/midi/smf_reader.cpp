@@ -130,6 +130,12 @@ class SmfReader {
       state_.warnings.add(-1, at + 12, "division of 0 ticks per quarter note; read as 96");
       division_.ticks_per_quarter = 96;
     }
+    if (division_.smpte && division_.fps != 24 && division_.fps != 25 && division_.fps != 29 && division_.fps != 30) {
+      // SMPTE time code has 24, 25, 29.97 (drop-frame, coded −29) and 30 frames a second.
+      state_.warnings.add(-1, at + 12,
+                          "SMPTE division of " + std::to_string(division_.fps) +
+                              " frames a second (not 24, 25, 29.97 or 30); read as given");
+    }
     if (division_.smpte && division_.ticks_per_frame == 0) {
       state_.warnings.add(-1, at + 12, "SMPTE division with 0 ticks per frame; read as 1");
       division_.ticks_per_frame = 1;

@@ -661,6 +661,14 @@ TEST(MidiReader, SmpteDivisionIgnoresTempo) {
   r = read(c);
   EXPECT_EQ(r.song.division.fps, 29);
   EXPECT_NEAR(r.song.end_s(r.song.notes[0]), 1000.0 * 1001.0 / 120000.0, 1e-6);
+  EXPECT_TRUE(r.warnings.empty()) << all_warnings(r);
+
+  // 123 fps (high byte 0x85) is no SMPTE rate: read as given, with a warning.
+  Bytes d = header(1, 1, 0x8501);
+  append(d, chunk("MTrk", t.data));
+  r = read(d);
+  EXPECT_EQ(r.song.division.fps, 123);
+  EXPECT_NE(all_warnings(r).find("SMPTE division of 123 frames a second"), std::string::npos) << all_warnings(r);
 }
 
 // ---- programs ----
