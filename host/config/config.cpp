@@ -33,6 +33,9 @@ class Reader {
 
   double number(const toml::node& n, const std::string& where) const {
     if (auto v = n.value<double>(); v && std::isfinite(*v)) return *v;
+    // An integer beyond 2^53 is a number all the same (toml++ will not round it to a double): its range
+    // is checked where it is used.
+    if (const toml::value<std::int64_t>* i = n.as_integer()) return static_cast<double>(i->get());
     fail("'" + where + "' must be a finite number");
   }
 

@@ -122,6 +122,9 @@ for key in 128 -1 7x 1e1 "" '5\u0000' ' 5' +5; do
   expect_bad "gm: key '$shown' must be a GM program number" render "$demo" --track flute \
     --config "$tmp/gm_key.toml" --out "$tmp/c.csv"
 done
+# An integer beyond 2^53 is a number out of range, not "not a finite number"
+printf '[presets.p]\nattack_ms = 9223372036854775807\n' >"$tmp/huge.toml"
+expect_bad "'presets.p': durations must be in \[0, 1e7\] ms" info "$demo" --config "$tmp/huge.toml"
 # One program, or one preset name, given twice in other spellings: refused, not the last one silently
 printf '[gm]\n"5" = "organ"\n"05" = "flute"\n' >"$tmp/gm_twice.toml"
 expect_bad "gm: program 5 is given twice" info "$demo" --config "$tmp/gm_twice.toml"
