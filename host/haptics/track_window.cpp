@@ -75,6 +75,7 @@ TrackWindow load_track_window(const std::string& song, const std::string& track,
   for (const HapticNote& n : w.haptic.notes) {
     song_end = std::max(song_end, n.note.start_tick + n.note.duration_ticks);
   }
+  if (song_end == 0) throw BadInput("the song lasts 0 s (no notes, no events after its start)");
   // The song's end in µs, rounded up, so that the window's end comes back to song_end in ticks.
   const auto song_end_us = static_cast<std::int64_t>(
       (static_cast<unsigned __int128>(song_end) * 1000000u + opts.tick_hz - 1) / opts.tick_hz);

@@ -43,6 +43,7 @@ expect_bad "no track matches" render "$demo" --track kazoo --out "$tmp/a.csv"
 printf 'MThd\0\0\0\6\0\1\0\1\1\340MTrk\0\0\0\4\0\377\57\0' >"$tmp/silent.mid"
 expect_bad "no track matches (the song has no notes)" render "$tmp/silent.mid" --track flute --out "$tmp/a.csv"
 expect_bad "the song has no notes to play" play "$tmp/silent.mid" --track 0 --device sim --no-audio --no-view
+expect_bad "the song lasts 0 s" render "$tmp/silent.mid" --track 0 --to 5 --out "$tmp/a.csv"  # not "--from 0 --to 5: empty"
 expect_bad "no such track" render "$demo" --track 42 --out "$tmp/a.csv"
 expect_bad "alias" render "$demo" --track flute --freq-range 50:500 --out "$tmp/a.csv"
 expect_bad "freq-range" render "$demo" --track flute --freq-range 300:50 --out "$tmp/a.csv"
