@@ -31,6 +31,7 @@
 #include "host/simulate/work_precision.hpp"
 #include "host/simulate/sim_host.hpp"
 #include "shared/protocol/protocol.hpp"
+#include "shared/synth/engine.hpp"
 
 namespace hmp::cli {
 
@@ -222,12 +223,16 @@ int run_sim(const SimCliOptions& o) {
   ProgressBar bar("simulating");
   for (std::uint64_t since_sync = 0; dev.tick() + 1 < base + (end - first); ++since_sync) {
     host.collect();
-    while (cursor < notes.size() && notes[cursor].start_tick <= dev.tick() + lookahead && host.credit() > 0) {
+    // Only what the device's inbox takes now: SimHost::send would run the device's ticks until it had
+    // room (a NAKed USB transfer), and those ticks would be missing from the samples. The rest goes on
+    // the next tick, as a host's would after a NAK.
+    const auto room = [&] { return dev.core().inbox_has_room(); };
+    while (cursor < notes.size() && notes[cursor].start_tick <= dev.tick() + lookahead && host.credit() > 0 && room()) {
       m = protocol::Message{};
       cursor += player::make_report(std::span(notes).subspan(cursor), m);
       host.send(m);
     }
-    if (since_sync >= sync_period) {
+    if (since_sync >= sync_period && room()) {
       host.send(protocol::make(protocol::Type::sync, 0));
       since_sync = 0;
     }
@@ -295,6 +300,13 @@ int run_sim(const SimCliOptions& o) {
   if (dev.core().faults() != 0) {
     std::fprintf(stderr, "warning: the device latched faults 0x%x (see docs/spidar.md, Firmware drive)\n",
                  dev.core().faults());
+  }
+  // Notes the device could not play as scheduled: the passage sent more than its link and voices take.
+  if (const protocol::Status st = dev.core().status(); st.late + st.rejected + st.stolen > 0) {
+    std::fprintf(stderr,
+                 "warning: of %zu notes the device started %u late, rejected %u and cut %u short for newer ones "
+                 "(more notes at once than its link and %u voices take)\n",
+                 notes.size(), st.late, st.rejected, st.stolen, static_cast<unsigned>(synth::kVoiceCount));
   }
   const simulate::Fidelity fid =
       simulate::measure_fidelity(samples, opts.tick_hz, static_cast<double>(settings.peak_force_n));
