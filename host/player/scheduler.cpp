@@ -15,6 +15,15 @@ void Scheduler::load(const haptics::HapticTrack& track, std::int64_t song_us) {
     const std::int64_t start = seconds_to_us(n.start_s);
     if (start < from_us_ || start >= to_us_) continue;
     notes_.push_back({{start, n.channel, n.program, n.key}, seconds_to_us(n.end_s), n.note, n.start_s});
+    Entry& e = notes_.back();
+    if (e.end_us > to_us_) {
+      // The passage ends at --to, as render and sim end it: a note still sounding there stops there (a
+      // note that never ends, a missing note-off, would otherwise hold the device for hours).
+      const double kept = static_cast<double>(to_us_ - start) / static_cast<double>(e.end_us - start);
+      e.note.duration_ticks = static_cast<std::uint32_t>(
+          std::max<long long>(1, std::llround(static_cast<double>(e.note.duration_ticks) * kept)));
+      e.end_us = to_us_;
+    }
     last_end_us_ = std::max(last_end_us_, notes_.back().end_us);
   }
   // build_haptic_track sorts by tick; the same order by µs (ticks are rounded µs), ties kept.

@@ -180,6 +180,22 @@ TEST(PlayerScheduler, HandsOutTheWindowOnceInOrderWithinTheHorizon) {
   EXPECT_EQ(s.skipped(), 0u);
 }
 
+// The passage ends at --to: a note still sounding there is cut there, its ticks in proportion (render and
+// sim end it there too); a note starting at --to is not in the passage.
+TEST(PlayerScheduler, ANoteSoundingAtTheEndOfThePassageStopsThere) {
+  hmp::player::Scheduler s(0, 1'050'000);
+  s.load(track_of({0.5, 1.0, 1.05}), 0);
+  EXPECT_EQ(s.size(), 2u);
+  EXPECT_EQ(s.last_end_us(), 1'050'000);
+  const auto tick_of = [](const hmp::player::NoteSound& n) { return static_cast<std::uint64_t>(n.start_us / 1000); };
+  std::vector<hmp::player::NoteOrigin> got;
+  while (auto r = s.next(10'000, 0, tick_of))
+    for (const auto& n : r->notes) got.push_back(n);
+  ASSERT_EQ(got.size(), 2u);
+  EXPECT_EQ(got[0].duration_ticks, 100u);  // 0.5–0.6 s: within the passage, whole
+  EXPECT_EQ(got[1].duration_ticks, 50u);   // 1.0–1.1 s: cut at 1.05 s
+}
+
 TEST(PlayerScheduler, SeekStartsAtTheFirstNoteAtOrAfterThePosition) {
   hmp::player::Scheduler s(0, INT64_MAX);
   s.load(track_of({1.0, 2.0, 2.0, 3.0}), 0);
