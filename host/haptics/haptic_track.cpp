@@ -115,7 +115,13 @@ void apply_config(const config::Config& cfg, HapticOptions& opts) {
     throw BadInput("config: unknown polyphony policy '" + *cfg.polyphony + "'");
   }
   if (cfg.tick_hz) opts.tick_hz = *cfg.tick_hz;
-  for (const auto& [name, adsr] : cfg.presets) opts.user_presets[name] = adsr;
+  for (const auto& [name, adsr] : cfg.presets) {
+    // A preset by a mode's name could never be chosen: --envelope NAME means the mode.
+    if (is_auto(name) || name == "measured")
+      throw BadInput("presets." + name + ": '" + name + "' is an envelope mode (--envelope " + name +
+                     "), not a name a preset can have");
+    opts.user_presets[name] = adsr;
+  }
   for (const auto& [program, name] : cfg.gm) opts.gm_presets[program] = lower(name);
   for (const auto& [program, name] : cfg.measured) opts.measured_presets[program] = lower(name);
 }

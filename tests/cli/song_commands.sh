@@ -126,6 +126,9 @@ done
 # An integer beyond 2^53 is a number out of range, not "not a finite number"
 printf '[presets.p]\nattack_ms = 9223372036854775807\n' >"$tmp/huge.toml"
 expect_bad "'presets.p': durations must be in \[0, 1e7\] ms" info "$demo" --config "$tmp/huge.toml"
+# A preset named like an envelope mode could never be chosen
+printf '[presets.measured]\nattack_ms = 5\n' >"$tmp/mode.toml"
+expect_bad "presets.measured: 'measured' is an envelope mode" info "$demo" --config "$tmp/mode.toml"
 # One program, or one preset name, given twice in other spellings: refused, not the last one silently
 printf '[gm]\n"5" = "organ"\n"05" = "flute"\n' >"$tmp/gm_twice.toml"
 expect_bad "gm: program 5 is given twice" info "$demo" --config "$tmp/gm_twice.toml"
