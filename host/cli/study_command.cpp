@@ -462,7 +462,7 @@ void register_study(CLI::App& app, Registry& registry) {
                        ? std::string()
                        : text + " is not a whole number from 0 to 18446744073709551615";
           },
-          "UINT"));
+          ""));
   cmd->add_option("--song", o->song, "The song of the main rounds (default: the demo)")->capture_default_str();
   cmd->add_option("--practice-song", o->practice_song,
                   "The song of the practice rounds, with a violin and a contrabass track (default: BWV 1079's Largo)")
