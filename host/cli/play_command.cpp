@@ -78,22 +78,24 @@ struct ReadySong {
 ReadySong ready_song(const PlayOptions& o, const std::string& path, bool alone) {
   ReadySong out;
   midi::ReadResult r = midi::load_song(path);
-  for (const midi::Warning& w : r.warnings) warn_on_stderr(w.message);
-  out.song = std::move(r.song);
-  // Nothing to feel or hear, whichever --track: refused alone, skipped in a playlist.
-  if (std::none_of(out.song.tracks.begin(), out.song.tracks.end(),
-                   [](const midi::Track& t) { return t.note_count > 0; }))
-    throw BadInput("the song has no notes to play");
-  check_start_in_song(o.from_s, out.song.duration_us);
   std::optional<std::uint32_t> chosen;
-  if (o.track) {
+  std::string unplayable_track;  // in a playlist: why --track is not this song's
+  haptics::check_song_then_warn(r, warn_on_stderr, [&] {
+    // Nothing to feel or hear, whichever --track: refused alone, skipped in a playlist.
+    if (std::none_of(r.song.tracks.begin(), r.song.tracks.end(), [](const midi::Track& t) { return t.note_count > 0; }))
+      throw BadInput("the song has no notes to play");
+    check_start_in_song(o.from_s, r.song.duration_us);
+    if (!o.track) return;
     try {
-      chosen = select_track(out.song, *o.track);
+      chosen = select_track(r.song, *o.track);
     } catch (const BadInput& e) {
       if (alone) throw;
-      std::fprintf(stderr, "%s: %s: the default track instead\n", path.c_str(), e.what());
+      unplayable_track = e.what();
     }
-  }
+  });
+  if (!unplayable_track.empty())
+    std::fprintf(stderr, "%s: %s: the default track instead\n", path.c_str(), unplayable_track.c_str());
+  out.song = std::move(r.song);
   out.track = chosen ? *chosen : default_haptic_track(out.song);
   if (!chosen) {
     std::fprintf(stderr, "haptic track %s (the first with a Table 1 instrument; choose with --track or the t key)\n",

@@ -25,20 +25,24 @@ void run_sound_render(const SoundRenderRequest& r) {
   check_window_times(r.from_s, r.to_s);  // before the output and the song, as every window
   output::check_writable(r.out, r.force);
   const midi::ReadResult read = midi::load_song(r.song);
-  for (const midi::Warning& w : read.warnings) warn_on_stderr(w.message);
   // The sound goes on for kSoundTailS after the song's last event (its notes' release); a window past
   // that holds nothing to hear: a --from there is refused, a --to there is that end.
   const std::int64_t sound_end_us = read.song.duration_us + saturated_us(kSoundTailS);
-  if (r.from_s && *r.from_s >= static_cast<double>(sound_end_us) * 1e-6) {
-    throw BadInput(fmt::format("--from {}: the song's sound ends at {:.3f} s ({:g} s after its last event)", *r.from_s,
-                               static_cast<double>(sound_end_us) * 1e-6, kSoundTailS));
-  }
-  const SongWindowUs w = song_window(r.from_s, r.to_s, sound_end_us);
+  SongWindowUs w;
+  haptics::check_song_then_warn(read, warn_on_stderr, [&] {
+    if (r.from_s && *r.from_s >= static_cast<double>(sound_end_us) * 1e-6) {
+      throw BadInput(fmt::format("--from {}: the song's sound ends at {:.3f} s ({:g} s after its last event)",
+                                 *r.from_s, static_cast<double>(sound_end_us) * 1e-6, kSoundTailS));
+    }
+    w = song_window(r.from_s, r.to_s, sound_end_us);
+    const double span_s = static_cast<double>(w.end_us - w.begin_us) * 1e-6;
+    if (span_s > kLongestSoundS) {
+      throw BadInput(fmt::format("--from {} --to {}: longer than {:g} hours (render it in parts)",
+                                 static_cast<double>(w.begin_us) * 1e-6, static_cast<double>(w.end_us) * 1e-6,
+                                 kLongestSoundS / 3600));
+    }
+  });
   const double from = static_cast<double>(w.begin_us) * 1e-6, to = static_cast<double>(w.end_us) * 1e-6;
-  if (to - from > kLongestSoundS) {
-    throw BadInput(
-        fmt::format("--from {} --to {}: longer than {:g} hours (render it in parts)", from, to, kLongestSoundS / 3600));
-  }
 
   audio::AudioOptions options;
   options.synth.sample_rate = 44100;

@@ -50,11 +50,14 @@ int run_view(const ViewOptions& o) {
   haptics::validate(haptic);
   const audio::AudioOptions audio_opts = audio_options(o.audio);  // checks --soundfont, before any work
   const midi::ReadResult r = midi::load_song(o.song);
-  for (const midi::Warning& w : r.warnings) warn_on_stderr(w.message);
   const midi::Song& song = r.song;
-  const SongWindowUs passage = song_window(o.from_s, o.to_s, song.duration_us);
+  SongWindowUs passage;
+  std::uint32_t track = 0;
+  haptics::check_song_then_warn(r, warn_on_stderr, [&] {
+    passage = song_window(o.from_s, o.to_s, song.duration_us);
+    track = o.track ? select_track(song, *o.track) : default_haptic_track(song);
+  });
   const std::int64_t begin_us = passage.begin_us, end_us = passage.end_us;  // lambdas below capture them
-  std::uint32_t track = o.track ? select_track(song, *o.track) : default_haptic_track(song);
 
   audio::AudioPlayer audio(audio_opts);
   audio.set_events(audio::audio_events(song));

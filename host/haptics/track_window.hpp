@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 
+#include "host/common/error.hpp"
 #include "host/haptics/haptic_track.hpp"
 #include "host/midi/smf_reader.hpp"
 
@@ -28,8 +29,24 @@ struct TrackWindow {
 // Where the reader's warnings go, one line each (the command prints them as "warning: …").
 using WarningSink = std::function<void(const std::string&)>;
 
-// Loads the song (its warnings to `warn`), selects the track, maps it, and converts --from/--to
-// (seconds ≥ 0) to ticks. Throws BadInput on a bad window or an empty one.
+// The error of a song refused after its reading gave warnings: the error, and how many there were.
+std::string with_reading_warnings(const std::string& error, std::size_t warnings);
+
+// Runs a command's `checks` of a song just read; the reader's warnings go to `warn` once they pass. A song
+// they refuse gets its one error line, which counts the warnings instead of printing them before it.
+template <class Checks>
+void check_song_then_warn(const midi::ReadResult& read, const WarningSink& warn, Checks&& checks) {
+  try {
+    checks();
+  } catch (const BadInput& e) {
+    if (read.warnings.empty()) throw;
+    throw BadInput(with_reading_warnings(e.what(), read.warnings.size()));
+  }
+  for (const midi::Warning& w : read.warnings) warn(w.message);
+}
+
+// Loads the song (its warnings to `warn` once the rest has passed), selects the track, maps it, and converts
+// --from/--to (seconds ≥ 0) to ticks. Throws BadInput on a bad window or an empty one.
 TrackWindow load_track_window(const std::string& song, const std::string& track, const HapticOptions& opts,
                               std::optional<double> from_s, std::optional<double> to_s, const WarningSink& warn);
 

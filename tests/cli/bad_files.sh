@@ -3,7 +3,8 @@
 # (song, --config, --soundfont, --firmware, study results); an existing output is kept without --force
 # and replaced with it, and no PATH.part is left behind; an output folder that does not exist fails before
 # anything is printed; a results file with a spreadsheet's byte order mark is read; a NUL or bytes that
-# are not UTF-8 are escaped in the message, and a version that is not UTF-8 is refused. Each bad case:
+# are not UTF-8 are escaped in the message, and a version that is not UTF-8 is refused; a damaged song
+# refused says how many warnings its reading gave, not the warnings. Each bad case:
 # exit 2, one line on stderr, nothing on stdout.
 set -u
 hmp="$1"; repo="$2"
@@ -38,6 +39,20 @@ expect_exact_error "error: $dir: is a directory" flash --dry-run --firmware "$di
 expect_exact_error "error: $tmp/none.csv: no such file" study analyze "$tmp/none.csv"
 expect_exact_error "error: $tmp/none.toml: no such file" render "$demo" --track flute --config "$tmp/none.toml" --out "$tmp/x.csv"
 [ -e "$tmp/x.csv" ] && { echo "FAIL: x.csv written"; fail=1; }
+
+# --- a damaged song refused: its one error line counts the reader's warnings instead of printing them;
+# accepted, its warnings come first. The demo's first 300 bytes: a cut track, 9 tracks announced, 2 there.
+head -c 300 "$demo" >"$tmp/cut.mid"
+counted="; reading the file gave 3 warnings (hmp info lists them)"
+expect_exact_error "error: --track 5: no such track (0–1)$counted" render "$tmp/cut.mid" --track 5 --out "$tmp/x.csv"
+expect_exact_error "error: --track 5: no such track (0–1)$counted" sim "$tmp/cut.mid" --track 5 --out "$tmp/x.csv"
+expect_exact_error "error: --track 5: no such track (0–1)$counted" play "$tmp/cut.mid" --track 5 --no-audio --no-view
+expect_exact_error "error: --track 5: no such track (0–1)$counted" view "$tmp/cut.mid" --track 5
+expect_exact_error "error: --from 400: the song's sound ends at 312.000 s (2 s after its last event)$counted" \
+  render "$tmp/cut.mid" --sound --from 400 --out "$tmp/x.wav"
+expect_ok render "$tmp/cut.mid" --track 1 --to 1 --out "$tmp/x.csv"
+[ "$(grep -c '^warning: ' "$tmp/err")" = 3 ] || { echo "FAIL: a damaged song rendered without its 3 warnings"; fail=1; }
+rm -f "$tmp/x.csv"
 
 # --- a results file: one participant's main rounds of experiment 1
 results() {  # results VERSION: the file's text on stdout
