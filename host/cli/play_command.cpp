@@ -98,8 +98,11 @@ ReadySong ready_song(const PlayOptions& o, const std::string& path, bool alone) 
   out.song = std::move(r.song);
   out.track = chosen ? *chosen : default_haptic_track(out.song);
   if (!chosen) {
-    std::fprintf(stderr, "haptic track %s (the first with a Table 1 instrument; choose with --track or the t key)\n",
-                 describe_track(out.song, out.track).c_str());
+    const char* why = has_table1_instrument(out.song.tracks[out.track])
+                          ? "the first whose instrument has a Table 1 envelope"
+                          : "no instrument has a Table 1 envelope: the first with notes";
+    std::fprintf(stderr, "haptic track %s (%s; choose with --track or the t key)\n",
+                 describe_track(out.song, out.track).c_str(), why);
   }
   return out;
 }
@@ -380,9 +383,9 @@ void register_play(CLI::App& app, Registry& registry) {
   CLI::App* cmd = app.add_subcommand("play", "Play a song with one track felt on the haptic device (the main job)");
   cmd->add_option("SONG", o->songs, "MIDI files or folders (their .mid/.midi files, sorted), played in order")
       ->required();
-  cmd->add_option(
-      "--track", o->track,
-      "Haptic track: index, or part of its name or instrument (default: the first with a Table 1 instrument)");
+  cmd->add_option("--track", o->track,
+                  "Haptic track: index, or part of its name or instrument (default: the first whose instrument has a "
+                  "Table 1 envelope, else the first with notes)");
   cmd->add_option("--device", o->device, kDeviceHelp)->capture_default_str();
   add_audio_options(cmd, o->audio);
   CLI::Option* no_view = cmd->add_flag("--no-view", o->no_view, "No animation window");

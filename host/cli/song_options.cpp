@@ -112,13 +112,17 @@ std::string describe_track(const midi::Song& song, std::uint32_t index) {
   return fmt::format("{} \"{}\" ({})", t.index, t.name, midi::gm_instrument_name(t.program(), t.channel()));
 }
 
+bool has_table1_instrument(const midi::Track& track) {
+  const auto preset = static_cast<std::uint8_t>(midi::auto_preset(track.program(), track.channel()));
+  return preset <= static_cast<std::uint8_t>(envelope::Preset::contrabass);
+}
+
 std::uint32_t default_haptic_track(const midi::Song& song) {
   std::optional<std::uint32_t> first;
   for (const midi::Track& t : song.tracks) {
     if (t.note_count == 0) continue;
     if (!first) first = t.index;
-    const auto preset = static_cast<std::uint8_t>(midi::auto_preset(t.program(), t.channel()));
-    if (preset <= static_cast<std::uint8_t>(envelope::Preset::contrabass)) return t.index;
+    if (has_table1_instrument(t)) return t.index;
   }
   if (!first) throw BadInput("the song has no notes to play");
   return *first;

@@ -37,6 +37,8 @@ mapping::Mode parse_mapping_mode(const std::string& text);
 // No --track: the first track with notes whose instrument has its own envelope in Table 1 (design §6:
 // organ … contrabass), else the first track with notes. A song without notes is bad input.
 std::uint32_t default_haptic_track(const midi::Song& song);
+// Whether a track's instrument has its own envelope in Table 1 (what default_haptic_track looks for).
+bool has_table1_instrument(const midi::Track& track);
 // `2 "Flute" (Flute)`
 std::string describe_track(const midi::Song& song, std::uint32_t index);
 

@@ -36,6 +36,17 @@ assert set(n[0]) == {"track", "channel", "key", "velocity", "start_s", "end_s"},
 assert all(x["end_s"] >= x["start_s"] for x in n)
 PY
 
+# --- play without --track: the first track whose instrument has a Table 1 envelope, and the line says
+# which; a song with none (here GM program 100, a synth effect: the square preset) plays its first track
+# with notes, and the line says that instead
+expect_ok play "$demo" --no-audio --no-view --device sim --to 0.1
+grep -q '^haptic track 1 "flute" (Flute) (the first whose instrument has a Table 1 envelope;' "$tmp/err" ||
+  { echo "FAIL: play's default track line: $(cat "$tmp/err")"; fail=1; }
+printf 'MThd\0\0\0\6\0\0\0\1\1\340MTrk\0\0\0\20\0\300\144\0\220\74\144\203\140\200\74\0\0\377\57\0' >"$tmp/fx.mid"
+expect_ok play "$tmp/fx.mid" --no-audio --no-view --device sim
+grep -q '(no instrument has a Table 1 envelope: the first with notes;' "$tmp/err" ||
+  { echo "FAIL: play's fallback track line: $(cat "$tmp/err")"; fail=1; }
+
 # --- render: track selection and options
 expect_bad "ambiguous" render "$demo" --track violin --out "$tmp/a.csv"
 expect_bad "no track matches" render "$demo" --track kazoo --out "$tmp/a.csv"
