@@ -1,11 +1,13 @@
 #include "host/cli/render_sound.hpp"
 
 #include <cstdio>
+#include <stdexcept>
 
 #include <fmt/format.h>
 
 #include "host/audio/audio_events.hpp"
 #include "host/audio/offline_render.hpp"
+#include "host/audio/soundfont.hpp"
 #include "host/cli/song_options.hpp"
 #include "host/common/error.hpp"
 #include "host/common/progress.hpp"
@@ -47,6 +49,12 @@ void run_sound_render(const SoundRenderRequest& r) {
   audio::AudioOptions options;
   options.synth.sample_rate = 44100;
   if (r.soundfont) options.soundfont = *r.soundfont;
+  // The sound is all this output holds: without a SoundFont it would be silence (play and the video go on
+  // silent with a warning; this file would be nothing but that).
+  if (!audio::find_soundfont(options.soundfont)) {
+    throw std::runtime_error(
+        "--sound: no General MIDI SoundFont found (install fluid-soundfont-gm, or name one with --soundfont)");
+  }
   ProgressBar bar("rendering sound");
   const audio::RenderedAudio sound =
       audio::render_offline(audio::audio_events(read.song), w.begin_us, w.end_us, options, warn_on_stderr,

@@ -2,7 +2,7 @@
 # `hmp render SONG --sound --out FILE.wav` (design §17): the song's own sound, all tracks, as a
 # 44.1 kHz stereo WAV; the whole song plus 2 s of tail, or the --from/--to passage exactly; not silent;
 # bad combinations exit 2 with one line; an existing file stays without -f; --track stays required for
-# the haptic renders.
+# the haptic renders; with no SoundFont on the machine nothing is written (exit 1, one line).
 set -u
 hmp="$1"; repo="$2"
 demo="$repo/examples/bach-bwv1050-brandenburg5-mvt3-allegro.mid"
@@ -40,6 +40,21 @@ check "--from 1e300: says where the sound ends" 1 "$(grep -c -- "--from 1e+300: 
 run render "$demo" --out "$tmp/x.csv"
 check "no --track, no --sound: rc" 2 "$rc"
 check "no --track, no --sound: says what" 1 "$(grep -c -- '--track' <<<"$err")"
+
+# No SoundFont on the machine (every standard place hidden by an empty tmpfs in a user and mount
+# namespace): the file would be silence, so nothing is written and the one line says what to install.
+sounds_hidden() {
+  unshare -rm sh -c 'for d in /usr/share/sounds /usr/share/soundfonts; do
+    [ -d "$d" ] && { mount -t tmpfs none "$d" || exit 99; }; done; exec "$@"' sh "$@"
+}
+if sounds_hidden true 2>/dev/null; then
+  sounds_hidden "$hmp" render "$demo" --sound --to 1 --out "$tmp/nosf.wav" >"$tmp/out" 2>"$tmp/err"; rc=$?
+  check "no SoundFont: rc" 1 "$rc"
+  check "no SoundFont: the line" "error: --sound: no General MIDI SoundFont found (install fluid-soundfont-gm, or name one with --soundfont)" "$(<"$tmp/err")"
+  check "no SoundFont: no file" no "$([ -e "$tmp/nosf.wav" ] && echo yes || echo no)"
+else
+  echo "note: no user and mount namespace here; the render without a SoundFont is not checked"
+fi
 
 echo "keep" >"$tmp/keep.wav"
 run render "$demo" --sound --to 1 --out "$tmp/keep.wav"
