@@ -150,6 +150,7 @@ int run_devices(const DevicesOptions& o) {
   if (probes.empty()) {
     fmt::print("no HID device {} found (the simulated device needs none: hmp play --device sim)\n",
                transport::to_string(id));
+    if (!usb.unavailable.empty()) fmt::print("boards to flash cannot be looked for: {}\n", usb.unavailable);
     return kExitOk;
   }
   for (const Probe& p : probes) print_text(p);

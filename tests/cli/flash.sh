@@ -62,6 +62,13 @@ rm "$img.elf"
 # Tools there (fake ones, so nothing real could ever be flashed here), no board: how to get one ready.
 mkdir -p "$tmp/bin"
 for t in dfu-util st-flash openocd; do printf '#!/bin/sh\necho "FAKE %s RAN"; exit 0\n' "$t" >"$tmp/bin/$t"; chmod +x "$tmp/bin/$t"; done
+# Without USB device nodes (a container) libusb lists nothing: devices says why rather than "none".
+if [ ! -e /dev/bus/usb ]; then
+  run devices --json
+  check "no USB: usb_scan_error" 1 "$(grep -c '"usb_scan_error":"no /dev/bus/usb: USB is not visible here' <<<"$out")"
+  run devices
+  check "no USB: the text says why" 1 "$(grep -c '^boards to flash cannot be looked for: no /dev/bus/usb' <<<"$out")"
+fi
 if "$hmp" devices --json | grep -q '"kind":"stm32_dfu"'; then
   echo "note: an STM32 in DFU mode is plugged in: the no-board checks are skipped"
 else

@@ -3,9 +3,16 @@
 
 #include <libusb.h>
 
+#include <filesystem>
+
 #include <fmt/format.h>
 
 namespace hmp::transport {
+
+namespace {
+// Where Linux puts the USB device nodes libusb opens.
+constexpr const char* kUsbDeviceNodes = "/dev/bus/usb";
+}  // namespace
 
 ScanResult scan_with_libusb() {
   ScanResult out;
@@ -18,6 +25,10 @@ ScanResult scan_with_libusb() {
   const ssize_t n = libusb_get_device_list(ctx, &list);
   if (n < 0) {
     out.unavailable = fmt::format("libusb: {}", libusb_strerror(static_cast<libusb_error>(n)));
+  } else if (n == 0 && !std::filesystem::exists(kUsbDeviceNodes)) {
+    // libusb starts and lists nothing where the system gives no USB device nodes (a container): an empty
+    // list would read as "nothing plugged in".
+    out.unavailable = fmt::format("no {}: USB is not visible here (a container?)", kUsbDeviceNodes);
   }
   for (ssize_t i = 0; i < n; ++i) {
     libusb_device_descriptor d{};
