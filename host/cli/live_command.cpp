@@ -292,6 +292,7 @@ int run_live(const LiveOptions& o) {
   if (!in) {
     std::fprintf(stderr, "live: no MIDI input came within --seconds %g\n", o.seconds);
     session.finish();
+    if (o.log) write_log(*o.log, session);  // its summary: nothing came
     return kExitOk;
   }
   std::fprintf(

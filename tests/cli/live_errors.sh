@@ -32,6 +32,11 @@ expect_bad "bad --device 'bogus'" --device bogus --no-audio --no-view --seconds 
 timeout 20 "$hmp" live --no-audio --no-view --seconds 1 --wait --device sim >"$tmp/out" 2>"$tmp/err" </dev/null
 rc=$?
 [ $rc -eq 0 ] || { echo "FAIL: live --wait --seconds 1 -> rc=$rc (124: still running after 20 s)"; cat "$tmp/err"; fail=1; }
+# A port that never came: the log asked for is still written, its summary saying no note came.
+timeout 20 "$hmp" live --no-audio --no-view --seconds 1 --wait --device sim --input "hmp test: no such port" \
+  --log "$tmp/none.jsonl" >"$tmp/out" 2>"$tmp/err" </dev/null
+[ "$(cat "$tmp/none.jsonl" 2>/dev/null)" = '{"summary":{"bends":0,"dropped":0,"notes_off":0,"notes_on":0,"refused":0,"started":0,"vibration_delay_ms":0.0}}' ] ||
+  { echo "FAIL: live --wait with no port: the log is [$(cat "$tmp/none.jsonl" 2>&1)]"; cat "$tmp/err"; fail=1; }
 # The log's name is checked first too: an existing file is kept without --force.
 echo keep >"$tmp/log.jsonl"
 expect_bad "exists" --log "$tmp/log.jsonl"
