@@ -43,7 +43,7 @@ std::vector<HidDeviceInfo> enumerate_hid(const HidId& id = {});
 
 // The first device enumerate_hid(id) lists, or the one at a /dev/hidrawN path. Throws TransportError:
 // "no HID device 1209:0001 found", "permission denied on /dev/hidrawN: install the udev rule
-// (docs/host.md)", "USB HID needs the usb module, which is not available (…)", …
+// (hmp flash --install-udev-rule)", "USB HID needs the usb module, which is not available (…)", …
 std::unique_ptr<Transport> open_hid(const HidId& id = {});
 // A path that exists but is not a hidraw node (a file, a folder, another device): BadInput.
 std::unique_ptr<Transport> open_hid_path(const std::string& path);

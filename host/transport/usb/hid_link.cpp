@@ -87,7 +87,7 @@ std::unique_ptr<HidTransport> HidTransport::open_path(const std::string& path) {
   if (::access(path.c_str(), R_OK | W_OK) != 0) {
     const int err = errno;
     if (err == EACCES || err == EPERM) {
-      throw TransportError("permission denied on " + path + ": install the udev rule (docs/host.md)");
+      throw TransportError("permission denied on " + path + ": install the udev rule (hmp flash --install-udev-rule)");
     }
     throw TransportError("cannot open HID device " + path + ": " + std::strerror(err));
   }

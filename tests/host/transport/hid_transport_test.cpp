@@ -94,7 +94,7 @@ TEST(TransportHid, UnreadableNodeNamesTheUdevRule) {
   ASSERT_EQ(::waitpid(child, &status, 0), child);
   std::filesystem::remove(path);
   ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "child status " << status;
-  EXPECT_EQ(said, "permission denied on " + path.string() + ": install the udev rule (docs/host.md)");
+  EXPECT_EQ(said, "permission denied on " + path.string() + ": install the udev rule (hmp flash --install-udev-rule)");
 }
 
 // hidapi's hidraw backend crashes on a node that is not hidraw's: a regular file, a folder or another
