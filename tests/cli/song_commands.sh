@@ -115,6 +115,17 @@ printf '[plant]\nintegrator = "cvode"\n' >"$tmp/plant.toml"
 expect_bad "plant.toml: plant.integrator cvode: unknown" play "$demo" --track flute --to 1 --device sim --no-audio --no-view --config "$tmp/plant.toml"
 printf '[mapping]\nmode = "papr"\n' >"$tmp/papr.toml"
 expect_bad "papr.toml: unknown mapping mode 'papr'" render "$demo" --track flute --to 1 --config "$tmp/papr.toml" --out "$tmp/c.csv"
+# A value checked once every config and option is in (ranges, fade, envelope, the program tables): named by
+# the file and key that set it last, not by the option the user did not give; the option when it wins.
+printf '[mapping]\nfreq_range = [250, 50]\n' >"$tmp/fr.toml"
+printf '[envelope]\nend_fade_ms = -1\ndefault = "nosuch"\n' >"$tmp/fade.toml"
+printf '[gm]\n"7" = "flute"\n"73" = "nosuch"\n' >"$tmp/gm73.toml"
+expect_bad "fr.toml: mapping.freq_range: need 0 < min ≤ max (got 250:50)" info "$demo" --config "$tmp/fr.toml"
+expect_bad "error: --freq-range: need 0 < min ≤ max (got 260:50)" info "$demo" --config "$tmp/fr.toml" --freq-range 260:50
+expect_ok info "$demo" --config "$tmp/fr.toml" --freq-range 60:200
+expect_bad "fade.toml: envelope.end_fade_ms: must be in \[0, 1000\]" info "$demo" --config "$tmp/gm73.toml" --config "$tmp/fade.toml"
+expect_bad "fade.toml: envelope.default: unknown preset 'nosuch'" info "$demo" --config "$tmp/fade.toml" --end-fade-ms 2
+expect_bad "gm73.toml: gm.73 names unknown preset 'nosuch'" info "$demo" --config "$tmp/gm73.toml"
 # [device]: checked when the config is read, before any device (play told only after it had connected)
 for bad in "peak_force_n = -5|'device.peak_force_n' must be in (0, 20] N" "peak_force_n = 1e300|'device.peak_force_n' must be in (0, 20] N" \
   "direction = [0.0, 0.0, 0.0]|'device.direction' must be a finite, non-zero vector"; do
