@@ -2,6 +2,8 @@
 
 #include <cstdio>
 
+#include "host/common/printable.hpp"
+
 namespace hmp::cli {
 
 namespace {
@@ -36,7 +38,7 @@ int run_cli(int argc, char** argv, void (*add_commands)(CLI::App&, Registry&)) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    std::fprintf(stderr, "error: %s (try --help)\n", e.what());
+    std::fprintf(stderr, "error: %s (try --help)\n", terminal_line(e.what()).c_str());
     return kExitBadInput;
   }
   return registry.run();

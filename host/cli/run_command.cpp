@@ -6,6 +6,7 @@
 
 #include "host/cli/git_describe.hpp"
 #include "host/common/error.hpp"
+#include "host/common/printable.hpp"
 #include "host/common/install_layout.hpp"
 #include "shared/protocol/protocol.hpp"
 
@@ -22,10 +23,10 @@ int run_command(const std::function<int()>& action) {
   try {
     return action();
   } catch (const hmp::BadInput& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
+    std::fprintf(stderr, "error: %s\n", terminal_line(e.what()).c_str());
     return kExitBadInput;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
+    std::fprintf(stderr, "error: %s\n", terminal_line(e.what()).c_str());
     return kExitFailure;
   }
 }

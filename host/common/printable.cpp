@@ -1,6 +1,7 @@
 #include "host/common/printable.hpp"
 
 #include <cstdint>
+#include <string>
 
 namespace hmp {
 namespace {
@@ -41,41 +42,50 @@ void hex(std::string& out, std::uint8_t b) {
   hex_digits(out, b);
 }
 
+// Appends the character at bytes[i] made visible, and returns the bytes it took.
+std::size_t append_visible(std::string& out, std::string_view bytes, std::size_t i, bool escape_backslash) {
+  const auto b = static_cast<std::uint8_t>(bytes[i]);
+  const std::size_t n = sequence_length(bytes, i);
+  if (n == 0) {
+    hex(out, b);
+    return 1;
+  }
+  if (n == 2 && b == 0xC2 && static_cast<std::uint8_t>(bytes[i + 1]) < 0xA0) {
+    out += "\\u00";  // a C1 control character (U+0080–U+009F): some terminals act on them
+    hex_digits(out, static_cast<std::uint8_t>(bytes[i + 1]));
+  } else if (n > 1) {
+    out.append(bytes.substr(i, n));
+  } else if (b == '\0') {
+    out += "\\0";
+  } else if (b == '\n') {
+    out += "\\n";
+  } else if (b == '\r') {
+    out += "\\r";
+  } else if (b == '\t') {
+    out += "\\t";
+  } else if (b == '\\' && escape_backslash) {
+    out += "\\\\";
+  } else if (b < 0x20 || b == 0x7F) {
+    hex(out, b);
+  } else {
+    out += static_cast<char>(b);
+  }
+  return n;
+}
 }  // namespace
 
 std::string printable(std::string_view bytes) {
   std::string out;
   out.reserve(bytes.size());
-  for (std::size_t i = 0; i < bytes.size();) {
-    const auto b = static_cast<std::uint8_t>(bytes[i]);
-    const std::size_t n = sequence_length(bytes, i);
-    if (n == 0) {
-      hex(out, b);
-      ++i;
-      continue;
-    }
-    if (n == 2 && b == 0xC2 && static_cast<std::uint8_t>(bytes[i + 1]) < 0xA0) {
-      out += "\\u00";  // a C1 control character (U+0080–U+009F): some terminals act on them
-      hex_digits(out, static_cast<std::uint8_t>(bytes[i + 1]));
-    } else if (n > 1) {
-      out.append(bytes.substr(i, n));
-    } else if (b == '\0') {
-      out += "\\0";
-    } else if (b == '\n') {
-      out += "\\n";
-    } else if (b == '\r') {
-      out += "\\r";
-    } else if (b == '\t') {
-      out += "\\t";
-    } else if (b == '\\') {
-      out += "\\\\";
-    } else if (b < 0x20 || b == 0x7F) {
-      hex(out, b);
-    } else {
-      out += static_cast<char>(b);
-    }
-    i += n;
-  }
+  for (std::size_t i = 0; i < bytes.size();) i += append_visible(out, bytes, i, true);
+  return out;
+}
+
+std::string terminal_line(std::string_view message, std::size_t max_bytes) {
+  std::string out;
+  std::size_t i = 0;
+  while (i < message.size() && out.size() < max_bytes) i += append_visible(out, message, i, false);
+  if (i < message.size()) out += "… (" + std::to_string(message.size() - i) + " bytes more)";
   return out;
 }
 

@@ -11,6 +11,12 @@ namespace hmp {
 // controls (U+0080–U+009F) as `\u00NN`.
 std::string printable(std::string_view bytes);
 
+// A message for one line of the terminal: control characters (a newline included) and bytes that are not
+// valid UTF-8 escaped as printable() does, a backslash kept (the message may already hold printable()'s
+// escapes), and anything past `max_bytes` cut at a character's start and counted ("… (N bytes more)").
+inline constexpr std::size_t kTerminalLineMaxBytes = 1000;
+std::string terminal_line(std::string_view message, std::size_t max_bytes = kTerminalLineMaxBytes);
+
 // Whether `bytes` is valid UTF-8: no stray continuation bytes, overlong forms, surrogates or code points
 // past U+10FFFF.
 bool valid_utf8(std::string_view bytes);

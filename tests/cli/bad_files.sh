@@ -54,6 +54,15 @@ expect_ok render "$tmp/cut.mid" --track 1 --to 1 --out "$tmp/x.csv"
 [ "$(grep -c '^warning: ' "$tmp/err")" = 3 ] || { echo "FAIL: a damaged song rendered without its 3 warnings"; fail=1; }
 rm -f "$tmp/x.csv"
 
+# --- what the user typed or a config held, quoted in the error line: a control character escaped, not
+# sent to the terminal; 100,000 bytes cut to a line with the rest counted
+expect_exact_error "error: --mapping a\x01b: unknown (paper, rank, constant, legacy2013)" info "$demo" --mapping "a$(printf '\001')b"
+expect_exact_error "error: --zoom: \x1B[2J is not a number from 1 to 120 (try --help)" render "$demo" --zoom "$(printf '\033')[2J"
+{ printf '[envelope]\ndefault = "'; head -c 100000 /dev/zero | tr '\0' y; printf '"\n'; } >"$tmp/long.toml"
+"$hmp" info "$demo" --config "$tmp/long.toml" >"$tmp/out" 2>"$tmp/err"
+[ "$(wc -l <"$tmp/err")" = 1 ] && [ "$(wc -c <"$tmp/err")" -lt 1100 ] && grep -q 'bytes more)$' "$tmp/err" ||
+  { echo "FAIL: a 100,000-byte preset name: $(wc -c <"$tmp/err") bytes of error"; fail=1; }
+
 # --- a results file: one participant's main rounds of experiment 1
 results() {  # results VERSION: the file's text on stdout
   echo "participant,experiment,phase,position,instrument,mapping,envelope,key,rank,seconds_felt,times_selected,round_started_utc,ranked_utc,round_ended_utc,seed,version"

@@ -8,7 +8,9 @@
 
 namespace {
 
+using hmp::kTerminalLineMaxBytes;
 using hmp::printable;
+using hmp::terminal_line;
 using hmp::valid_utf8;
 using namespace std::string_literals;
 
@@ -42,6 +44,28 @@ TEST(Printable, InvalidUtf8BytesAreEscapedOneByOne) {
   EXPECT_EQ(printable("\x80"
                       "é"),
             "\\x80é");  // stray continuation, then valid text
+}
+
+TEST(TerminalLine, EscapesControlsAndBrokenBytesKeepsBackslashesAndText) {
+  EXPECT_EQ(terminal_line("--mapping a\x01"
+                          "b: unknown"),
+            "--mapping a\\x01b: unknown");
+  EXPECT_EQ(terminal_line("two\nlines\r\x1b[2J"), "two\\nlines\\r\\x1B[2J");  // one line, no terminal command
+  EXPECT_EQ(terminal_line("caf\xE9 \xC2\x9B"), "caf\\xE9 \\u009B");           // not UTF-8; a C1 control
+  // A message already escaped by printable() reads the same: its backslashes are not doubled.
+  EXPECT_EQ(terminal_line(printable("p\0001"s)), "p\\01");
+  EXPECT_EQ(terminal_line("0 < min ≤ max, 🎻"), "0 < min ≤ max, 🎻");
+}
+
+TEST(TerminalLine, CutsALongMessageAtACharacterAndCountsTheRest) {
+  EXPECT_EQ(terminal_line(std::string(10, 'x'), 10), std::string(10, 'x'));
+  EXPECT_EQ(terminal_line(std::string(11, 'x'), 10), std::string(10, 'x') + "… (1 bytes more)");
+  // 'é' is 2 bytes: the cut falls after a whole one, never inside it.
+  EXPECT_EQ(terminal_line("aéé", 2), "aé… (2 bytes more)");
+  const std::string huge(100000, 'y');
+  const std::string line = terminal_line("unknown preset '" + huge + "'");
+  EXPECT_LE(line.size(), kTerminalLineMaxBytes + 40);
+  EXPECT_TRUE(line.ends_with("… (99017 bytes more)")) << line.substr(line.size() - 40);
 }
 
 TEST(ValidUtf8, AcceptsTextRefusesBrokenSequences) {
