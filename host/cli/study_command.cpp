@@ -149,21 +149,22 @@ const char* player_envelope(study::Envelope e) {
 }
 int cycle_index(study::Envelope e) { return e == study::Envelope::analogue ? 0 : e == study::Envelope::square ? 1 : 2; }
 
-// Keys from the terminal (raw mode), or from a pipe: scripted participants type through the same path.
+// Keys from the terminal (raw mode), or from a pipe: scripted participants type through the same path,
+// and through the same decoding (an arrow key's escape sequence is not the letters in it).
 class KeySource {
  public:
   std::optional<char> next() {
-    if (raw_.active()) {
-      const auto b = raw_.read_byte();
-      return b ? std::optional<char>(static_cast<char>(*b)) : std::nullopt;
+    if (raw_.active()) return raw_.next_char();
+    while (!ended_) {
+      pollfd p{STDIN_FILENO, POLLIN, 0};
+      if (::poll(&p, 1, 0) <= 0) return decoder_.idle();
+      unsigned char c = 0;
+      if (::read(STDIN_FILENO, &c, 1) != 1) {
+        ended_ = true;  // end of input (or an error): nobody is there to answer
+        return decoder_.idle();
+      }
+      if (const std::optional<char> key = decoder_.feed(c)) return key;
     }
-    if (ended_) return std::nullopt;
-    pollfd p{STDIN_FILENO, POLLIN, 0};
-    if (::poll(&p, 1, 0) <= 0) return std::nullopt;
-    char c = 0;
-    const ssize_t n = ::read(STDIN_FILENO, &c, 1);
-    if (n == 1) return c;
-    ended_ = true;  // end of input (or an error): nobody is there to answer
     return std::nullopt;
   }
   bool ended() const { return ended_; }
@@ -171,6 +172,7 @@ class KeySource {
 
  private:
   player::RawKeys raw_;
+  player::KeyDecoder decoder_;  // the pipe's
   bool ended_ = false;
 };
 
@@ -304,6 +306,7 @@ int run_study(const StudyOptions& o) {
   std::fflush(stdout);
 
   std::size_t round_index = session.rounds_done();
+  std::string said_last;  // what the round before ended with (a practice round: the analogue key)
   while (!session.done()) {
     study::RoundState& round = session.begin_round(unix_now());
     const study::Round plan = round.round();
@@ -318,7 +321,8 @@ int run_study(const StudyOptions& o) {
     std::fflush(stdout);
     if (want_window && (!window || &window->song() != &song)) open_window(played);
     const std::string label = window_label(plan, round_index, session.plan().size());
-    if (window) window->show(track, label + "     " + round.prompt());
+    if (window) window->show(track, label + "     " + round.prompt() + (said_last.empty() ? "" : "     " + said_last));
+    said_last.clear();
     // Practice rounds: the instrument alone; the others' sound is left out.
     audio.set_events(plan.practice ? audio::audio_events(song.track_notes(track), song.tempo_map)
                                    : audio::audio_events(song));
@@ -347,13 +351,11 @@ int run_study(const StudyOptions& o) {
         }
         while (!round_over) {
           auto c = keys.next();
-          if (!c && window) {
-            c = window->next_key();
-            if (c == 'q') {  // the window closed, or q/Esc in it: as Ctrl-C
-              interrupted = true;
-              running->post(player::Command::interrupt);
-              return;
-            }
+          if (!c && window) c = window->next_key();
+          if (c == 'q') {  // q or Esc, in the terminal or the window, or the window closed: as Ctrl-C
+            interrupted = true;
+            running->post(player::Command::interrupt);
+            return;
           }
           if (!c) break;
           const auto action = study::action_for_key(*c);
@@ -364,6 +366,7 @@ int run_study(const StudyOptions& o) {
             for (const study::ResultRow& r : session.take_rows()) rows += study::format_row(r, columns) + "\n";
             append_text(results_path, rows);
             std::printf("%s\n", reply.message.c_str());
+            said_last = reply.message;  // the window shows it with the next round, as the terminal did
             round_over = true;
             running->post(player::Command::quit);
             break;

@@ -45,22 +45,41 @@ Command command_for(Key k) {
   return Command::quit;
 }
 
-std::optional<Key> KeyDecoder::feed(unsigned char byte) {
-  if (escape_ == 1) {
-    escape_ = (byte == '[' || byte == 'O') ? 2 : 0;
-    return std::nullopt;
-  }
-  if (escape_ == 2) {
-    escape_ = 0;
-    if (byte == 'C') return Key::right;
-    if (byte == 'D') return Key::left;
-    return std::nullopt;  // another sequence (up/down, function keys): ignored
+std::optional<char> KeyDecoder::feed(unsigned char byte) {
+  switch (state_) {
+    case State::escape:
+      state_ = byte == '[' ? State::csi : byte == 'O' ? State::ss3 : byte == 0x1B ? State::escape : State::text;
+      return std::nullopt;  // ESC and a key: Alt held, as Alt+key in the window, nothing
+    case State::ss3:
+      state_ = State::text;
+      return byte == 'C' ? std::optional<char>('>') : byte == 'D' ? std::optional<char>('<') : std::nullopt;
+    case State::csi:
+    case State::csi_params: {
+      if (byte >= 0x20 && byte <= 0x3F) {  // parameters and intermediates: a modified or other key
+        state_ = State::csi_params;
+        return std::nullopt;
+      }
+      const bool plain = state_ == State::csi;  // the final byte: an arrow only without parameters
+      state_ = State::text;
+      if (plain && byte == 'C') return '>';
+      if (plain && byte == 'D') return '<';
+      return std::nullopt;
+    }
+    case State::text: break;
   }
   if (byte == 0x1B) {
-    escape_ = 1;
+    state_ = State::escape;
     return std::nullopt;
   }
-  return key_for_char(static_cast<char>(byte));
+  if (byte == '\r' || byte == '\n') return '\n';
+  if (byte < 0x20 || byte >= 0x7F) return std::nullopt;  // other control bytes; UTF-8 has no key here
+  return static_cast<char>(byte);
+}
+
+std::optional<char> KeyDecoder::idle() {
+  if (state_ != State::escape) return std::nullopt;
+  state_ = State::text;
+  return 'q';
 }
 
 std::optional<Key> key_for_char(char c) {
@@ -98,18 +117,19 @@ void RawKeys::restore() {
 }
 
 std::optional<Key> RawKeys::poll() {
-  if (!active_) return std::nullopt;
-  unsigned char byte = 0;
-  while (read(STDIN_FILENO, &byte, 1) == 1) {
-    if (auto key = decoder_.feed(byte)) return key;
+  while (const std::optional<char> c = next_char()) {
+    if (const std::optional<Key> key = key_for_char(*c)) return key;
   }
   return std::nullopt;
 }
 
-std::optional<unsigned char> RawKeys::read_byte() {
+std::optional<char> RawKeys::next_char() {
+  if (!active_) return std::nullopt;
   unsigned char byte = 0;
-  if (active_ && read(STDIN_FILENO, &byte, 1) == 1) return byte;
-  return std::nullopt;
+  while (read(STDIN_FILENO, &byte, 1) == 1) {
+    if (const std::optional<char> c = decoder_.feed(byte)) return c;
+  }
+  return decoder_.idle();
 }
 
 const char* state_word(const Snapshot& s) {

@@ -37,14 +37,19 @@ Command command_for(Key k);
 // A printable key's meaning (the window's keys too; '<' and '>' stand for the arrows there).
 std::optional<Key> key_for_char(char c);
 
-// Decodes key bytes: printable keys, and the arrow escape sequences ESC [ C / ESC [ D (ESC O C / D in
-// application mode). Feed bytes one at a time; a key comes out when complete.
+// Decodes a terminal's key bytes into the characters the window's keys give (host/view/gl/gl_window.cpp),
+// so that both read one alphabet (key_for_char, the study's keys): a printable byte as itself, Enter as
+// '\n', the arrows ← → (ESC [ D / C, ESC O D / C in application mode) as '<' '>'. Other escape
+// sequences (↑ ↓, function keys, Ctrl+arrows: ESC [ parameters final) and Alt+key (ESC, key) give
+// nothing, as such keys do in the window; Esc pressed alone — an ESC with no byte after it in the same
+// read, idle() — gives 'q', as Esc in the window. Feed bytes one at a time.
 class KeyDecoder {
  public:
-  std::optional<Key> feed(unsigned char byte);
+  std::optional<char> feed(unsigned char byte);
+  std::optional<char> idle();  // no byte waiting now: a lone ESC is the Esc key
 
  private:
-  int escape_ = 0;  // bytes of an escape sequence seen so far
+  enum class State { text, escape, csi, csi_params, ss3 } state_ = State::text;
 };
 
 class RawKeys {
@@ -54,8 +59,8 @@ class RawKeys {
   RawKeys(const RawKeys&) = delete;
   RawKeys& operator=(const RawKeys&) = delete;
   bool active() const { return active_; }
-  std::optional<Key> poll();                 // never blocks
-  std::optional<unsigned char> read_byte();  // one raw byte, undecoded (hmp study's keys); never blocks
+  std::optional<Key> poll();        // the next key with a meaning in key_for_char; never blocks
+  std::optional<char> next_char();  // the next decoded character (hmp study's keys); never blocks
   void restore();
 
  private:

@@ -3,7 +3,8 @@
 // and experiment-1 rounds end in the same rows as the same participant and seed typed in the terminal,
 // all but the times. A screenshot of the first main round (the flute's) shows the felt track's blue bars
 // and the prompt's line. HMP_STUDY_SHOT=FILE.png keeps it (the picture in docs/study.md). Without a display, --window
-// is one line and exit 2, nothing written; without --window, one warning and the terminal.
+// is one line and exit 2, nothing written; without --window, one warning and the terminal. Ctrl+C in the
+// window stops the session as in the terminal, and no chord or arrow key ranks.
 #include <gtest/gtest.h>
 
 #include <signal.h>
@@ -157,6 +158,39 @@ TEST_F(StudyWindowE2e, KeysTypedInTheWindowGiveTheTerminalsRows) {
   }
   EXPECT_GT(blue, 1000);
   EXPECT_GT(text, 300);
+}
+
+// Ctrl+C in the window stops the session as in the terminal (exit 130, resumable, no row written): it was
+// read as c, rank C, and the session went on. (Alt+a and the arrows typed before it must not stop it; that
+// they rank nothing is the key mapping's test, tests/host/player/key_decoder_test.cpp for the terminal.)
+TEST_F(StudyWindowE2e, CtrlCInTheWindowStopsAndRanksNothing) {
+  ASSERT_TRUE(test::xvfb().running()) << "Xvfb did not start (package xvfb)";
+  ASSERT_EQ(std::system("command -v xdotool >/dev/null 2>&1"), 0) << "xdotool is missing (package xdotool)";
+  const auto [pid, keyboard] =
+      test::start_hmp_with_keyboard({"study", "--participant", kParticipant, "--seed", "7", "--experiment", "1",
+                                     "--device", "sim", "--no-audio", "--window", "--out", (dir_ / "window").string()},
+                                    (dir_ / "window.err").string());
+  ASSERT_GT(pid, 0);
+  const std::string practice_window = test::window_named("bach-bwv1079-trio-sonata-largo");
+  ASSERT_FALSE(practice_window.empty()) << slurp(dir_ / "window.err");
+  test::run_command("xdotool windowfocus --sync " + practice_window);
+  for (const char* chord : {"alt+a", "Up", "Down", "Right", "ctrl+c"}) {
+    test::run_command(std::string("xdotool key ") + chord);
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  int status = -1;
+  for (int i = 0; i < 100 && ::waitpid(pid, &status, WNOHANG) == 0; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  if (::waitpid(pid, &status, WNOHANG) == 0) {
+    ::kill(pid, SIGKILL);
+    ::waitpid(pid, &status, 0);
+  }
+  ::close(keyboard);
+  const std::string err = slurp(dir_ / "window.err");
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 130) << status << "\n" << err;
+  EXPECT_EQ(rows_without_times(slurp(dir_ / "window" / "study-results.csv")).size(), 1u);  // the header alone
+  EXPECT_NE(err.find("Run the same command again to resume"), std::string::npos) << err;
 }
 
 TEST_F(StudyWindowE2e, WindowWithoutADisplayIsOneLineAndNothingWritten) {

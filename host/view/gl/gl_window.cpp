@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <climits>
+#include <csignal>
 #include <cstdint>
 #include <cmath>
 
@@ -26,15 +27,13 @@ bool video_up(std::string& error) {
   return true;
 }
 
-char key_of(SDL_Keycode k, Uint16 mod) {
-  const bool shift = (mod & KMOD_SHIFT) != 0;
+char plain_key_of(SDL_Keycode k) {
   switch (k) {
     case SDLK_SPACE: return ' ';
     case SDLK_LEFT: return '<';
     case SDLK_RIGHT: return '>';
-    case SDLK_q:
-    case SDLK_ESCAPE: return 'q';
-    case SDLK_t: return shift ? 'T' : 't';
+    case SDLK_q: return 'q';
+    case SDLK_t: return 't';
     case SDLK_e: return 'e';
     case SDLK_m: return 'm';
     case SDLK_f: return 'f';
@@ -64,6 +63,20 @@ char key_of(SDL_Keycode k, Uint16 mod) {
     case SDLK_KP_ENTER: return '\n';
     default: return 0;
   }
+}
+
+// The character a key gives, as a terminal sends it (host/player/live_terminal.hpp, KeyDecoder), so that
+// the window and the terminal read one alphabet: Shift or Caps Lock makes a letter upper case ('Q' is not
+// quit there either; the window's own f and h stay as they are), Esc is 'q' as a lone ESC is there, and a
+// key with Ctrl, Alt or the system key held gives nothing (Ctrl+C is SIGINT, raised by the caller, as a
+// terminal's).
+char key_of(SDL_Keycode k, Uint16 mod) {
+  if ((mod & (KMOD_CTRL | KMOD_ALT | KMOD_GUI)) != 0) return 0;
+  if (k == SDLK_ESCAPE) return 'q';
+  const char c = plain_key_of(k);
+  const bool upper = ((mod & KMOD_SHIFT) != 0) != ((mod & KMOD_CAPS) != 0);
+  const bool window_own = c == 'f' || c == 'h';
+  return upper && !window_own && c >= 'a' && c <= 'z' ? static_cast<char>(c - 'a' + 'A') : c;
 }
 
 }  // namespace
@@ -145,6 +158,7 @@ bool SdlGlWindow::poll(std::vector<ViewEvent>& events) {
         open_ = false;
         break;
       case SDL_KEYDOWN:
+        if (e.key.keysym.sym == SDLK_c && (e.key.keysym.mod & KMOD_CTRL) != 0) std::raise(SIGINT);
         if (const char k = key_of(e.key.keysym.sym, e.key.keysym.mod); k != 0) {
           if (k == 'f') {
             fullscreen_ = !fullscreen_;
