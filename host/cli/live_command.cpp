@@ -296,7 +296,7 @@ int run_live(const LiveOptions& o) {
     return kExitOk;
   }
   std::fprintf(
-      stderr, "live: input %s, %s, %s, keys %s, envelope %s, mapping %s; Ctrl-C stops\n", in->name().c_str(),
+      stderr, "live: input %s, %s, %s, keys %s, envelope %s, mapping %s; q or Ctrl-C stops\n", in->name().c_str(),
       o.channel ? fmt::format("channel {}", *o.channel).c_str() : "every channel",
       program ? midi::gm_program_name(*program) : "the input's programs",
       (live::to_string(mo.keys) + (o.key_range ? ""
@@ -329,7 +329,13 @@ int run_live(const LiveOptions& o) {
       std::fprintf(stderr, "warning: no animation window: %s; going on without it (--no-view: do not try)\n",
                    why.c_str());
   }
-  const auto stop = [&] { return player::stop_signal() != 0 || quit.load() || (window && window->closed()); };
+  player::RawKeys keys;  // q or Esc in the terminal quits, as in the window
+  const auto stop = [&] {
+    while (const std::optional<char> c = keys.next_char()) {
+      if (*c == 'q') quit = true;
+    }
+    return player::stop_signal() != 0 || quit.load() || (window && window->closed());
+  };
   int code = kExitOk;
   for (;;) {
     const double elapsed = std::chrono::duration<double>(SteadyClock::now() - started).count();
@@ -346,6 +352,7 @@ int run_live(const LiveOptions& o) {
     }
   }
   window.reset();
+  keys.restore();
   session.finish();
   if (tty) std::fprintf(stderr, "\n");
   const live::LiveProgress& p = session.progress();

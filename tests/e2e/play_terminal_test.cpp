@@ -1,6 +1,6 @@
 // `hmp play` on a terminal (design §3, §14): the hmp binary runs on a pseudo-terminal; the live keys
-// (space, →, t, n, p, q, Ctrl-C) act and the one-line status shows it; the terminal's settings come back
-// when hmp ends.
+// (space, →, t, n, p, q, Esc, Ctrl-C; other escape sequences do nothing) act and the one-line status shows it; the
+// terminal's settings come back when hmp ends.
 #include <gtest/gtest.h>
 
 #include <poll.h>
@@ -165,6 +165,26 @@ TEST(PlayTerminal, CtrlCStopsCleanlyAndRestoresTheTerminal) {
   ASSERT_TRUE(code.has_value()) << "hmp did not stop on Ctrl-C";
   EXPECT_EQ(*code, 130);
   EXPECT_NE(hmp.output().find("played "), std::string::npos) << hmp.output();  // the summary still comes
+  EXPECT_TRUE(hmp.terminal_restored());
+}
+
+// Escape sequences are keys as a whole: ↑ (ESC [ A) and Ctrl+→ (ESC [ 1 ; 5 C) do nothing, not even the
+// letters in them; Esc alone quits, as in the window.
+TEST(PlayTerminal, OtherEscapeSequencesDoNothingAndEscAloneQuits) {
+  PtySession hmp;
+  ASSERT_TRUE(hmp.started());
+  ASSERT_TRUE(hmp.wait_status([](const std::string& s) { return playing_after(s, 130.2); }, 8s)) << hmp.output();
+  const double before = *song_time(hmp.status());
+  hmp.type("\x1b[A");
+  hmp.type("\x1b[1;5C");
+  hmp.wait_status([](const std::string&) { return false; }, 500ms);
+  EXPECT_EQ(hmp.status().rfind("playing", 0), 0u) << hmp.status();
+  EXPECT_LT(*song_time(hmp.status()), before + 2.0) << "a sequence that is not → seeked";
+  EXPECT_FALSE(hmp.wait_exit(200ms).has_value()) << "a sequence quit";
+  hmp.type("\x1b");
+  const std::optional<int> code = hmp.wait_exit(3s);
+  ASSERT_TRUE(code.has_value()) << "Esc did not quit";
+  EXPECT_EQ(*code, 0);
   EXPECT_TRUE(hmp.terminal_restored());
 }
 
