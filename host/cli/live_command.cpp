@@ -207,6 +207,7 @@ std::unique_ptr<view::LiveView> open_live_view(const midi::Song& channels, live:
                                                std::atomic<bool>& quit, std::string& error) {
   view::LiveViewOptions options;
   options.setup.title = "hmp live";
+  options.help = {"play notes on the MIDI input: each is felt and drawn as it comes", "q / Esc  quit"};
   options.setup.keys = std::pair{mo.keys.low, mo.keys.high};
   view::LiveViewHooks hooks;
   hooks.song_time = [&session](view::Clock::time_point t) {

@@ -27,6 +27,12 @@ std::unique_ptr<view::LiveView> open_play_view(const midi::Song& song, player::P
   options.setup.title = setup.title;
   options.setup.fullscreen = setup.fullscreen;
   options.track_labels = legend_labels(song);
+  options.help = {"space  pause / resume          \u2190 \u2192  seek 5 s    q / Esc  quit",
+                  "t / T  next / previous track    e  envelope    m  mapping    [ / ]  speed",
+                  "n / p  next / previous song (a playlist)",
+                  "click or drag the bar at the bottom: seek",
+                  "click a track in the legend: show / hide it",
+                  "the cursor on a note: feel it;  hold the button 0.5 s: make its track the haptic one"};
 
   // The strip's signal follows the haptic track the player sends (rebuilt on a switch, on the view's thread).
   struct Strip {

@@ -12,6 +12,9 @@ std::unique_ptr<StudyWindow> StudyWindow::open(const midi::Song& song, const aud
   view::LiveViewOptions options;
   options.setup.title = title;
   options.track_labels = legend_labels(song);
+  options.help = {"0 1 2  the envelope felt    a b c  rank it A, B or C    u  undo    Enter  next round",
+                  "q / Esc  stop (run the same command again to resume)"};
+  options.legend_hides_tracks = false;  // the round's own track stays in sight
   view::LiveViewHooks hooks;
   hooks.song_time = [&audio](view::Clock::time_point t) { return audio.song_time_us(t); };
   StudyWindow* self = w.get();

@@ -77,6 +77,10 @@ int run_view(const ViewOptions& o) {
   options.setup.title = fmt::format("hmp view — {}", o.song);
   options.setup.fullscreen = o.fullscreen;
   options.track_labels = legend_labels(song);
+  options.help = {"space  pause / resume          \u2190 \u2192  seek 5 s    q / Esc  quit",
+                  "t / T  next / previous track    [ / ]  speed", "click or drag the bar at the bottom: seek",
+                  "click a track in the legend: show / hide it",
+                  "hold the button 0.5 s on a note: make its track the haptic one (the strip shows its vibration)"};
   view::LiveViewHooks hooks;
   hooks.song_time = [&audio](view::Clock::time_point t) { return audio.song_time_us(t); };
   hooks.state = [&] {

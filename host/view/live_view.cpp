@@ -14,14 +14,10 @@ bool same_bar(const Bar& a, const Bar& b) { return a.track == b.track && a.start
 
 }  // namespace
 
-std::vector<std::string> LiveView::help_lines() {
-  return {"space  pause / resume          \u2190 \u2192  seek 5 s",
-          "t / T  next / previous track    e  envelope    m  mapping    [ / ]  speed",
-          "n / p  next / previous song (a playlist)",
-          "+ / \u2212  zoom    f  fullscreen    h  this help    q  quit",
-          "click or drag the bar at the bottom: seek",
-          "click a track in the legend: show / hide it",
-          "the cursor on a note: feel it;  hold the button 0.5 s: make its track the haptic one"};
+std::vector<std::string> LiveView::help_lines() const {
+  std::vector<std::string> lines = options_.help;
+  lines.emplace_back("+ / \u2212  zoom    f  fullscreen    h  this help");
+  return lines;
 }
 
 LiveView::LiveView(const midi::Song& song, LiveViewOptions options, LiveViewHooks hooks)
@@ -241,7 +237,7 @@ void LiveView::handle(const ViewEvent& e, const LiveState& state, Clock::time_po
       for (std::size_t row = 0; row < legend_tracks_.size(); ++row) {
         if (chrome.legend_row_rect(row).contains(e.x, e.y)) {
           const std::uint32_t t = legend_tracks_[row];
-          if (t < hidden_.size()) hidden_[t] = !hidden_[t];
+          if (t < hidden_.size() && options_.legend_hides_tracks) hidden_[t] = !hidden_[t];
           return;
         }
       }

@@ -69,6 +69,10 @@ struct LiveViewOptions {
   std::vector<std::string> track_labels;  // the legend, per track ("" for a track without notes: not listed)
   double push_s = 0.5;                    // pushing into a bar this long makes its track the haptic one
   double glide_s = 0.3;                   // the depth animation after a switch of the haptic track
+  // What `h` shows: the command's keys and mouse actions (the window's own, zoom, fullscreen and help, are
+  // added under them), and whether a click in the legend hides a track (the study's rounds decide).
+  std::vector<std::string> help;
+  bool legend_hides_tracks = true;
 };
 
 class LiveView {
@@ -92,7 +96,7 @@ class LiveView {
   bool hidden(std::uint32_t track) const;
   std::uint64_t frames() const { return frames_.load(); }
 
-  static std::vector<std::string> help_lines();
+  std::vector<std::string> help_lines() const;
 
  private:
   LiveView(const midi::Song& song, LiveViewOptions options, LiveViewHooks hooks);

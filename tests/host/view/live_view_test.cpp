@@ -228,4 +228,40 @@ TEST(LiveViewInput, LegendProgressBarZoomAndKeys) {
   EXPECT_EQ(keys, " tq");  // zoom and help stay in the window
 }
 
+// A command's own help, and a legend that does not hide tracks (the study's window, whose round decides
+// what is felt): `h` lists the command's keys and then the window's own; a click in the legend changes
+// nothing.
+TEST(LiveViewInput, ACommandsHelpAndALegendThatHidesNothing) {
+  ASSERT_TRUE(hmp::test::xvfb().running()) << "Xvfb did not start (package xvfb)";
+  const hmp::midi::Song& song = test::demo_song();
+  LiveViewHooks hooks;
+  hooks.song_time = [](Clock::time_point) { return std::int64_t{40'000'000}; };
+  hooks.state = [] {
+    LiveState s;
+    s.haptic_track = 1;
+    return s;
+  };
+  LiveViewOptions options;
+  options.track_labels.assign(song.tracks.size(), "");
+  for (const auto& t : song.tracks) {
+    if (t.note_count > 0) options.track_labels[t.index] = "track " + std::to_string(t.index);
+  }
+  options.help = {"0 1 2  the envelope felt"};
+  options.legend_hides_tracks = false;
+  std::string error;
+  const std::unique_ptr<LiveView> view = LiveView::open(song, options, hooks, error);
+  ASSERT_NE(view, nullptr) << error;
+  ASSERT_TRUE(wait_for([&] { return view->frames() >= 2; }));
+  const std::vector<std::string> help = view->help_lines();
+  ASSERT_EQ(help.size(), 2u);
+  EXPECT_EQ(help[0], "0 1 2  the envelope felt");
+  EXPECT_NE(help[1].find("zoom"), std::string::npos) << help[1];
+  const Rect row = view->chrome().legend_row_rect(0);
+  view->inject({ViewEvent::Kind::press, 0, (row.x0 + row.x1) / 2, (row.y0 + row.y1) / 2});
+  view->inject({ViewEvent::Kind::release, 0, (row.x0 + row.x1) / 2, (row.y0 + row.y1) / 2});
+  const std::uint64_t seen = view->frames();
+  ASSERT_TRUE(wait_for([&] { return view->frames() >= seen + 3; }));  // the click handled
+  for (const auto& t : song.tracks) EXPECT_FALSE(view->hidden(t.index)) << t.index;
+}
+
 }  // namespace
