@@ -620,6 +620,9 @@ bool Player::wait_for_device(const std::string& why, Outcome& outcome) {
   message("device lost — plug it back in, or q to quit");
   std::string last_failure;
   auto next_try = Clock::now();
+  // The other keys (seek, track, envelope, mapping, speed) wait for the device, as the window's seeks and
+  // track choices do: handed back to handle_commands once it is there.
+  std::deque<Command> waiting;
   for (;;) {
     std::deque<Command> commands;
     {
@@ -637,7 +640,7 @@ bool Player::wait_for_device(const std::string& why, Outcome& outcome) {
           message(play_when_ready_ ? "the song plays on when the device is back"
                                    : "the song stays paused when the device is back");
           continue;
-        default: continue;  // nothing to change without a device
+        default: waiting.push_back(c); continue;
       }
       device_lost_ = false;
       update_snapshot();
@@ -657,6 +660,10 @@ bool Player::wait_for_device(const std::string& why, Outcome& outcome) {
           device_lost_ = false;
           message(fmt::format("device {} is back: {} at {}", found->name(), play_when_ready_ ? "playing on" : "paused",
                               format_time(paused_at_us_)));
+          {
+            std::lock_guard lock(mutex_);
+            commands_.insert(commands_.begin(), waiting.begin(), waiting.end());
+          }
           return true;
         }
       } catch (const DeviceLost& e) {

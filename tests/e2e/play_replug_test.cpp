@@ -1,8 +1,8 @@
 // A device that comes back (docs/player.md, "A device that is lost"): the link is cut mid-song; the player
 // pauses, says so and waits; when the device returns it is greeted again and the song plays on from where
 // it stopped, every note after the resume on its tick. Two returns: the cable put back on a device that
-// ran on (the same simulated device), and a device that lost power (a fresh one). Quitting while waiting
-// ends the run at once.
+// ran on (the same simulated device), and a device that lost power (a fresh one). A key pressed while
+// waiting acts when the device is back; quitting while waiting ends the run at once.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -172,6 +172,22 @@ TEST(PlayReplug, DeviceThatLostPowerIsGreetedFreshAndPlaysOn) {
   run.expect_played_on();
   const std::uint32_t on_fresh = fresh.with_device([](hmp::sim::SimDevice& d) { return d.core().stats().started; });
   EXPECT_GT(on_fresh, 5u);
+}
+
+// A key pressed while the device is away (here t, the next track) waits for it, as docs/player.md says and
+// as the window's seeks do: it acts once the device is back.
+TEST(PlayReplug, AKeyPressedWhileWaitingActsWhenTheDeviceIsBack) {
+  Replugged run;
+  run.play_then_pull();
+  EXPECT_EQ(run.session->player().snapshot().track, kFlute);
+  run.session->player().post(hmp::player::Command::next_track);
+  std::this_thread::sleep_for(200ms);
+  EXPECT_EQ(run.session->player().snapshot().track, kFlute) << "switched without a device";
+  run.replug.device = &run.first;
+  EXPECT_TRUE(wait_until([&] { return run.session->player().snapshot().track == kFlute + 1; }, 3000ms))
+      << "the key pressed while waiting was lost";
+  run.session->player().post(hmp::player::Command::quit);
+  run.session->join();
 }
 
 TEST(PlayReplug, QuitWhileWaitingEndsAtOnce) {
