@@ -1,5 +1,6 @@
 #include "host/cli/play_view.hpp"
 
+#include <chrono>
 #include <mutex>
 
 #include <fmt/format.h>
@@ -19,6 +20,10 @@ std::vector<std::string> legend_labels(const midi::Song& song) {
   }
   return labels;
 }
+
+namespace {
+constexpr auto kMessageShown = std::chrono::seconds(4);  // how long a player's message stays on the top line
+}  // namespace
 
 std::unique_ptr<view::LiveView> open_play_view(const midi::Song& song, player::Player& player,
                                                audio::AudioPlayer& audio, const haptics::HapticOptions& haptic,
@@ -57,6 +62,9 @@ std::unique_ptr<view::LiveView> open_play_view(const midi::Song& song, player::P
         s.song_label.empty() ? "" : s.song_label + "   ", player::state_word(s), format_time(s.song_us),
         format_time(s.end_us), s.speed != 1.0 ? fmt::format("   speed {:g}×", s.speed) : "", s.track, s.track_name,
         s.envelope, s.mapping, device, s.counters.late, s.counters.stolen);
+    // What the terminal prints (a track switched, the device lost or back, a touch refused), for a while.
+    if (!s.message.empty() && std::chrono::steady_clock::now() - s.message_at < kMessageShown)
+      st.overlay += "     " + s.message;
     return st;
   };
   hooks.key = [&player](char k) {

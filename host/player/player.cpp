@@ -65,6 +65,11 @@ Player::Player(DeviceLink& link, audio::AudioPlayer& audio, const midi::Song& so
 }
 
 void Player::message(const std::string& text) const {
+  {
+    std::lock_guard lock(message_mutex_);
+    message_ = text;
+    message_at_ = std::chrono::steady_clock::now();
+  }
   if (options_.on_message) options_.on_message(text);
 }
 
@@ -483,6 +488,11 @@ void Player::update_snapshot() {
     s.device_state = st->state;
     s.active_voices = st->active_voices;
     if (st->grip_known != 0) s.grip_m = std::array<float, 3>{st->grip_m[0], st->grip_m[1], st->grip_m[2]};
+  }
+  {
+    std::lock_guard lock(message_mutex_);
+    s.message = message_;
+    s.message_at = message_at_;
   }
   std::lock_guard lock(mutex_);
   s.haptic = published_track_;

@@ -88,6 +88,8 @@ struct Snapshot {
   std::shared_ptr<const haptics::HapticTrack> haptic;  // the haptic track's notes as now sent (the view's strip)
   std::string song_label;                              // PlayerOptions::song_label
   bool device_lost = false;                            // waiting for the device to come back
+  std::string message;                                 // the player's last message (the window shows it a while)
+  std::chrono::steady_clock::time_point message_at{};  // when it was said
 };
 
 struct PlayerOptions {
@@ -226,6 +228,9 @@ class Player {
   std::shared_ptr<const haptics::HapticTrack> published_track_;
   std::map<std::uint32_t, haptics::HapticTrack> other_tracks_;  // touched tracks other than the haptic one
   Snapshot snapshot_;
+  mutable std::mutex message_mutex_;  // the last message, said from const members too
+  mutable std::string message_;
+  mutable std::chrono::steady_clock::time_point message_at_{};
 };
 
 }  // namespace hmp::player

@@ -186,6 +186,9 @@ TEST(PlayReplug, AKeyPressedWhileWaitingActsWhenTheDeviceIsBack) {
   run.replug.device = &run.first;
   EXPECT_TRUE(wait_until([&] { return run.session->player().snapshot().track == kFlute + 1; }, 3000ms))
       << "the key pressed while waiting was lost";
+  // The snapshot carries the player's last message, which the window shows on its top line a while.
+  EXPECT_TRUE(wait_until([&] { return run.session->player().snapshot().message.find("haptic track 2") == 0; }, 1000ms))
+      << run.session->player().snapshot().message;
   run.session->player().post(hmp::player::Command::quit);
   run.session->join();
 }
