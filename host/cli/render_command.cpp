@@ -41,9 +41,7 @@ int run_render(const RenderOptions& o) {
     return kExitOk;
   }
   if (o.track.empty()) throw BadInput("--track: which track to render (see hmp info), or --sound for the song's sound");
-  if (const std::string ext = output::extension_of(o.out); o.out != "-" && ext != "csv" && ext != "wav" &&
-                                                           ext != "png" && !exporting::is_haptic_export(o.out) &&
-                                                           !is_video_export(o.out)) {
+  if (!exporting::is_signal_export(o.out) && !exporting::is_haptic_export(o.out) && !is_video_export(o.out)) {
     throw BadInput("--out " + o.out + ": use a .csv, .wav, .png, .ahap, .haptic or .mp4 file ('-': CSV on stdout)");
   }
   const exporting::SignalExport out{o.out, o.audible, o.force};

@@ -20,10 +20,14 @@ void write_csv(std::FILE* out, std::span<const float> samples, std::uint64_t fir
 }
 }  // namespace
 
+bool is_signal_export(const std::string& path) {
+  const std::string fmt = format_of({path});
+  return fmt == "csv" || fmt == "wav" || fmt == "png";
+}
+
 void check_export(const SignalExport& e) {
   const std::string fmt = format_of(e);
-  if (fmt != "csv" && fmt != "wav" && fmt != "png")
-    throw BadInput("--out " + e.path + ": use a .csv, .wav or .png file");
+  if (!is_signal_export(e.path)) throw BadInput("--out " + e.path + ": use a .csv, .wav or .png file");
   if (e.audible && fmt != "wav") throw BadInput("--audible needs a .wav output");
   output::check_writable(e.path, e.force);
 }

@@ -14,6 +14,8 @@ struct SignalExport {
   bool force = false;
 };
 
+// Whether `path` names one of the signal's formats: .csv, .wav, .png, or "-".
+bool is_signal_export(const std::string& path);
 // Throws BadInput for an unknown extension or --audible without .wav (call before long work).
 void check_export(const SignalExport& e);
 void export_signal(const SignalExport& e, std::span<const float> samples, std::span<const output::PlotNote> notes,
