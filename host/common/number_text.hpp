@@ -3,11 +3,27 @@
 // an integer within its range.
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <optional>
 #include <string>
 
 namespace hmp {
+
+// `v` as %g writes it, its exponent without a '+' or leading zeros, for a limit quoted in a message: 1e9,
+// 1e-7, 2.5e-5, 0.001, 1000.
+inline std::string short_number(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", v);
+  const std::string s = text;
+  const std::size_t e = s.find('e');
+  if (e == std::string::npos) return s;
+  std::size_t digits = e + 1;
+  const bool negative = s[digits] == '-';
+  if (s[digits] == '-' || s[digits] == '+') ++digits;
+  while (digits + 1 < s.size() && s[digits] == '0') ++digits;
+  return s.substr(0, e + 1) + (negative ? "-" : "") + s.substr(digits);
+}
 
 // The number that is the whole of `text` (strtod's syntax), if it is one and finite; else nothing.
 inline std::optional<double> finite_number(const std::string& text) {

@@ -185,8 +185,10 @@ Config load(const std::string& path) {
       const toml::node* v = t.get(key);
       if (v == nullptr) continue;
       const double x = r.number(*v, std::string("plant.") + key);
-      if (!(x > 0 && x <= kMaxPlantValue)) r.fail(std::string("'plant.") + key + "' must be positive and at most 1e9");
-      if (out == &p.max_step && x < kMinMaxStep) r.fail("'plant.max_step' must be at least 1e-7 s");
+      if (!(x > 0 && x <= kMaxPlantValue))
+        r.fail(fmt::format("'plant.{}' must be positive and at most {}", key, short_number(kMaxPlantValue)));
+      if (out == &p.max_step && x < kMinMaxStep)
+        r.fail(fmt::format("'plant.max_step' must be at least {} s", short_number(kMinMaxStep)));
       *out = x;
     }
     if (auto* v = t.get("integrator")) p.integrator = r.text(*v, "plant.integrator");

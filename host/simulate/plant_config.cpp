@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include "host/common/error.hpp"
+#include "host/common/number_text.hpp"
 
 namespace hmp::simulate {
 
@@ -12,8 +13,10 @@ namespace {
 
 double checked(double value, const std::string& what, double least = 0) {
   if (!(value > 0 && value <= config::kMaxPlantValue))
-    throw BadInput(fmt::format("{}: must be positive and at most 1e9 (got {:g})", what, value));
-  if (value < least) throw BadInput(fmt::format("{}: must be at least {:g} (got {:g})", what, least, value));
+    throw BadInput(fmt::format("{}: must be positive and at most {} (got {:g})", what,
+                               short_number(config::kMaxPlantValue), value));
+  if (value < least)
+    throw BadInput(fmt::format("{}: must be at least {} (got {:g})", what, short_number(least), value));
   return value;
 }
 

@@ -45,7 +45,7 @@ for v in 0 -1 nan inf 1e10; do
 done
 expect_bad "string-stiffness" --string-stiffness abc
 # A max step so short that one tick would run for minutes (10⁻¹² s: 10⁹ steps a tick), from either side.
-expect_bad "max-step: must be at least 1e-07 (got 1e-08)" --max-step 1e-8
+expect_bad "max-step: must be at least 1e-7 (got 1e-08)" --max-step 1e-8
 printf '[plant]\nmax_step = 1e-12\n' >"$tmp/short.toml"
 expect_bad "plant.max_step' must be at least 1e-7 s" --config "$tmp/short.toml"
 expect_bad "string-stiffness: must be positive and at most 1e9 (got 2e+09)" --string-stiffness 2e9

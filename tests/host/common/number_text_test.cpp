@@ -60,4 +60,15 @@ TEST(WholeNumber, RefusesAnythingElse) {
   EXPECT_FALSE(whole_number("-99999999999999999999999", LONG_MIN, 0));
 }
 
+TEST(ShortNumber, ExponentWithoutPlusOrLeadingZeros) {
+  EXPECT_EQ(hmp::short_number(1e9), "1e9");
+  EXPECT_EQ(hmp::short_number(1e-7), "1e-7");
+  EXPECT_EQ(hmp::short_number(2.5e-5), "2.5e-5");
+  EXPECT_EQ(hmp::short_number(1e100), "1e100");
+  EXPECT_EQ(hmp::short_number(-3e-10), "-3e-10");
+  EXPECT_EQ(hmp::short_number(0.001), "0.001");
+  EXPECT_EQ(hmp::short_number(1000), "1000");
+  EXPECT_EQ(hmp::short_number(0), "0");
+}
+
 }  // namespace
