@@ -204,6 +204,10 @@ void Core::on_preset(const protocol::Message& m) {
 }
 
 void Core::on_settings(const protocol::Message& m) {
+  if (has_drive_ && m.settings.t_max_n > drive_.max_tension_n()) {  // more than the motors can hold
+    reject(ErrorCode::bad_value, m.seq, static_cast<std::uint8_t>(m.type));
+    return;
+  }
   settings_ = m.settings;
   apply_settings();
 }

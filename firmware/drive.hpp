@@ -111,9 +111,16 @@ class Drive {
 
   explicit Drive(std::uint32_t tick_hz, const DriveParams& params = {});
 
-  // Direction, peak force and the tension bounds (the protocol has checked their ranges). The split drive
-  // takes them at its next plan (they are staged: a plan in progress never sees half of them).
+  // Direction, peak force and the tension bounds (the protocol has checked their ranges, the core that
+  // t_max is at most max_tension_n()). The split drive takes them at its next plan (they are staged: a
+  // plan in progress never sees half of them).
   void apply(const protocol::Settings& settings);
+
+  // The most string tension the settings may ask for: a margin under what the motors hold at standstill,
+  // so that neither the bias nor the safe state's hold at t_min runs every motor saturated (the
+  // protocol's 20 N is far above a 7.9 N stall tension).
+  float max_tension_n() const { return kHoldableFraction * motor_.stall_tension(); }
+  static constexpr float kHoldableFraction = 0.8f;
 
   // One tick. `vibration`: this tick's output value (full scale, already limited). `safe`: hold every
   // string at t_min with stall duties (a latched fault). The first call calibrates: the grip is at the

@@ -126,7 +126,8 @@ enum class PolicyCode : std::uint8_t { sum = 0, highest = 1, latest = 2 };
 
 // bytes 3 policy | 4–7 gain f32 [0,1] | 8–11 peak_force_n f32 (0,20] | 12–23 direction x,y,z f32 (unit
 // within 1e-3) | 24–27 end_fade_ms f32 [0,1000] | 28–29 watchdog_ms u16 (≥ 10) | 30–31 ramp_in_ms u16
-// (any) | 32–35 t_min_n f32 (≥ 0) | 36–39 t_max_n f32 (t_min < t_max ≤ 20)
+// (any) | 32–35 t_min_n f32 (≥ 0) | 36–39 t_max_n f32 (t_min < t_max ≤ 20; a device with motors refuses
+// one it cannot hold: firmware Drive::max_tension_n)
 // The largest force of full scale a Settings message may ask for (the motors' reach on the SPIDAR-G6).
 inline constexpr float kMaxPeakForceN = 20.0f;
 

@@ -1,7 +1,7 @@
 // Faults of the firmware drive (design §8): what the drive senses going wrong latches a fault bit and puts
 // the device in its safe state (no vibration, every string at t_min with plain stall duties) until the
 // host acknowledges with Stop or Hello. Faults are injected at the board: encoder counts edited on their
-// way to the core, or a motor driver that misbehaves.
+// way to the core, or a motor driver that misbehaves. Tensions the motors cannot hold are refused.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -120,6 +120,35 @@ TEST(DriveFaults, StopClearsAndTheDriveRecovers) {
   EXPECT_EQ(rig.dev.core().state(), protocol::State::playing);
   const Sinusoid a = fit_sinusoid(rig.trace.t, rig.trace.force, 100.0);
   EXPECT_GT(a.amplitude, 0.5) << "vibrating again";
+}
+
+// Settings whose tensions the motors cannot hold (the protocol allows 20 N; the stall tension is 7.9 N)
+// are refused with bad_value and change nothing: accepted, every motor would sit at full duty, also in the
+// safe state. Up to the drive's margin they are taken.
+TEST(DriveFaults, TensionsBeyondWhatTheMotorsHoldAreRefused) {
+  DriveRig rig{1000, 1};
+  rig.start(exact_settings());
+  rig.run(50, 1.0, false);
+  const float most = rig.dev.core().drive().max_tension_n();
+  const double stall = 1.0 / stall_duty(1.0);  // the tension a duty of 1 holds at standstill
+  EXPECT_NEAR(static_cast<double>(most), 0.8 * stall, 1e-3);
+  EXPECT_GE(most, exact_settings().t_max_n) << "the default bounds must stay accepted";
+  rig.host.collect();
+  protocol::Settings s = exact_settings();
+  s.t_min_n = 19.0f;
+  s.t_max_n = 20.0f;
+  const std::uint16_t seq = rig.host.settings(s);
+  rig.run(50, 1.0, false);
+  const Replies r = rig.host.collect();
+  ASSERT_EQ(r.errors.size(), 1u);
+  EXPECT_EQ(r.errors[0].code, protocol::ErrorCode::bad_value);
+  EXPECT_EQ(r.errors[0].seq, seq);
+  for (float d : rig.dev.duties()) EXPECT_LT(std::fabs(d), 0.5f) << "the refused tensions were applied";
+  s.t_min_n = 1.0f;
+  s.t_max_n = most;
+  rig.host.settings(s);
+  rig.run(50, 1.0, false);
+  EXPECT_TRUE(rig.host.collect().errors.empty());
 }
 
 // A board without motors (the QEMU board, the default SimDevice): no drive, the vibration value as before,
