@@ -58,8 +58,9 @@ float clamp_peak(float peak) {
 // 0·rate = 0 instead of NaN; 0 / anything is 0.
 float rate(float num, float den) {
   if (num == 0.0f) return 0.0f;
-  const float q = num / den;
   constexpr float kMax = 3.4e38f;
+  if (den == 0.0f) return num > 0.0f ? kMax : -kMax;  // a phase too short for a float (a 1e-45 ms attack)
+  const float q = num / den;
   return q > kMax ? kMax : (q < -kMax ? -kMax : q);
 }
 
@@ -161,8 +162,9 @@ void Envelope::start(const Adsr& preset, float peak, std::uint32_t duration_tick
   fade_per_tick_ = fade_ticks > 0.0f ? rate(1.0f, fade_ticks) : 0.0f;
   // at() multiplies by the fade factor (N − n)·(1/F) where it is below 1: the ticks from fade_first_ on.
   fade_first_ = fade_first_tick(n_end_, fade_per_tick_);
-  release_ticks_ = static_cast<std::uint32_t>(
-      std::ceil(std::fmax(static_cast<double>(release_ticks), static_cast<double>(fade_ticks))));
+  // In double and clamped: the float span rounds up to 2^32 for N near 2^32, beyond a uint32.
+  const double held_release = std::ceil(std::fmax(n - t3, static_cast<double>(fade_ticks)));
+  release_ticks_ = held_release < 4294967295.0 ? static_cast<std::uint32_t>(held_release) : 0xFFFFFFFFu;
 }
 
 void Envelope::start_held(const Adsr& preset, float peak, float tick_hz, float end_fade_ms) {
