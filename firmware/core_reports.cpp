@@ -15,7 +15,7 @@ void Core::send(protocol::Message& m) {
 }
 
 protocol::Message* Core::begin_report(protocol::Type type) {
-  ++tx_seq_;
+  tx_seq_ = protocol::next_seq(tx_seq_);
   protocol::Message* slot = outbox_.prepare();
   if (slot == nullptr) {
     ++outbox_full_;

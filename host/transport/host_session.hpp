@@ -26,7 +26,7 @@ constexpr bool is_note_report(protocol::Type t) { return t == protocol::Type::no
 class HostSession {
  public:
   // The number the next report will carry.
-  std::uint16_t next_seq() const { return static_cast<std::uint16_t>(last_sent_ == 0xFFFF ? 1 : last_sent_ + 1); }
+  std::uint16_t next_seq() const { return protocol::next_seq(last_sent_); }
   // Numbers `m`, encodes it into `out` and, for a note report, counts it in flight (do this before
   // sending: a quick Status must already see it). Throws std::logic_error for a message encode() refuses
   // (the caller built it wrong).

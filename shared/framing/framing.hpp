@@ -54,7 +54,9 @@ class Decoder {
   // expected_size: the size of every packet delivered (protocol links: kMaxPacket); a frame may carry
   // 1 … expected_size bytes, the rest are zeros the sender left out (carried_size), put back here.
   // 0 delivers packets of 0 … kMaxPacket bytes as they came.
-  explicit Decoder(std::size_t expected_size = kMaxPacket) : expected_(expected_size) {}
+  // A size beyond kMaxPacket is kMaxPacket: buf_ holds no more.
+  explicit Decoder(std::size_t expected_size = kMaxPacket)
+      : expected_(expected_size < kMaxPacket ? expected_size : kMaxPacket) {}
 
   // Feeds one received byte. Returns true when it was the delimiter of an intact frame: packet() and
   // size() then hold the packet (zero-filled to the expected size) until the next push().

@@ -34,6 +34,11 @@ inline constexpr std::size_t kNotesPerBatch = 5;
 inline constexpr std::size_t kNoteBytes = 11;
 inline constexpr std::uint32_t kMaxCompactDuration = 0xFFFFFF;  // longer notes go in a LongNote
 
+// The seq after `last`, host's or device's: 1, 2, …, 65535, then 1 again; 0 never names a report.
+constexpr std::uint16_t next_seq(std::uint16_t last) {
+  return static_cast<std::uint16_t>(last == 0xFFFFu ? 1u : last + 1u);
+}
+
 using Report = std::uint8_t[kReportSize];
 
 enum class Type : std::uint8_t {

@@ -1,5 +1,6 @@
 // Flow control (design §9): a bounded note queue, Status.queue_free in note reports, a report that does not
-// fit is refused whole with Error queue_full and nothing is lost when the host re-sends it.
+// fit is refused whole with Error queue_full and nothing is lost when the host re-sends it; the device's
+// reports are numbered without a gap or a 0.
 #include <gtest/gtest.h>
 
 #include <deque>
@@ -12,6 +13,34 @@ namespace hmp::test {
 namespace {
 
 constexpr std::uint16_t kFreeWhenEmpty = 256 / p::kNotesPerBatch;
+
+// Device reports are numbered by the host's rule (docs/protocol.md): one more each, and after 65535 comes
+// 1; 0 never names a report. A Sync a tick for 70,000 ticks: its replies and the Statuses pass 65535.
+TEST(FirmwareFlow, DeviceReportsAreNumberedInOrderAndSkipZeroWhenTheyWrap) {
+  sim::SimDevice dev;
+  HostLink host(dev);
+  host.hello();
+  std::uint16_t last = 0;
+  std::size_t reports = 0;
+  bool wrapped = false;
+  for (int i = 0; i < 70000; ++i) {
+    host.sync(0);
+    dev.advance(1);
+    p::Report r;
+    while (dev.poll_report(r)) {
+      p::Message m;
+      ASSERT_EQ(p::decode(r, m), p::ErrorCode::none);
+      ASSERT_NE(m.seq, 0u) << "report " << reports;
+      if (last != 0) {
+        ASSERT_EQ(m.seq, last == 0xFFFF ? 1u : last + 1u) << "report " << reports;
+      }
+      wrapped = wrapped || (last == 0xFFFF && m.seq == 1);
+      last = m.seq;
+      ++reports;
+    }
+  }
+  EXPECT_TRUE(wrapped) << reports << " reports";
+}
 
 TEST(FirmwareFlow, QueueFreeCountsNoteReportsAndABatchThatDoesNotFitIsRefusedWhole) {
   sim::SimDevice dev;
