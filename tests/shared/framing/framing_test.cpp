@@ -146,6 +146,11 @@ TEST(Framing, ReportDecoderZeroFillsShortPacketsAndDropsEmptyOrLongOnes) {
   Decoder ten(10);
   EXPECT_TRUE(feed(ten, frame_of(Bytes(11, 3))).empty());
   EXPECT_EQ(ten.counters().wrong_size, 1u) << "longer than expected";
+  // An expected size beyond what a packet can hold is kMaxPacket: a short packet is filled to 64, not past.
+  Decoder hundred(100);
+  const auto filled = feed(hundred, frame_of(Bytes(10, 1)));
+  ASSERT_EQ(filled.size(), 1u);
+  EXPECT_EQ(filled[0], short_one);
 }
 
 TEST(Framing, CarriedSizeLeavesOutTrailingZerosOnly) {
