@@ -103,6 +103,7 @@ class Core {
   static InboxEntry decode_packet(const protocol::Report& report);
   bool on_decoded(const InboxEntry& decoded, std::uint32_t* stamped_tick = nullptr);
   bool inbox_has_room() const { return inbox_.has_room(); }
+  std::uint32_t inbox_free() const { return kInboxCapacity - inbox_.size(); }  // at least this many
   // The link to the host is gone for now (USB suspend): on the next tick, as the host watchdog would but
   // at once, a playing device fades out (within the fade time, ≤ 20 ms) and pauses, its notes flushed.
   // Not a fault: the host may come back and play again.

@@ -261,7 +261,7 @@ void Device::handle_class(const Setup& s) {
     case kSetReport:
       // hidapi's fallback for writing. The control pipe has no NAK to wait with: without room in the
       // core the request is refused with a STALL (and the host may retry) rather than the report lost.
-      if (in || report_type != kReportTypeOutput || s.length != kReportSize || !core_.inbox_has_room()) break;
+      if (in || report_type != kReportTypeOutput || s.length != kReportSize || !room_beyond_promised()) break;
       stage_ = Stage::data_out;
       rx_done_ = 0;
       xfer(0x00, ctrl_, kEp0Size);
@@ -295,7 +295,7 @@ void Device::on_xfer_complete(std::uint8_t ep_addr, std::uint16_t bytes) {
           return;
         }
         if (rx_done_ != kReportSize) return stall();  // short: not a whole report
-        take_out_report(ctrl_);
+        if (!take_out_report(ctrl_)) return stall();  // not taken: the host is told, and may send it again
         status_in();
       } else if (stage_ == Stage::status_out) {
         stage_ = Stage::idle;
@@ -361,19 +361,28 @@ void Device::set_halt(std::uint8_t ep_addr, bool halt) {
   }
 }
 
-void Device::take_out_report(const std::uint8_t* data) {
+bool Device::take_out_report(const std::uint8_t* data) {
   protocol::Report report;
   for (std::size_t i = 0; i < kReportSize; ++i) report[i] = data[i];
   if (core_.on_packet(report)) {
     ++stats_.out_reports;
-  } else {
-    ++stats_.out_lost;  // cannot happen while the arming rule holds; counted if it ever does
+    return true;
   }
+  ++stats_.out_lost;  // cannot happen while room_beyond_promised() holds; counted if it ever does
+  return false;
+}
+
+// Room in the core for one more report besides those already promised one: the armed OUT endpoint may
+// complete at any time, and a SET_REPORT accepted at its SETUP is coming in its data stage. Both paths
+// check this, so the two never count on the same last slot.
+bool Device::room_beyond_promised() const {
+  const std::uint32_t promised = (out_armed_ ? 1u : 0u) + (stage_ == Stage::data_out ? 1u : 0u);
+  return core_.inbox_free() > promised;
 }
 
 void Device::arm_out() {
   if (configuration_ == 0 || out_halted_ || out_armed_) return;
-  if (!core_.inbox_has_room()) {
+  if (!room_beyond_promised()) {
     ++stats_.out_held;  // the controller NAKs until poll() finds room
     return;
   }
@@ -386,7 +395,7 @@ void Device::start_in() {
 }
 
 void Device::poll() {
-  if (!out_armed_ && configuration_ != 0 && !out_halted_ && core_.inbox_has_room()) {
+  if (!out_armed_ && configuration_ != 0 && !out_halted_ && room_beyond_promised()) {
     out_armed_ = xfer(kEpOut, out_buf_, kReportSize);
   }
   start_in();

@@ -2,8 +2,9 @@
 // The USB device: endpoint 0's control state machine with the standard requests (USB 2.0 §9.4), the HID
 // class requests (HID 1.11 §7.2) and the two interrupt endpoints, glued to the firmware core:
 //  - a HID OUT report (interrupt endpoint or SET_REPORT) goes to Core::on_packet; the OUT endpoint is
-//    armed again only when Core::inbox_has_room() — until then the controller NAKs and the host waits:
-//    no report is ever lost;
+//    armed, and a SET_REPORT accepted, only when the core's inbox has room beyond the report the other
+//    path may already be bringing — until then the controller NAKs (the SET_REPORT STALLs) and the host
+//    waits: no report is ever lost;
 //  - the core's reports (BoardSeam::send → queue_report) wait in a queue for the IN endpoint; none is
 //    dropped while the host keeps reading (a full queue refuses and the core counts it);
 //  - bus reset and suspend put the outputs in the safe state (Core::on_link_lost).
@@ -92,7 +93,8 @@ class Device {
   bool xfer(std::uint8_t ep_addr, std::uint8_t* buffer, std::uint16_t len);
   void arm_out();
   void start_in();
-  void take_out_report(const std::uint8_t* data);
+  bool take_out_report(const std::uint8_t* data);  // false: the core had no room (counted)
+  bool room_beyond_promised() const;
   void go_safe();
 
   Dcd dcd_;

@@ -459,6 +459,29 @@ TEST(UsbDevice, OutReportsFasterThanTheCoreDrainsAreHeldNotLost) {
   EXPECT_EQ(rig.core->status().last_seq, total);
 }
 
+// Both OUT paths at once, the inbox one slot short of full with the OUT endpoint armed: a SET_REPORT is
+// refused (STALL: the host may retry) rather than taking the slot the armed endpoint may fill, so the
+// report that comes on the endpoint is taken, and none the host was told arrived is lost.
+TEST(UsbDevice, SetReportAndTheOutEndpointNeverCountOnOneLastSlot) {
+  Rig rig;
+  rig.enumerate();
+  ASSERT_TRUE(rig.ctl.pending.count(0x01)) << "the OUT endpoint is armed";
+  std::uint16_t seq = 1;
+  int taken = 0;
+  while (rig.control_out_data(0x21, 0x09, 0x0200, 0, report_of(p::make(p::Type::sync, 0), seq))) {
+    ++seq;
+    ++taken;
+    ASSERT_LT(taken, 100) << "SET_REPORT never refused";
+  }
+  EXPECT_EQ(taken, static_cast<int>(hmp::fw::Core::kInboxCapacity) - 1) << "one slot kept for the armed endpoint";
+  EXPECT_TRUE(rig.interrupt_out(report_of(p::make(p::Type::sync, 0), seq)));
+  EXPECT_EQ(rig.dev->stats().out_lost, 0u);
+  EXPECT_EQ(rig.dev->stats().out_reports, static_cast<std::uint32_t>(taken + 1));
+  EXPECT_EQ(rig.core->faults() & p::fault_queue_overflow, 0u);
+  rig.tick(10);
+  EXPECT_EQ(rig.core->status().last_seq, seq) << "every report taken reached the core";
+}
+
 // Device reports wait for the host: none is dropped while the host keeps reading, however late.
 TEST(UsbDevice, InReportsWaitForTheHostInOrder) {
   Rig rig;
