@@ -85,6 +85,21 @@ std::vector<std::uint8_t> grab_screen(int width, int height) {
   return {bytes.begin(), bytes.end()};
 }
 
+// The child's wait status once it ends, or after `limit` (then killed: the status says so).
+int wait_or_kill(pid_t pid, std::chrono::seconds limit) {
+  int status = -1;
+  const auto deadline = std::chrono::steady_clock::now() + limit;
+  while (::waitpid(pid, &status, WNOHANG) == 0) {
+    if (std::chrono::steady_clock::now() > deadline) {
+      ::kill(pid, SIGKILL);
+      ::waitpid(pid, &status, 0);
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  return status;
+}
+
 bool near(const std::uint8_t* p, const hmp::view::Rgb& c) {
   return std::abs(p[0] - c.r * 255) < 8 && std::abs(p[1] - c.g * 255) < 8 && std::abs(p[2] - c.b * 255) < 8;
 }
@@ -133,14 +148,7 @@ TEST_F(StudyWindowE2e, KeysTypedInTheWindowGiveTheTerminalsRows) {
   std::this_thread::sleep_for(std::chrono::milliseconds(800));  // a few frames of the first main round
   const std::vector<std::uint8_t> screen = grab_screen(1600, 1000);
   test::type_into(main_window, main);
-  int status = -1;
-  for (int i = 0; i < 600 && ::waitpid(pid, &status, WNOHANG) == 0; ++i) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
-  if (::waitpid(pid, &status, WNOHANG) == 0) {
-    ::kill(pid, SIGKILL);
-    ::waitpid(pid, &status, 0);
-  }
+  const int status = wait_or_kill(pid, std::chrono::seconds(60));
   ::close(keyboard);
   ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << status << "\n" << slurp(dir_ / "window.err");
 
@@ -178,14 +186,7 @@ TEST_F(StudyWindowE2e, CtrlCInTheWindowStopsAndRanksNothing) {
     test::run_command(std::string("xdotool key ") + chord);
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
-  int status = -1;
-  for (int i = 0; i < 100 && ::waitpid(pid, &status, WNOHANG) == 0; ++i) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
-  if (::waitpid(pid, &status, WNOHANG) == 0) {
-    ::kill(pid, SIGKILL);
-    ::waitpid(pid, &status, 0);
-  }
+  const int status = wait_or_kill(pid, std::chrono::seconds(10));
   ::close(keyboard);
   const std::string err = slurp(dir_ / "window.err");
   EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 130) << status << "\n" << err;
