@@ -46,6 +46,9 @@ inline Sinusoid fit_sinusoid(const std::vector<double>& t, const std::vector<dou
 
 // The stall duty for a tension, from design §11's motor (Kt = 21.3 mN·m/A, R = 6.5 Ω, 12 V, r = 5 mm).
 inline double stall_duty(double tension) { return tension * 6.5 * 0.005 / (0.0213 * 12.0); }
+// The largest t_max the drive takes (fw::Drive::max_tension_n, with the default motor): 0.8 × the
+// tension a duty of 1 holds at standstill.
+inline float most_tension_n() { return static_cast<float>(0.8 / stall_duty(1.0)); }
 
 inline double wrap_angle(double a) {
   while (a > M_PI) a -= 2 * M_PI;

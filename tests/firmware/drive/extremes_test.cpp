@@ -76,7 +76,7 @@ TEST(DriveExtremes, SlackStringsStayStable) {
 TEST(DriveExtremes, SaturatedMotorsStayStable) {
   protocol::Settings s = exact_settings();
   s.peak_force_n = 20.0f;
-  s.t_max_n = 20.0f;
+  s.t_max_n = most_tension_n();
   DriveRig rig(1000, 4);
   double worst = 0;
   rig.dev.set_plant_observer([&](double, const sim::plant::PlantOutput& out) {
