@@ -5,7 +5,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <map>
 #include <optional>
 
 #include <fmt/format.h>
@@ -70,20 +69,18 @@ mapping::Mode parse_mapping_mode(const std::string& text) {
 
 haptics::HapticOptions resolve(const HapticCliOptions& o) {
   haptics::HapticOptions h;
-  // validate() names a value by its command-line option ("--freq-range: …") or, for the program tables,
-  // as "config: gm.N"; one a config set last is named by its file and key instead.
-  std::map<std::string, std::string> set_in;
+  // A value a config set last is named in validate()'s messages by its file and key; one the command line
+  // set, by its option (ValueNames' defaults).
+  const haptics::ValueNames by_option;
+  haptics::ValueNames names;
   for (const std::string& path : o.config_paths) {
     const config::Config c = config::load(path);
-    if (c.freq_range) set_in["--freq-range"] = path + ": mapping.freq_range";
-    if (c.amp_range_db) set_in["--amp-range-db"] = path + ": mapping.amp_range_db";
-    if (c.envelope) set_in["--envelope"] = path + ": envelope.default";
-    if (c.end_fade_ms) set_in["--end-fade-ms"] = path + ": envelope.end_fade_ms";
+    if (c.freq_range) names.freq_range = path + ": mapping.freq_range";
+    if (c.amp_range_db) names.amp_range_db = path + ": mapping.amp_range_db";
+    if (c.envelope) names.envelope = path + ": envelope.default";
+    if (c.end_fade_ms) names.end_fade_ms = path + ": envelope.end_fade_ms";
     for (const auto& [table, entries] : {std::pair{"gm.", &c.gm}, std::pair{"measured.", &c.measured}}) {
-      for (const auto& [program, name] : *entries) {
-        const std::string key = table + std::to_string(program);
-        set_in["config: " + key] = path + ": " + key;
-      }
+      for (const auto& [program, name] : *entries) names.table_entry_file[table + std::to_string(program)] = path;
     }
     try {
       haptics::apply_config(c, h);
@@ -110,37 +107,26 @@ haptics::HapticOptions resolve(const HapticCliOptions& o) {
   }
   if (o.freq_range) {
     std::tie(h.ranges.f_min_hz, h.ranges.f_max_hz) = parse_range("--freq-range", *o.freq_range);
-    set_in.erase("--freq-range");
+    names.freq_range = by_option.freq_range;
   }
   if (o.amp_range_db) {
     std::tie(h.ranges.a_min_db, h.ranges.a_max_db) = parse_range("--amp-range-db", *o.amp_range_db);
-    set_in.erase("--amp-range-db");
+    names.amp_range_db = by_option.amp_range_db;
   }
   if (o.envelope) {
     h.envelope = lower(*o.envelope);
-    set_in.erase("--envelope");
+    names.envelope = by_option.envelope;
   }
   if (o.polyphony && !synth::find_polyphony(o.polyphony->c_str(), h.polyphony)) {
     throw BadInput("--polyphony " + *o.polyphony + ": unknown (sum, highest, latest)");
   }
   if (o.end_fade_ms) {
     h.end_fade_ms = *o.end_fade_ms;
-    set_in.erase("--end-fade-ms");
+    names.end_fade_ms = by_option.end_fade_ms;
   }
   h.pedal = o.pedal;
   if (o.tick_hz) h.tick_hz = *o.tick_hz;
-  try {
-    haptics::validate(h);
-  } catch (const BadInput& e) {
-    const std::string what = e.what();
-    for (const auto& [named, where] : set_in) {
-      // The name whole, then what is said of it (" …" or ": …"): gm.7 is not gm.73.
-      const std::size_t n = named.size();
-      if (what.starts_with(named) && what.size() > n && (what[n] == ' ' || what[n] == ':'))
-        throw BadInput(where + what.substr(n));
-    }
-    throw;
-  }
+  haptics::validate(h, names);
   return h;
 }
 

@@ -126,45 +126,47 @@ void apply_config(const config::Config& cfg, HapticOptions& opts) {
   for (const auto& [program, name] : cfg.measured) opts.measured_presets[program] = lower(name);
 }
 
-void validate(const HapticOptions& o) {
+void validate(const HapticOptions& o, const ValueNames& names) {
   const auto& r = o.ranges;
   if (!(r.f_min_hz > 0) || !(r.f_max_hz >= r.f_min_hz) || !std::isfinite(r.f_max_hz)) {
-    throw BadInput(fmt::format("--freq-range: need 0 < min ≤ max (got {:g}:{:g})", r.f_min_hz, r.f_max_hz));
+    throw BadInput(fmt::format("{}: need 0 < min ≤ max (got {:g}:{:g})", names.freq_range, r.f_min_hz, r.f_max_hz));
   }
   const double alias = kHighestFreqFraction * o.tick_hz;
   if (r.f_max_hz >= alias) {
-    throw BadInput(fmt::format("--freq-range: top {:g} Hz must be below {:g} × tick rate = {:g} Hz (aliasing)",
+    throw BadInput(fmt::format("{}: top {:g} Hz must be below {:g} × tick rate = {:g} Hz (aliasing)", names.freq_range,
                                r.f_max_hz, kHighestFreqFraction, alias));
   }
-  if (r.f_max_hz > synth::kFreqMaxHz) throw BadInput("--freq-range: above the device's top frequency 4096 Hz");
+  if (r.f_max_hz > synth::kFreqMaxHz) throw BadInput(names.freq_range + ": above the device's top frequency 4096 Hz");
   if (!std::isfinite(r.a_min_db) || !std::isfinite(r.a_max_db) || r.a_min_db > r.a_max_db) {
-    throw BadInput("--amp-range-db: need finite min ≤ max");
+    throw BadInput(names.amp_range_db + ": need finite min ≤ max");
   }
   // MAX is full scale and only the span counts; one wider than the device's 16-bit amplitude (96 dB)
   // puts the quietest notes below its smallest step: silent.
   if (std::fabs(r.a_min_db) > kMaxLevelDb || std::fabs(r.a_max_db) > kMaxLevelDb ||
       r.a_max_db - r.a_min_db > kMaxAmpSpanDb) {
     throw BadInput(
-        fmt::format("--amp-range-db {:g}:{:g}: need levels within ±{:g} dB at most {:g} dB apart (the "
+        fmt::format("{} {:g}:{:g}: need levels within ±{:g} dB at most {:g} dB apart (the "
                     "device's 16-bit amplitude)",
-                    r.a_min_db, r.a_max_db, kMaxLevelDb, kMaxAmpSpanDb));
+                    names.amp_range_db, r.a_min_db, r.a_max_db, kMaxLevelDb, kMaxAmpSpanDb));
   }
-  if (!(o.end_fade_ms >= 0 && o.end_fade_ms <= 1000)) throw BadInput("--end-fade-ms: must be in [0, 1000]");
+  if (!(o.end_fade_ms >= 0 && o.end_fade_ms <= 1000)) throw BadInput(names.end_fade_ms + ": must be in [0, 1000]");
   if (!(o.speed >= 0.5 && o.speed <= 2.0))
     throw BadInput(fmt::format("--speed: must be in [0.5, 2] (got {:g})", o.speed));
   for (const auto* table : {&o.gm_presets, &o.measured_presets}) {
     for (const auto& [program, name] : *table) {
       envelope::Preset p;
       if (!o.user_presets.count(name) && !envelope::find_builtin(name.c_str(), p)) {
-        throw BadInput(fmt::format("config: {}.{} names unknown preset '{}'",
-                                   table == &o.gm_presets ? "gm" : "measured", program, name));
+        const std::string entry = fmt::format("{}.{}", table == &o.gm_presets ? "gm" : "measured", program);
+        const auto file = names.table_entry_file.find(entry);
+        throw BadInput(fmt::format("{}: {} names unknown preset '{}'",
+                                   file != names.table_entry_file.end() ? file->second : "config", entry, name));
       }
     }
   }
   if (o.envelope == "measured" && o.measured_presets.empty()) {
-    throw BadInput(
-        "--envelope measured: no measured presets configured (write them with "
-        "`hmp envelope measure --all --out FILE.toml`, then give --config FILE.toml)");
+    throw BadInput(names.envelope +
+                   " measured: no measured presets configured (write them with "
+                   "`hmp envelope measure --all --out FILE.toml`, then give --config FILE.toml)");
   }
   if (!is_auto(o.envelope) && o.envelope != "measured") {
     envelope::Preset p;
@@ -174,7 +176,7 @@ void validate(const HapticOptions& o) {
         known += std::string(", ") + envelope::name(static_cast<envelope::Preset>(i));
       }
       for (const auto& [name, adsr] : o.user_presets) known += ", " + name;
-      throw BadInput("--envelope: unknown preset '" + o.envelope + "' (known: " + known + ")");
+      throw BadInput(names.envelope + ": unknown preset '" + o.envelope + "' (known: " + known + ")");
     }
   }
 }

@@ -51,9 +51,18 @@ void apply_config(const config::Config& cfg, HapticOptions& opts);
 // tick, and above this its alias is as loud as it.
 inline constexpr double kHighestFreqFraction = 0.45;
 
+// How validate()'s messages name the values they are about: by default the command-line options; a value
+// a config set is named by its file and key there ("a.toml: mapping.freq_range"), and a program table's
+// entry by its file ("a.toml: gm.73"; "config: gm.73" where none is known).
+struct ValueNames {
+  std::string freq_range = "--freq-range", amp_range_db = "--amp-range-db", end_fade_ms = "--end-fade-ms",
+              envelope = "--envelope";
+  std::map<std::string, std::string> table_entry_file;  // "gm.73" → its config file
+};
+
 // Throws BadInput when the options cannot work: empty/inverted ranges, f_max ≥ kHighestFreqFraction ×
 // tick rate, unknown envelope name.
-void validate(const HapticOptions& opts);
+void validate(const HapticOptions& opts, const ValueNames& names = {});
 
 // One note on its way to the device, with where it came from.
 struct HapticNote {
